@@ -1,0 +1,313 @@
+/**
+ * \file identifier.h
+ * \brief The OKID/ERA identifier: push input/output samples, identify {A, B, C, D, G} and modes.
+ *
+ * Fixed memory: the caller owns the identifier struct and one workspace buffer whose size
+ * okid_workspace_size() (or the compile-time macro OKID_WORKSPACE_BYTES) gives. Nothing is
+ * allocated, printed or read from the environment. Two identifiers share nothing. One identifier
+ * must not be used from two threads at once.
+ *
+ * Typical use:
+ * \code
+ *   okid_config cfg;
+ *   okid_config_default(&cfg, 1, 2);          // r = 1 force, m = 2 accelerometers
+ *   cfg.dt = 0.01; cfg.observer_order = 20; cfg.order = 4;
+ *   size_t bytes; okid_workspace_size(&cfg, &bytes);
+ *   okid_identifier id;
+ *   okid_init(&id, &cfg, workspace, bytes, NULL);
+ *   for (k = 0; k < N; ++k) okid_push(&id, &u[k], &y[2 * k]);
+ *   okid_result res;
+ *   if (okid_identify(&id, &res) == OKID_OK)  // res.modes[i].frequency_hz, .damping_ratio, ...
+ * \endcode
+ */
+#ifndef OKID_IDENTIFIER_H
+#define OKID_IDENTIFIER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "okid/modal.h"
+#include "okid/status.h"
+#include "okid/types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Largest number of inputs or outputs. */
+#define OKID_MAX_DIMENSION 64
+/** Largest observer order p and largest number of Hankel block rows or columns. */
+#define OKID_MAX_HORIZON 1000
+/** Largest model order n. */
+#define OKID_MAX_ORDER 512
+
+/** Which Markov parameters the ERA Hankel matrices are built from. */
+typedef enum okid_realization {
+    /** System Markov parameters Y_k only (eq. 51): the robust default; no observer gain. */
+    OKID_REALIZATION_SYSTEM = 0,
+    /**
+     * Combined [Y_k, Y°_k] (eq. 54, 61): also yields the observer gain G. Each input column and
+     * each observer-gain column is scaled to unit norm over the Hankel window before the SVD (and
+     * unscaled after), so the units of forces and sensors do not decide the realization.
+     */
+    OKID_REALIZATION_COMBINED = 1
+} okid_realization;
+
+/** Configuration of an identifier. okid_config_default() fills every field with a usable value. */
+typedef struct okid_config {
+    int num_inputs;          /**< r: inputs (forces) per sample, 1..OKID_MAX_DIMENSION */
+    int num_outputs;         /**< m: outputs (sensors) per sample, 1..OKID_MAX_DIMENSION */
+    int observer_order;      /**< p: observer Markov parameters identified, 1..OKID_MAX_HORIZON, m*p >= order */
+    /**
+     * n: model order (number of states), 1..min(alpha*m, beta*columns, m*p). 0 selects it
+     * automatically: n is the index i of the largest ratio sigma_i / sigma_(i+1) between
+     * consecutive Hankel singular values, i < min(alpha*m, beta*columns, m*p + 1); the workspace is
+     * then sized for the largest order min(alpha*m, beta*columns, m*p). columns = r (system) or
+     * r + m (combined).
+     */
+    int order;
+    int hankel_rows;         /**< alpha: block rows of H(0) and H(1), 1..OKID_MAX_HORIZON */
+    int hankel_cols;         /**< beta: block columns of H(0) and H(1), 1..OKID_MAX_HORIZON */
+    int block_rows;          /**< regressor rows folded into the QR factor per update; 0 = 32 */
+    okid_real dt;            /**< sample interval [s], finite and > 0 */
+    /**
+     * Exponential forgetting factor lambda in (0, 1]: a row folded k samples ago weighs
+     * lambda^k. 1 (or 0, read as 1) keeps every sample with equal weight.
+     */
+    okid_real forgetting_factor;
+    /**
+     * Relative tolerance of the rank-revealing least squares (reciprocal condition number below
+     * which columns of the column-equilibrated regressor count as dependent); 0 = 1e-10 (double)
+     * or 1e-5 (float).
+     */
+    okid_real rank_tolerance;
+    okid_sensing sensing;          /**< what the outputs measure (eq. 64) */
+    okid_realization realization;  /**< system (default) or combined with observer gain */
+    /**
+     * 1 when the record starts from rest (zero state, zero past inputs): the first p samples then
+     * give regressor rows with zero history, as in eq. 49. 0 (default) waits for p samples.
+     */
+    int zero_initial_state;
+} okid_config;
+
+/** Counters of an identifier, for progress displays. */
+typedef struct okid_progress {
+    uint64_t samples;       /**< samples accepted since init or reset */
+    uint64_t rejected;      /**< samples rejected as non-finite */
+    uint64_t rows;          /**< regressor rows folded into the least squares (pending ones included) */
+    int rows_needed;        /**< rows needed before okid_identify() can succeed (the number of unknowns q) */
+} okid_progress;
+
+/** The identified model. Every pointer points into the identifier's workspace. */
+typedef struct okid_result {
+    int order;                       /**< n, the realized order */
+    int num_modes;                   /**< modes reported (conjugate pairs once) */
+    const okid_mode *modes;          /**< sorted by frequency, then damping */
+    okid_matrix A;                   /**< n x n */
+    okid_matrix B;                   /**< n x r */
+    okid_matrix C;                   /**< m x n */
+    okid_matrix D;                   /**< m x r */
+    okid_matrix G;                   /**< n x m observer gain (combined realization); data NULL otherwise */
+    const okid_real *singular_values;/**< Hankel singular values, decreasing */
+    int num_singular_values;
+    okid_matrix markov;              /**< [Y_0 Y_1 ... Y_L], m x r(L+1), L = alpha + beta (eq. 51) */
+    okid_matrix observer_gain_markov;/**< [Y°_1 ... Y°_L], m x mL (eq. 53); data NULL for system realization */
+    okid_real dt;                    /**< sample interval of the model [s] */
+    uint64_t samples;                /**< samples accepted */
+    uint64_t rows;                   /**< regressor rows in the least squares */
+    int regressor_rank;              /**< numerical rank of the regressor */
+    int regressor_columns;           /**< q = r + (r + m) p */
+    int input_rank;                  /**< numerical rank of the input part: r (p + 1) when persistently exciting */
+    unsigned warnings;               /**< okid_warning bits */
+} okid_result;
+
+/** Views into the workspace (internal: use the functions below). */
+typedef struct okid_views_ {
+    /* persistent accumulation */
+    okid_real *ring, *block, *r;
+    /* results of the last okid_identify() */
+    okid_real *markov, *markov_obs, *sv, *a, *b, *c, *d, *g;
+    okid_mode *modes;
+    okid_complex *shapes;
+    /* scratch shared by the phases of okid_push() and okid_identify() */
+    okid_real *x;
+    okid_real *fold_t, *fold_work;
+    okid_real *lsq_s, *lsq_scale, *lsq_work;
+    int *lsq_jpvt;
+    okid_real *era_h, *era_vt, *era_t, *era_scale, *era_work;
+    okid_real *modal_a, *modal_vr, *modal_wr, *modal_wi, *modal_work;
+} okid_views_;
+
+/** Sizes derived from the configuration (internal). */
+typedef struct okid_dims_ {
+    int r, m, p, q, w;        /* inputs, outputs, observer order, regressor columns, q + m */
+    int ncols;                /* columns of one Hankel block: r, or r + m when combined */
+    int hankel_rows, hankel_cols, svd_size, max_order, markov_count;
+    int block_rows, block_tile;
+} okid_dims_;
+
+/** The identifier. Caller-owned; every field is internal (read it through the functions below). */
+typedef struct okid_identifier {
+    uint32_t magic_;
+    okid_config cfg_;
+    okid_dims_ dims_;
+    okid_real forgetting_, rank_tolerance_;
+    int block_fill_, window_fill_, ring_head_;
+    uint64_t samples_, rejected_, rows_;
+    okid_views_ at_;
+} okid_identifier;
+
+/* ---- Compile-time workspace size (equal to okid_workspace_size(); checked by the tests) ---- */
+
+#define OKID__Z(x) ((size_t)(x))
+#define OKID__MAX(a, b) ((a) > (b) ? (a) : (b))
+#define OKID__MIN(a, b) ((a) < (b) ? (a) : (b))
+#define OKID__RB(count) OKID__ALIGN16(sizeof(okid_real) * (size_t)(count))
+#define OKID__LWORK_GELSY(n, nrhs) (OKID__Z(n) * 37u + OKID__Z(nrhs) * 33u + 33u)
+#define OKID__LWORK_GESVD(m, n)                                                                \
+    (OKID__MAX(3u * OKID__MIN(OKID__Z(m), OKID__Z(n)) + OKID__MAX(OKID__Z(m), OKID__Z(n)),     \
+               5u * OKID__MIN(OKID__Z(m), OKID__Z(n)))                                          \
+     + 32u * (OKID__Z(m) + OKID__Z(n)))
+#define OKID__Q(r, m, p) (OKID__Z(r) + (OKID__Z(r) + OKID__Z(m)) * OKID__Z(p))
+#define OKID__W(r, m, p) (OKID__Q(r, m, p) + OKID__Z(m))
+#define OKID__NCOLS(r, m, combined) ((combined) ? OKID__Z(r) + OKID__Z(m) : OKID__Z(r))
+#define OKID__HR(m, alpha) (OKID__Z(alpha) * OKID__Z(m))
+#define OKID__HC(r, m, beta, combined) (OKID__Z(beta) * OKID__NCOLS(r, m, combined))
+#define OKID__K(r, m, alpha, beta, combined) OKID__MIN(OKID__HR(m, alpha), OKID__HC(r, m, beta, combined))
+#define OKID__N(r, m, p, alpha, beta, order, combined) \
+    ((order) > 0 ? OKID__Z(order) : OKID__MIN(OKID__K(r, m, alpha, beta, combined), OKID__Z(m) * OKID__Z(p)))
+#define OKID__NB(block_rows) ((block_rows) > 0 ? OKID__Z(block_rows) : 32u)
+#define OKID__NBT(r, m, p, block_rows) OKID__MIN(OKID__NB(block_rows), OKID__W(r, m, p))
+
+#define OKID__PERSISTENT_BYTES(r, m, p, block_rows)                                                \
+    (OKID__RB(OKID__Z(p) * (OKID__Z(r) + OKID__Z(m))) + OKID__RB(OKID__NB(block_rows) * OKID__W(r, m, p)) \
+     + OKID__RB(OKID__W(r, m, p) * OKID__W(r, m, p)))
+
+#define OKID__RESULT_BYTES(r, m, alpha, beta, n, k, combined)                                       \
+    (OKID__RB(OKID__Z(m) * OKID__Z(r) * (OKID__Z(alpha) + OKID__Z(beta) + 1u))                         \
+     + ((combined) ? OKID__RB(OKID__Z(m) * OKID__Z(m) * (OKID__Z(alpha) + OKID__Z(beta))) : 0u)        \
+     + OKID__RB(k) + OKID__RB(OKID__Z(n) * OKID__Z(n)) + OKID__RB(OKID__Z(n) * OKID__Z(r))              \
+     + OKID__RB(OKID__Z(m) * OKID__Z(n)) + OKID__RB(OKID__Z(m) * OKID__Z(r))                           \
+     + ((combined) ? OKID__RB(OKID__Z(n) * OKID__Z(m)) : 0u)                                           \
+     + OKID__ALIGN16(sizeof(okid_mode) * OKID__Z(n))                                                   \
+     + OKID__ALIGN16(sizeof(okid_complex) * OKID__Z(n) * 3u * OKID__Z(m)))
+
+#define OKID__PHASE_FOLD_BYTES(r, m, p, block_rows) \
+    (2u * OKID__RB(OKID__NBT(r, m, p, block_rows) * OKID__W(r, m, p)))
+#define OKID__PHASE_LSQ_BYTES(r, m, p)                                                             \
+    (OKID__RB(OKID__Q(r, m, p) * OKID__Q(r, m, p)) + OKID__RB(OKID__Q(r, m, p))                      \
+     + OKID__ALIGN16(sizeof(int) * OKID__Q(r, m, p)) + OKID__RB(OKID__LWORK_GELSY(OKID__Q(r, m, p), m)))
+#define OKID__PHASE_ERA_BYTES(r, m, alpha, beta, n, k, combined)                                   \
+    (OKID__RB(OKID__HR(m, alpha) * OKID__HC(r, m, beta, combined))                                   \
+     + OKID__RB(OKID__Z(k) * OKID__HC(r, m, beta, combined)) + OKID__RB(OKID__HR(m, alpha) * OKID__Z(n)) \
+     + OKID__RB(OKID__NCOLS(r, m, combined))                                                        \
+     + OKID__RB(OKID__LWORK_GESVD(OKID__HR(m, alpha), OKID__HC(r, m, beta, combined))))
+#define OKID__PHASE_MODAL_BYTES(n) \
+    (2u * OKID__RB(OKID__Z(n) * OKID__Z(n)) + 2u * OKID__RB(n) + OKID__RB(OKID__LWORK_GEEV(n)))
+
+#define OKID__SCRATCH_BYTES(r, m, p, alpha, beta, n, k, block_rows, combined)                        \
+    (OKID__RB(OKID__Q(r, m, p) * OKID__Z(m))                                                        \
+     + OKID__MAX(OKID__MAX(OKID__PHASE_FOLD_BYTES(r, m, p, block_rows), OKID__PHASE_LSQ_BYTES(r, m, p)), \
+                 OKID__MAX(OKID__PHASE_ERA_BYTES(r, m, alpha, beta, n, k, combined), OKID__PHASE_MODAL_BYTES(n))))
+
+/**
+ * Workspace bytes for a configuration, as a constant expression for static buffers:
+ * \code
+ *   static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char ws[OKID_WORKSPACE_BYTES(1, 2, 20, 20, 20, 4, 32, 0)];
+ * \endcode
+ * Arguments: r, m, p, alpha, beta, order (0 = automatic), block_rows (0 = default),
+ * combined (1 for OKID_REALIZATION_COMBINED). Equals okid_workspace_size() for a valid configuration.
+ */
+#define OKID_WORKSPACE_BYTES(r, m, p, alpha, beta, order, block_rows, combined)                            \
+    (OKID__PERSISTENT_BYTES(r, m, p, block_rows)                                                         \
+     + OKID__RESULT_BYTES(r, m, alpha, beta, OKID__N(r, m, p, alpha, beta, order, combined),                   \
+                          OKID__K(r, m, alpha, beta, combined), combined)                                 \
+     + OKID__SCRATCH_BYTES(r, m, p, alpha, beta, OKID__N(r, m, p, alpha, beta, order, combined),              \
+                           OKID__K(r, m, alpha, beta, combined), block_rows, combined))
+
+/* ---- API ---- */
+
+/**
+ * Fill a configuration with defaults for r inputs and m outputs: p = 10, automatic order,
+ * alpha = beta = 20, dt = 1, no forgetting, default tolerance, acceleration sensing, system
+ * realization, records not assumed to start at rest.
+ * \param[out] cfg  configuration to fill
+ * \param[in]  num_inputs  r
+ * \param[in]  num_outputs m
+ * \return OKID_OK, OKID_E_NULL_POINTER (the sizes are checked by okid_init())
+ */
+okid_status okid_config_default(okid_config *cfg, int num_inputs, int num_outputs);
+
+/**
+ * Check a configuration and compute the workspace it needs.
+ * \param[in]  cfg   configuration
+ * \param[out] bytes workspace bytes (the same as OKID_WORKSPACE_BYTES for these values)
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE, OKID_E_BAD_ORDER, OKID_E_BAD_PARAMETER
+ */
+okid_status okid_workspace_size(const okid_config *cfg, size_t *bytes);
+
+/**
+ * Initialise an identifier over a caller-owned workspace. On error the identifier is left
+ * uninitialised (every other call on it returns OKID_E_NOT_INITIALIZED).
+ * \param[out] id            identifier to initialise
+ * \param[in]  cfg           configuration (copied)
+ * \param[in]  workspace     buffer of at least okid_workspace_size() bytes, aligned to OKID_WORKSPACE_ALIGN;
+ *                           it must outlive the identifier and is used by nothing else meanwhile
+ * \param[in]  bytes         size of the buffer
+ * \param[out] bytes_needed  the size needed (also on OKID_E_WORKSPACE_TOO_SMALL); may be NULL
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE, OKID_E_BAD_ORDER, OKID_E_BAD_PARAMETER,
+ *         OKID_E_WORKSPACE_TOO_SMALL, OKID_E_WORKSPACE_ALIGNMENT
+ */
+okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspace, size_t bytes,
+                      size_t *bytes_needed);
+
+/**
+ * Push one sample: u(k) (r values) and y(k) (m values). A sample with a NaN or Inf is rejected:
+ * no regressor row containing it is ever used, the regressor window restarts after it, and
+ * everything folded in before is kept.
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_NONFINITE_SAMPLE,
+ *         OKID_E_BAD_SIZE (a dimension too large for the backend), OKID_E_BACKEND_ARGUMENT
+ */
+okid_status okid_push(okid_identifier *id, const okid_real *u, const okid_real *y);
+
+/**
+ * Push count samples: sample k is u[k*ldu .. k*ldu + r - 1] and y[k*ldy .. k*ldy + m - 1]
+ * (column-major r x count and m x count). Exactly equivalent to count calls of okid_push():
+ * a non-finite sample is rejected and the later ones are still used.
+ * \param[out] accepted samples accepted (may be NULL)
+ * \return OKID_OK when all were accepted; OKID_E_NONFINITE_SAMPLE when one or more were rejected;
+ *         OKID_E_NULL_POINTER, OKID_E_BAD_SIZE (ldu < r or ldy < m), OKID_E_NOT_INITIALIZED (nothing pushed)
+ */
+okid_status okid_push_block(okid_identifier *id, size_t count, const okid_real *u, size_t ldu,
+                            const okid_real *y, size_t ldy, size_t *accepted);
+
+/**
+ * Identify from everything pushed so far: observer Markov parameters (eq. 50) by rank-revealing
+ * least squares, system and observer-gain Markov parameters (eq. 51, 53), ERA (eq. 57-61) and
+ * modal parameters (eq. 63-64). Pushing can go on afterwards; calling it twice gives the same
+ * result. The views in result stay valid until the next okid_identify(), okid_reset() or okid_init()
+ * on this identifier.
+ * \param[in,out] id     identifier (pending rows are folded into the factor first)
+ * \param[out]    result filled on OKID_OK; untouched otherwise
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_NOT_ENOUGH_DATA,
+ *         OKID_E_RANK_DEFICIENT, OKID_E_DECOMPOSITION_FAILED, OKID_E_BACKEND_ARGUMENT
+ */
+okid_status okid_identify(okid_identifier *id, okid_result *result);
+
+/**
+ * Forget every sample (configuration and workspace are kept).
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED
+ */
+okid_status okid_reset(okid_identifier *id);
+
+/**
+ * Read the counters.
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED
+ */
+okid_status okid_get_progress(const okid_identifier *id, okid_progress *progress);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,67 @@
+/**
+ * \file status.h
+ * \brief Status codes returned by every okid entry point.
+ *
+ * Errors are negative, OKID_OK is zero. Warnings are reported apart from errors, as a bit set in
+ * the identification result (okid_result::warnings), never as a return value.
+ */
+#ifndef OKID_STATUS_H
+#define OKID_STATUS_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum okid_status {
+    OKID_OK = 0,
+    /** A required pointer argument is NULL. */
+    OKID_E_NULL_POINTER = -1,
+    /** A size is zero, negative, above OKID_MAX_DIMENSION, or an array's leading dimension is too small. */
+    OKID_E_BAD_SIZE = -2,
+    /** The model order does not fit: m*p < n, the Hankel matrix is smaller than the order, or n < 1. */
+    OKID_E_BAD_ORDER = -3,
+    /** A real parameter is out of range or not finite (dt <= 0, forgetting factor outside (0, 1], tolerance < 0...). */
+    OKID_E_BAD_PARAMETER = -4,
+    /** The workspace is smaller than okid_workspace_size() says; the size needed is reported. */
+    OKID_E_WORKSPACE_TOO_SMALL = -5,
+    /** The workspace is not aligned to OKID_WORKSPACE_ALIGN bytes. */
+    OKID_E_WORKSPACE_ALIGNMENT = -6,
+    /** The identifier was not initialised by okid_init() (or was corrupted). */
+    OKID_E_NOT_INITIALIZED = -7,
+    /** A sample holds NaN or Inf: it was rejected and the regressor window restarts after it. */
+    OKID_E_NONFINITE_SAMPLE = -8,
+    /** Fewer regressor rows than unknowns have been folded in: push more samples. */
+    OKID_E_NOT_ENOUGH_DATA = -9,
+    /** The input is not persistently exciting (zero or constant force), or the chosen order exceeds the Hankel rank. */
+    OKID_E_RANK_DEFICIENT = -10,
+    /** A decomposition (QR, SVD, eigenvalues) did not converge. */
+    OKID_E_DECOMPOSITION_FAILED = -11,
+    /** The linear-algebra backend rejected an argument (an internal error: please report it). */
+    OKID_E_BACKEND_ARGUMENT = -12,
+    /** A result to read does not exist (e.g. the observer gain of a system-only realization). */
+    OKID_E_NOT_AVAILABLE = -13
+} okid_status;
+
+/** Warning bits of okid_result::warnings: the result is usable but deserves a look. */
+enum okid_warning {
+    /** The regressor is numerically rank deficient (noise-free data with p above the minimum is the usual cause). */
+    OKID_W_REGRESSOR_RANK_DEFICIENT = 1u << 0,
+    /** At least one identified discrete eigenvalue lies on or outside the unit circle. */
+    OKID_W_UNSTABLE_POLE = 1u << 1,
+    /** At least one identified eigenvalue is real and non-positive, so it has no continuous-time counterpart. */
+    OKID_W_NONPHYSICAL_POLE = 1u << 2,
+    /** The automatic order rule met the maximum order the Hankel matrix allows. */
+    OKID_W_ORDER_AT_LIMIT = 1u << 3
+};
+
+/** A short, static, human-readable description of a status (never NULL, also for unknown codes). */
+const char *okid_status_str(okid_status status);
+
+/** A short, static description of one warning bit (never NULL). */
+const char *okid_warning_str(unsigned warning_bit);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,138 @@
+/*
+ * ERA after Juang (1994), which corrects the paper's eq. 61: with H(0) = U S V',
+ *   A = S^-1/2 U_n' H(1) V_n S^-1/2,  C = E_m' U_n S^1/2,  [B G] = S^1/2 V_n' E_(r+m),  D = Y_0.
+ * Hankel blocks are Gamma_k = [Y_k, Y°_k] (m x (r + m), eq. 54 side by side, as E_(r+m) in eq. 61
+ * requires) or Y_k alone. In the combined case each column of Gamma is scaled to unit norm over
+ * the Hankel window first, so forces and sensors in any units weigh alike in the SVD; B and G
+ * are unscaled exactly afterwards. H(1) is never formed: H(1) V_n is summed block by block.
+ */
+#include "era.h"
+
+#include "dense.h"
+#include "linalg.h"
+#include "real_math.h"
+
+/* Gamma_k(a, l), k = 1..L, scaled by the column factor. */
+static okid_real gamma_at(const okid_identifier *id, int k, int a, int l)
+{
+    const int r = id->dims_.r, m = id->dims_.m;
+    const okid_real raw = (l < r) ? OKID_AT(id->at_.markov, m, a, k * r + l)
+                                  : OKID_AT(id->at_.markov_obs, m, a, (k - 1) * m + (l - r));
+    return raw * id->at_.era_scale[l];
+}
+
+static void column_scales(okid_identifier *id)
+{
+    const int m = id->dims_.m, nc = id->dims_.ncols, L = id->dims_.markov_count;
+    for (int l = 0; l < nc; ++l) {
+        id->at_.era_scale[l] = 1;
+    }
+    if (id->at_.markov_obs == NULL) {
+        return;
+    }
+    for (int l = 0; l < nc; ++l) {
+        okid_real s = 0;
+        for (int k = 1; k <= L; ++k) {
+            for (int a = 0; a < m; ++a) {
+                const okid_real g = gamma_at(id, k, a, l);
+                s += g * g;
+            }
+        }
+        id->at_.era_scale[l] = (s > 0) ? 1 / okid_sqrt(s) : 1;
+    }
+}
+
+/* Index of the largest ratio sigma_i / sigma_(i+1), i = 1..limit (1-based); a zero sigma_(i+1) wins at once. */
+static int largest_gap(const okid_real *sv, int limit)
+{
+    int best = 1;
+    okid_real best_ratio = -1;
+    for (int i = 1; i <= limit; ++i) {
+        if (sv[i] <= 0) {
+            return (sv[i - 1] > 0) ? i : best;
+        }
+        const okid_real ratio = sv[i - 1] / sv[i];
+        if (ratio > best_ratio) {
+            best_ratio = ratio;
+            best = i;
+        }
+    }
+    return best;
+}
+
+okid_status okid_era_realize(okid_identifier *id, int *order, unsigned *warnings)
+{
+    const okid_dims_ *d = &id->dims_;
+    okid_views_ *v = &id->at_;
+    const int m = d->m, r = d->r, nc = d->ncols, hr = d->hankel_rows, hc = d->hankel_cols, k = d->svd_size;
+    const int alpha = id->cfg_.hankel_rows, beta = id->cfg_.hankel_cols;
+    column_scales(id);
+
+    for (int j = 0; j < beta; ++j) {
+        for (int l = 0; l < nc; ++l) {
+            for (int i = 0; i < alpha; ++i) {
+                for (int a = 0; a < m; ++a) {
+                    OKID_AT(v->era_h, hr, i * m + a, j * nc + l) = gamma_at(id, i + j + 1, a, l);
+                }
+            }
+        }
+    }
+    const okid_status st = okid_la_svd(hr, hc, v->era_h, hr, v->sv, v->era_vt, k, v->era_work);
+    if (st != OKID_OK) {
+        return st;
+    }
+    const okid_real *u = v->era_h, *sv = v->sv;
+
+    int n = id->cfg_.order;
+    if (n == 0) {
+        const int limit = (k - 1 < m * d->p) ? k - 1 : m * d->p;
+        n = (limit >= 1) ? largest_gap(sv, limit) : 1;
+        if (n == limit && limit < k - 1) {
+            *warnings |= OKID_W_ORDER_AT_LIMIT;
+        }
+    }
+    if (!(sv[0] > 0) || !(sv[n - 1] > OKID_EPSILON * (okid_real)k * sv[0])) {
+        return OKID_E_RANK_DEFICIENT;
+    }
+
+    /* T = H(1) V_n, block row by block row. */
+    for (int t = 0; t < n; ++t) {
+        for (int i = 0; i < alpha; ++i) {
+            for (int a = 0; a < m; ++a) {
+                okid_real s = 0;
+                for (int j = 0; j < beta; ++j) {
+                    for (int l = 0; l < nc; ++l) {
+                        s += gamma_at(id, i + j + 2, a, l) * OKID_AT(v->era_vt, k, t, j * nc + l);
+                    }
+                }
+                OKID_AT(v->era_t, hr, i * m + a, t) = s;
+            }
+        }
+    }
+    for (int t = 0; t < n; ++t) {
+        for (int s = 0; s < n; ++s) {
+            okid_real acc = 0;
+            for (int row = 0; row < hr; ++row) {
+                acc += OKID_AT(u, hr, row, s) * OKID_AT(v->era_t, hr, row, t);
+            }
+            OKID_AT(v->a, n, s, t) = acc / okid_sqrt(sv[s] * sv[t]);
+        }
+    }
+    for (int t = 0; t < n; ++t) {
+        const okid_real root = okid_sqrt(sv[t]);
+        for (int a = 0; a < m; ++a) {
+            OKID_AT(v->c, m, a, t) = OKID_AT(u, hr, a, t) * root;
+        }
+        for (int l = 0; l < nc; ++l) {
+            const okid_real value = root * OKID_AT(v->era_vt, k, t, l) / v->era_scale[l];
+            if (l < r) {
+                OKID_AT(v->b, n, t, l) = value;
+            } else {
+                OKID_AT(v->g, n, t, l - r) = value;
+            }
+        }
+    }
+    okid_copy_matrix(m, r, v->markov, m, v->d, m);
+    *order = n;
+    return OKID_OK;
+}

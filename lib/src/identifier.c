@@ -1,0 +1,272 @@
+/* The public identifier API: argument checks, state, and the identify pipeline (DESIGN.md data flow). */
+#include "okid/identifier.h"
+
+#include "dense.h"
+#include "era.h"
+#include "least_squares.h"
+#include "markov.h"
+#include "modal_internal.h"
+#include "real_math.h"
+#include "sample_buffer.h"
+#include "workspace_layout.h"
+
+#define OKID_MAGIC 0x4F4B4944u /* "OKID" */
+
+#if OKID_REAL_IS_FLOAT
+#define DEFAULT_RANK_TOLERANCE OKID_R(1e-5)
+#else
+#define DEFAULT_RANK_TOLERANCE OKID_R(1e-10)
+#endif
+
+static int is_initialized(const okid_identifier *id)
+{
+    return id->magic_ == OKID_MAGIC;
+}
+
+okid_status okid_config_default(okid_config *cfg, int num_inputs, int num_outputs)
+{
+    if (cfg == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    cfg->num_inputs = num_inputs;
+    cfg->num_outputs = num_outputs;
+    cfg->observer_order = 10;
+    cfg->order = 0;
+    cfg->hankel_rows = 20;
+    cfg->hankel_cols = 20;
+    cfg->block_rows = 0;
+    cfg->dt = 1;
+    cfg->forgetting_factor = 1;
+    cfg->rank_tolerance = 0;
+    cfg->sensing = OKID_SENSING_ACCELERATION;
+    cfg->realization = OKID_REALIZATION_SYSTEM;
+    cfg->zero_initial_state = 0;
+    return OKID_OK;
+}
+
+okid_status okid_workspace_size(const okid_config *cfg, size_t *bytes)
+{
+    if (cfg == NULL || bytes == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    okid_dims_ dims;
+    const okid_status st = okid_layout_dims(cfg, &dims);
+    if (st != OKID_OK) {
+        return st;
+    }
+    *bytes = okid_layout_carve(&dims, cfg->realization == OKID_REALIZATION_COMBINED, NULL, NULL);
+    return OKID_OK;
+}
+
+static void clear_samples(okid_identifier *id)
+{
+    const int w = id->dims_.w;
+    okid_zero_matrix(w, w, id->at_.r, w);
+    okid_buffer_restart(id, id->cfg_.zero_initial_state);
+    id->block_fill_ = 0;
+    id->samples_ = 0;
+    id->rejected_ = 0;
+    id->rows_ = 0;
+}
+
+okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspace, size_t bytes,
+                      size_t *bytes_needed)
+{
+    if (id == NULL || cfg == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    id->magic_ = 0;
+    okid_dims_ dims;
+    okid_status st = okid_layout_dims(cfg, &dims);
+    if (st != OKID_OK) {
+        return st;
+    }
+    const int combined = cfg->realization == OKID_REALIZATION_COMBINED;
+    const size_t needed = okid_layout_carve(&dims, combined, NULL, NULL);
+    if (bytes_needed != NULL) {
+        *bytes_needed = needed;
+    }
+    if (workspace == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    if (bytes < needed) {
+        return OKID_E_WORKSPACE_TOO_SMALL;
+    }
+    if (((size_t)workspace % OKID_WORKSPACE_ALIGN) != 0) {
+        return OKID_E_WORKSPACE_ALIGNMENT;
+    }
+    id->cfg_ = *cfg;
+    id->dims_ = dims;
+    id->forgetting_ = (cfg->forgetting_factor > 0) ? cfg->forgetting_factor : 1;
+    id->rank_tolerance_ = (cfg->rank_tolerance > 0) ? cfg->rank_tolerance : DEFAULT_RANK_TOLERANCE;
+    (void)okid_layout_carve(&dims, combined, (unsigned char *)workspace, &id->at_);
+    clear_samples(id);
+    id->magic_ = OKID_MAGIC;
+    return OKID_OK;
+}
+
+/* One finite sample into the window and, once the window is full, one regressor row into the block. */
+static okid_status accept_sample(okid_identifier *id, const okid_real *u, const okid_real *y)
+{
+    okid_status st = OKID_OK;
+    if (okid_buffer_window_full(id)) {
+        okid_buffer_write_row(id, u, y, id->block_fill_);
+        ++id->block_fill_;
+        ++id->rows_;
+        if (id->block_fill_ == id->dims_.block_rows) {
+            st = okid_lsq_fold_pending(id);
+        }
+    }
+    okid_buffer_append(id, u, y);
+    ++id->samples_;
+    return st;
+}
+
+static okid_status push_one(okid_identifier *id, const okid_real *u, const okid_real *y)
+{
+    if (!okid_all_finite(id->dims_.r, 1, u, id->dims_.r) || !okid_all_finite(id->dims_.m, 1, y, id->dims_.m)) {
+        ++id->rejected_;
+        okid_buffer_restart(id, 0); /* a gap: the next rows must not span it */
+        return OKID_E_NONFINITE_SAMPLE;
+    }
+    return accept_sample(id, u, y);
+}
+
+okid_status okid_push(okid_identifier *id, const okid_real *u, const okid_real *y)
+{
+    if (id == NULL || u == NULL || y == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    if (!is_initialized(id)) {
+        return OKID_E_NOT_INITIALIZED;
+    }
+    return push_one(id, u, y);
+}
+
+okid_status okid_push_block(okid_identifier *id, size_t count, const okid_real *u, size_t ldu,
+                            const okid_real *y, size_t ldy, size_t *accepted)
+{
+    if (accepted != NULL) {
+        *accepted = 0;
+    }
+    if (id == NULL || (count > 0 && (u == NULL || y == NULL))) {
+        return OKID_E_NULL_POINTER;
+    }
+    if (!is_initialized(id)) {
+        return OKID_E_NOT_INITIALIZED;
+    }
+    if (ldu < (size_t)id->dims_.r || ldy < (size_t)id->dims_.m) {
+        return OKID_E_BAD_SIZE;
+    }
+    okid_status result = OKID_OK;
+    size_t taken = 0;
+    for (size_t k = 0; k < count; ++k) {
+        const okid_status st = push_one(id, u + k * ldu, y + k * ldy);
+        if (st == OKID_OK) {
+            ++taken;
+        } else if (st == OKID_E_NONFINITE_SAMPLE) {
+            result = st;
+        } else {
+            result = st; /* a backend failure: stop here */
+            break;
+        }
+    }
+    if (accepted != NULL) {
+        *accepted = taken;
+    }
+    return result;
+}
+
+static okid_matrix view(const okid_real *data, int rows, int cols, int ld)
+{
+    okid_matrix v = {data, rows, cols, ld};
+    return v;
+}
+
+okid_status okid_identify(okid_identifier *id, okid_result *result)
+{
+    if (id == NULL || result == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    if (!is_initialized(id)) {
+        return OKID_E_NOT_INITIALIZED;
+    }
+    const okid_dims_ *d = &id->dims_;
+    if (id->rows_ < (uint64_t)d->q) {
+        return OKID_E_NOT_ENOUGH_DATA;
+    }
+    okid_status st = okid_lsq_fold_pending(id);
+    if (st != OKID_OK) {
+        return st;
+    }
+    int regressor_rank = 0, input_rank = 0;
+    st = okid_lsq_solve(id, &regressor_rank, &input_rank);
+    if (st != OKID_OK) {
+        return st;
+    }
+    okid_markov_recover(id);
+
+    unsigned warnings = (regressor_rank < d->q) ? OKID_W_REGRESSOR_RANK_DEFICIENT : 0u;
+    int n = 0;
+    st = okid_era_realize(id, &n, &warnings);
+    if (st != OKID_OK) {
+        return st;
+    }
+    const okid_modal_scratch scratch = {id->at_.modal_a, id->at_.modal_vr, id->at_.modal_wr, id->at_.modal_wi,
+                                        id->at_.modal_work};
+    int num_modes = 0;
+    st = okid_modal_compute(n, d->m, id->at_.a, n, id->at_.c, d->m, id->cfg_.dt, id->cfg_.sensing, &scratch,
+                            id->at_.shapes, id->at_.modes, &num_modes, &warnings);
+    if (st != OKID_OK) {
+        return st;
+    }
+
+    const int r = d->r, m = d->m, L = d->markov_count;
+    result->order = n;
+    result->num_modes = num_modes;
+    result->modes = id->at_.modes;
+    result->A = view(id->at_.a, n, n, n);
+    result->B = view(id->at_.b, n, r, n);
+    result->C = view(id->at_.c, m, n, m);
+    result->D = view(id->at_.d, m, r, m);
+    result->G = view(id->at_.g, id->at_.g ? n : 0, id->at_.g ? m : 0, n);
+    result->singular_values = id->at_.sv;
+    result->num_singular_values = d->svd_size;
+    result->markov = view(id->at_.markov, m, r * (L + 1), m);
+    result->observer_gain_markov = view(id->at_.markov_obs, m, id->at_.markov_obs ? m * L : 0, m);
+    result->dt = id->cfg_.dt;
+    result->samples = id->samples_;
+    result->rows = id->rows_;
+    result->regressor_rank = regressor_rank;
+    result->regressor_columns = d->q;
+    result->input_rank = input_rank;
+    result->warnings = warnings;
+    return OKID_OK;
+}
+
+okid_status okid_reset(okid_identifier *id)
+{
+    if (id == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    if (!is_initialized(id)) {
+        return OKID_E_NOT_INITIALIZED;
+    }
+    clear_samples(id);
+    return OKID_OK;
+}
+
+okid_status okid_get_progress(const okid_identifier *id, okid_progress *progress)
+{
+    if (id == NULL || progress == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    if (!is_initialized(id)) {
+        return OKID_E_NOT_INITIALIZED;
+    }
+    progress->samples = id->samples_;
+    progress->rejected = id->rejected_;
+    progress->rows = id->rows_;
+    progress->rows_needed = id->dims_.q;
+    return OKID_OK;
+}

@@ -1,0 +1,93 @@
+/* Block QR accumulation and rank-revealing solve: see least_squares.h. */
+#include "least_squares.h"
+
+#include "dense.h"
+#include "linalg.h"
+#include "real_math.h"
+
+okid_status okid_lsq_fold_pending(okid_identifier *id)
+{
+    const int rows = id->block_fill_, w = id->dims_.w, ld = id->dims_.block_rows;
+    if (rows == 0) {
+        return OKID_OK;
+    }
+    const okid_real lambda = id->forgetting_;
+    if (lambda < 1) {
+        /* Row i of the block (0 = oldest) is rows-1-i samples older than the newest one; the
+           factor already folded is `rows` samples older than the newest row. */
+        const okid_real root = okid_sqrt(lambda);
+        const okid_real rscale = okid_pow(root, (okid_real)rows);
+        for (int j = 0; j < w; ++j) {
+            for (int i = 0; i <= j; ++i) {
+                OKID_AT(id->at_.r, w, i, j) *= rscale;
+            }
+        }
+        okid_real weight = 1;
+        for (int i = rows - 1; i >= 0; --i) {
+            for (int j = 0; j < w; ++j) {
+                OKID_AT(id->at_.block, ld, i, j) *= weight;
+            }
+            weight *= root;
+        }
+    }
+    const okid_status st = okid_la_fold_rows(w, id->at_.r, w, rows, id->at_.block, ld,
+                                             id->dims_.block_tile, id->at_.fold_t, id->at_.fold_work);
+    id->block_fill_ = 0;
+    return st;
+}
+
+/* Column norms of the leading n columns of the triangular factor: the regressor's column norms. */
+static void column_scale(const okid_real *r, int ldr, int n, okid_real *scale)
+{
+    for (int j = 0; j < n; ++j) {
+        okid_real s = 0;
+        for (int i = 0; i <= j; ++i) {
+            s += OKID_AT(r, ldr, i, j) * OKID_AT(r, ldr, i, j);
+        }
+        s = okid_sqrt(s);
+        scale[j] = (s > 0) ? s : 1; /* a zero column stays zero: it lowers the rank */
+    }
+}
+
+/* s = R(0:n, 0:n) diag(1/scale), equilibrated so that units do not decide the rank. */
+static void scaled_copy(const okid_real *r, int ldr, int n, const okid_real *scale, okid_real *s)
+{
+    for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < n; ++i) {
+            OKID_AT(s, n, i, j) = (i <= j) ? OKID_AT(r, ldr, i, j) / scale[j] : 0;
+        }
+    }
+}
+
+okid_status okid_lsq_solve(okid_identifier *id, int *regressor_rank, int *input_rank)
+{
+    const okid_dims_ *d = &id->dims_;
+    const int q = d->q, m = d->m, w = d->w, nu = d->r * (d->p + 1);
+    const okid_real tol = id->rank_tolerance_;
+    okid_views_ *v = &id->at_;
+    column_scale(v->r, w, q, v->lsq_scale);
+
+    /* Persistence of excitation: rank of the input-only regressor (leading nu columns). */
+    scaled_copy(v->r, w, nu, v->lsq_scale, v->lsq_s);
+    okid_status st = okid_la_lstsq_rank(nu, 0, v->lsq_s, nu, v->x, q, tol, input_rank, v->lsq_jpvt, v->lsq_work);
+    if (st != OKID_OK) {
+        return st;
+    }
+    if (*input_rank < nu) {
+        return OKID_E_RANK_DEFICIENT;
+    }
+
+    /* Minimum-norm solution of the equilibrated R11 x~ = R12, then x = diag(1/scale) x~. */
+    scaled_copy(v->r, w, q, v->lsq_scale, v->lsq_s);
+    okid_copy_matrix(q, m, v->r + (size_t)q * (size_t)w, w, v->x, q);
+    st = okid_la_lstsq_rank(q, m, v->lsq_s, q, v->x, q, tol, regressor_rank, v->lsq_jpvt, v->lsq_work);
+    if (st != OKID_OK) {
+        return st;
+    }
+    for (int j = 0; j < m; ++j) {
+        for (int i = 0; i < q; ++i) {
+            OKID_AT(v->x, q, i, j) /= v->lsq_scale[i];
+        }
+    }
+    return OKID_OK;
+}

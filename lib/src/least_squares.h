@@ -1,0 +1,23 @@
+/*
+ * Least squares for the observer Markov parameters (eq. 50) in fixed memory: regressor rows are
+ * folded into the upper-triangular factor R of [Phi | Y] (w x w, w = q + m) by blocks, so any
+ * number of samples fits in O(w^2) memory. R = [R11 R12; 0 R22]: R11 (q x q) is the factor of
+ * the regressor, R12 (q x m) of its correlation with the outputs.
+ */
+#ifndef OKID_LEAST_SQUARES_H
+#define OKID_LEAST_SQUARES_H
+
+#include "okid/identifier.h"
+
+/* Fold the pending rows of the block into R (with the forgetting weights) and empty the block. */
+okid_status okid_lsq_fold_pending(okid_identifier *id);
+
+/*
+ * Solve R11 X = R12 rank-revealingly into the x view (q x m, internal column order of
+ * sample_buffer.h): X' = [D, observer Markov parameters]. Reports the numerical rank of the
+ * regressor and of its input part. OKID_E_RANK_DEFICIENT when the input is not persistently
+ * exciting (input rank < r (p + 1)).
+ */
+okid_status okid_lsq_solve(okid_identifier *id, int *regressor_rank, int *input_rank);
+
+#endif

@@ -1,0 +1,47 @@
+/*
+ * The narrow linear-algebra interface the core is written against. One backend implements it
+ * (linalg_lapacke.c: LAPACK through column-major LAPACKE_*_work calls). Every routine works in
+ * caller-provided memory; work sizes are closed formulas (OKID__LWORK_* in the public headers).
+ * Matrices are column-major with explicit leading dimensions. Each returns OKID_OK,
+ * OKID_E_DECOMPOSITION_FAILED or OKID_E_BACKEND_ARGUMENT.
+ */
+#ifndef OKID_LINALG_H
+#define OKID_LINALG_H
+
+#include "okid/status.h"
+#include "okid/types.h"
+
+/*
+ * Fold nrows rows (nrows x n, leading dimension ldb) into the n x n upper-triangular factor r:
+ * afterwards r' r' = r' r + rows' rows (Householder, so numerically the QR of [r; rows]).
+ * rows is overwritten. t and work each hold nbt * n reals, 1 <= nbt <= n.
+ */
+okid_status okid_la_fold_rows(int n, okid_real *r, int ldr, int nrows, okid_real *rows, int ldb, int nbt,
+                              okid_real *t, okid_real *work);
+
+/*
+ * Rank-revealing least squares on an n x n matrix a (overwritten): b (n x nrhs) becomes the
+ * minimum-norm solution of min |a x - b| in which columns whose reciprocal condition falls below
+ * rcond count as dependent (complete orthogonal factorisation with column pivoting). *rank is
+ * the numerical rank. jpvt holds n ints; work holds OKID__LWORK_GELSY(n, nrhs) reals.
+ */
+okid_status okid_la_lstsq_rank(int n, int nrhs, okid_real *a, int lda, okid_real *b, int ldb, okid_real rcond,
+                               int *rank, int *jpvt, okid_real *work);
+
+/*
+ * Thin SVD a = U S V': a (m x n) is overwritten by the first min(m, n) left singular vectors,
+ * s gets min(m, n) singular values in decreasing order, vt (min(m, n) x n) the right ones.
+ * work holds OKID__LWORK_GESVD(m, n) reals.
+ */
+okid_status okid_la_svd(int m, int n, okid_real *a, int lda, okid_real *s, okid_real *vt, int ldvt,
+                        okid_real *work);
+
+/*
+ * Eigenvalues wr + i wi and right eigenvectors of the n x n matrix a (overwritten), LAPACK
+ * layout: for a complex pair (wi[j] > 0), vr(:, j) + i vr(:, j + 1) is the eigenvector of
+ * wr[j] + i wi[j]. work holds OKID__LWORK_GEEV(n) reals.
+ */
+okid_status okid_la_eig(int n, okid_real *a, int lda, okid_real *wr, okid_real *wi, okid_real *vr, int ldvr,
+                        okid_real *work);
+
+#endif

@@ -1,0 +1,66 @@
+/* Recursive buffering: see sample_buffer.h for the row layout. */
+#include "sample_buffer.h"
+
+#include "dense.h"
+
+/* The slot of v(k - j), j = 1..p; ring_head_ is the slot of v(k - 1). */
+static const okid_real *past(const okid_identifier *id, int j)
+{
+    const int p = id->dims_.p, width = id->dims_.r + id->dims_.m;
+    const int slot = (id->ring_head_ - (j - 1) + p) % p;
+    return id->at_.ring + (size_t)slot * (size_t)width;
+}
+
+void okid_buffer_restart(okid_identifier *id, int zero_history)
+{
+    const int p = id->dims_.p, width = id->dims_.r + id->dims_.m;
+    okid_zero_matrix(width, p, id->at_.ring, width);
+    id->ring_head_ = p - 1;
+    id->window_fill_ = zero_history ? p : 0;
+}
+
+int okid_buffer_window_full(const okid_identifier *id)
+{
+    return id->window_fill_ >= id->dims_.p;
+}
+
+void okid_buffer_write_row(const okid_identifier *id, const okid_real *u, const okid_real *y, int row)
+{
+    const int r = id->dims_.r, m = id->dims_.m, p = id->dims_.p, ld = id->dims_.block_rows;
+    okid_real *out = id->at_.block + row;
+    int col = 0;
+    for (int i = 0; i < r; ++i) {
+        out[(size_t)(col++) * (size_t)ld] = u[i];
+    }
+    for (int j = 1; j <= p; ++j) {
+        const okid_real *v = past(id, j);
+        for (int i = 0; i < r; ++i) {
+            out[(size_t)(col++) * (size_t)ld] = v[i];
+        }
+    }
+    for (int j = 1; j <= p; ++j) {
+        const okid_real *v = past(id, j) + r;
+        for (int i = 0; i < m; ++i) {
+            out[(size_t)(col++) * (size_t)ld] = v[i];
+        }
+    }
+    for (int i = 0; i < m; ++i) {
+        out[(size_t)(col++) * (size_t)ld] = y[i];
+    }
+}
+
+void okid_buffer_append(okid_identifier *id, const okid_real *u, const okid_real *y)
+{
+    const int r = id->dims_.r, m = id->dims_.m, p = id->dims_.p;
+    id->ring_head_ = (id->ring_head_ + 1) % p;
+    okid_real *slot = id->at_.ring + (size_t)id->ring_head_ * (size_t)(r + m);
+    for (int i = 0; i < r; ++i) {
+        slot[i] = u[i];
+    }
+    for (int i = 0; i < m; ++i) {
+        slot[r + i] = y[i];
+    }
+    if (id->window_fill_ < p) {
+        ++id->window_fill_;
+    }
+}

@@ -1,0 +1,34 @@
+/* Human-readable status and warning strings. */
+#include "okid/status.h"
+
+const char *okid_status_str(okid_status status)
+{
+    switch (status) {
+    case OKID_OK: return "ok";
+    case OKID_E_NULL_POINTER: return "a required pointer argument is NULL";
+    case OKID_E_BAD_SIZE: return "a size or leading dimension is out of range";
+    case OKID_E_BAD_ORDER: return "the model order does not fit the observer order or the Hankel size";
+    case OKID_E_BAD_PARAMETER: return "a real parameter is out of range or not finite";
+    case OKID_E_WORKSPACE_TOO_SMALL: return "the workspace is too small";
+    case OKID_E_WORKSPACE_ALIGNMENT: return "the workspace is not aligned to OKID_WORKSPACE_ALIGN bytes";
+    case OKID_E_NOT_INITIALIZED: return "the identifier is not initialised";
+    case OKID_E_NONFINITE_SAMPLE: return "a sample is NaN or infinite and was rejected";
+    case OKID_E_NOT_ENOUGH_DATA: return "not enough samples for the number of unknowns";
+    case OKID_E_RANK_DEFICIENT: return "the data is rank deficient (input not persistently exciting, or order above the Hankel rank)";
+    case OKID_E_DECOMPOSITION_FAILED: return "a matrix decomposition did not converge";
+    case OKID_E_BACKEND_ARGUMENT: return "the linear-algebra backend rejected an argument (internal error)";
+    case OKID_E_NOT_AVAILABLE: return "the requested result is not available";
+    }
+    return "unknown status";
+}
+
+const char *okid_warning_str(unsigned warning_bit)
+{
+    switch (warning_bit) {
+    case OKID_W_REGRESSOR_RANK_DEFICIENT: return "regressor rank deficient (noise-free data or observer order above the minimum)";
+    case OKID_W_UNSTABLE_POLE: return "an identified pole lies on or outside the unit circle";
+    case OKID_W_NONPHYSICAL_POLE: return "an identified eigenvalue is real and non-positive (no continuous-time pole)";
+    case OKID_W_ORDER_AT_LIMIT: return "the automatic order reached the largest order the Hankel matrix allows";
+    default: return "unknown warning";
+    }
+}

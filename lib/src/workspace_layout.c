@@ -1,0 +1,132 @@
+/*
+ * Configuration checks and workspace layout. Regions, in order: the persistent accumulation
+ * (sample ring, pending regressor rows, triangular factor R), the results of the last
+ * identification, then one scratch area that the push and identify phases take turns to use.
+ */
+#include "workspace_layout.h"
+
+#include <limits.h>
+
+#include "carve.h"
+#include "real_math.h"
+
+#define MIN(a, b) ((a) < (b) ? (a) : (b))
+#define MAX(a, b) ((a) > (b) ? (a) : (b))
+
+/* Every matrix handed to LAPACK must be indexable with a 32-bit int. */
+static int fits_int(long long rows, long long cols)
+{
+    return rows * cols < (long long)INT_MAX;
+}
+
+okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims)
+{
+    if (cfg == NULL || dims == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    const int r = cfg->num_inputs, m = cfg->num_outputs, p = cfg->observer_order;
+    if (r < 1 || r > OKID_MAX_DIMENSION || m < 1 || m > OKID_MAX_DIMENSION || p < 1 || p > OKID_MAX_HORIZON ||
+        cfg->hankel_rows < 1 || cfg->hankel_rows > OKID_MAX_HORIZON || cfg->hankel_cols < 1 ||
+        cfg->hankel_cols > OKID_MAX_HORIZON || cfg->block_rows < 0 || cfg->block_rows > 4096) {
+        return OKID_E_BAD_SIZE;
+    }
+    if (!okid_is_finite(cfg->dt) || cfg->dt <= 0 || !okid_is_finite(cfg->forgetting_factor) ||
+        cfg->forgetting_factor < 0 || cfg->forgetting_factor > 1 || !okid_is_finite(cfg->rank_tolerance) ||
+        cfg->rank_tolerance < 0 || cfg->rank_tolerance >= 1 || (int)cfg->sensing < 0 || (int)cfg->sensing > 2 ||
+        (int)cfg->realization < 0 || (int)cfg->realization > 1 ||
+        (cfg->zero_initial_state != 0 && cfg->zero_initial_state != 1)) {
+        return OKID_E_BAD_PARAMETER;
+    }
+    const int combined = cfg->realization == OKID_REALIZATION_COMBINED;
+    dims->r = r;
+    dims->m = m;
+    dims->p = p;
+    dims->q = r + (r + m) * p;
+    dims->w = dims->q + m;
+    dims->ncols = combined ? r + m : r;
+    dims->hankel_rows = cfg->hankel_rows * m;
+    dims->hankel_cols = cfg->hankel_cols * dims->ncols;
+    dims->svd_size = MIN(dims->hankel_rows, dims->hankel_cols);
+    dims->markov_count = cfg->hankel_rows + cfg->hankel_cols; /* Y_0 .. Y_(alpha+beta) */
+    dims->block_rows = cfg->block_rows > 0 ? cfg->block_rows : 32;
+    dims->block_tile = MIN(dims->block_rows, dims->w);
+    if (!fits_int(dims->w, dims->w) || !fits_int(dims->hankel_rows, dims->hankel_cols) ||
+        !fits_int(dims->block_rows, dims->w)) {
+        return OKID_E_BAD_SIZE;
+    }
+    if (cfg->order < 0 || cfg->order > OKID_MAX_ORDER) {
+        return OKID_E_BAD_ORDER;
+    }
+    if (cfg->order > 0) {
+        if (cfg->order > dims->svd_size || cfg->order > m * p) {
+            return OKID_E_BAD_ORDER;
+        }
+        dims->max_order = cfg->order;
+    } else {
+        dims->max_order = MIN(dims->svd_size, m * p);
+        if (dims->max_order > OKID_MAX_ORDER) {
+            return OKID_E_BAD_ORDER; /* automatic order over a Hankel matrix this large: give the order */
+        }
+    }
+    return OKID_OK;
+}
+
+size_t okid_layout_carve(const okid_dims_ *d, int combined, unsigned char *base, okid_views_ *v)
+{
+    okid_views_ dry;
+    if (v == NULL) {
+        v = &dry;
+    }
+    const size_t r = (size_t)d->r, m = (size_t)d->m, p = (size_t)d->p, q = (size_t)d->q, w = (size_t)d->w;
+    const size_t n = (size_t)d->max_order, k = (size_t)d->svd_size, hr = (size_t)d->hankel_rows,
+                 hc = (size_t)d->hankel_cols, L = (size_t)d->markov_count, nc = (size_t)d->ncols;
+    okid_carver c = {base, 0};
+
+    v->ring = okid_carve_reals(&c, p * (r + m));
+    v->block = okid_carve_reals(&c, (size_t)d->block_rows * w);
+    v->r = okid_carve_reals(&c, w * w);
+
+    v->markov = okid_carve_reals(&c, m * r * (L + 1));
+    v->markov_obs = combined ? okid_carve_reals(&c, m * m * L) : NULL;
+    v->sv = okid_carve_reals(&c, k);
+    v->a = okid_carve_reals(&c, n * n);
+    v->b = okid_carve_reals(&c, n * r);
+    v->c = okid_carve_reals(&c, m * n);
+    v->d = okid_carve_reals(&c, m * r);
+    v->g = combined ? okid_carve_reals(&c, n * m) : NULL;
+    v->modes = (okid_mode *)okid_carve_bytes(&c, sizeof(okid_mode) * n);
+    v->shapes = (okid_complex *)okid_carve_bytes(&c, sizeof(okid_complex) * n * 3u * m);
+
+    v->x = okid_carve_reals(&c, q * m);
+    const size_t scratch = c.used;
+    size_t end = scratch;
+
+    v->fold_t = okid_carve_reals(&c, (size_t)d->block_tile * w);
+    v->fold_work = okid_carve_reals(&c, (size_t)d->block_tile * w);
+    end = MAX(end, c.used);
+
+    c.used = scratch;
+    v->lsq_s = okid_carve_reals(&c, q * q);
+    v->lsq_scale = okid_carve_reals(&c, q);
+    v->lsq_jpvt = (int *)okid_carve_bytes(&c, sizeof(int) * q);
+    v->lsq_work = okid_carve_reals(&c, OKID__LWORK_GELSY(q, m));
+    end = MAX(end, c.used);
+
+    c.used = scratch;
+    v->era_h = okid_carve_reals(&c, hr * hc);
+    v->era_vt = okid_carve_reals(&c, k * hc);
+    v->era_t = okid_carve_reals(&c, hr * n);
+    v->era_scale = okid_carve_reals(&c, nc);
+    v->era_work = okid_carve_reals(&c, OKID__LWORK_GESVD(hr, hc));
+    end = MAX(end, c.used);
+
+    c.used = scratch;
+    v->modal_a = okid_carve_reals(&c, n * n);
+    v->modal_vr = okid_carve_reals(&c, n * n);
+    v->modal_wr = okid_carve_reals(&c, n);
+    v->modal_wi = okid_carve_reals(&c, n);
+    v->modal_work = okid_carve_reals(&c, OKID__LWORK_GEEV(n));
+    end = MAX(end, c.used);
+
+    return end;
+}
