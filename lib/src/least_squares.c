@@ -68,8 +68,10 @@ okid_status okid_lsq_solve(okid_identifier *id, int *regressor_rank, int *input_
     column_scale(v->r, w, q, v->lsq_scale);
 
     /* Persistence of excitation: rank of the input-only regressor (leading nu columns). */
+    /* One dummy right-hand side: xGELSY returns rank 0 at once when NRHS = 0. */
     scaled_copy(v->r, w, nu, v->lsq_scale, v->lsq_s);
-    okid_status st = okid_la_lstsq_rank(nu, 0, v->lsq_s, nu, v->x, q, tol, input_rank, v->lsq_jpvt, v->lsq_work);
+    okid_zero_matrix(q, 1, v->x, q);
+    okid_status st = okid_la_lstsq_rank(nu, 1, v->lsq_s, nu, v->x, q, tol, input_rank, v->lsq_jpvt, v->lsq_work);
     if (st != OKID_OK) {
         return st;
     }

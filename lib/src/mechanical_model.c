@@ -90,3 +90,53 @@ okid_status okid_model_state_space(const okid_mechanical_model *model, okid_real
     }
     return OKID_OK;
 }
+
+/* Adds the link of coefficient value between masses i-1 and i (index -1 and dofs are the walls). */
+static void add_link(int dofs, okid_real *matrix, int i, okid_real value)
+{
+    if (i - 1 >= 0) {
+        OKID_AT(matrix, dofs, i - 1, i - 1) += value;
+    }
+    if (i < dofs) {
+        OKID_AT(matrix, dofs, i, i) += value;
+    }
+    if (i - 1 >= 0 && i < dofs) {
+        OKID_AT(matrix, dofs, i - 1, i) -= value;
+        OKID_AT(matrix, dofs, i, i - 1) -= value;
+    }
+}
+
+okid_status okid_chain_model(int dofs, const okid_real *masses, const okid_real *dampers,
+                             const okid_real *springs, okid_real *mass, okid_real *damping,
+                             okid_real *stiffness)
+{
+    if (masses == NULL || dampers == NULL || springs == NULL || mass == NULL || damping == NULL ||
+        stiffness == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    if (dofs < 1 || dofs > OKID_MAX_ORDER / 2) {
+        return OKID_E_BAD_SIZE;
+    }
+    for (int i = 0; i < dofs; ++i) {
+        if (!okid_all_finite(1, 1, &masses[i], 1) || !(masses[i] > 0)) {
+            return OKID_E_BAD_PARAMETER;
+        }
+    }
+    for (int i = 0; i <= dofs; ++i) {
+        if (!okid_all_finite(1, 1, &dampers[i], 1) || !okid_all_finite(1, 1, &springs[i], 1) ||
+            dampers[i] < 0 || springs[i] < 0) {
+            return OKID_E_BAD_PARAMETER;
+        }
+    }
+    okid_zero_matrix(dofs, dofs, mass, dofs);
+    okid_zero_matrix(dofs, dofs, damping, dofs);
+    okid_zero_matrix(dofs, dofs, stiffness, dofs);
+    for (int i = 0; i < dofs; ++i) {
+        OKID_AT(mass, dofs, i, i) = masses[i];
+    }
+    for (int i = 0; i <= dofs; ++i) {
+        add_link(dofs, damping, i, dampers[i]);
+        add_link(dofs, stiffness, i, springs[i]);
+    }
+    return OKID_OK;
+}

@@ -34,6 +34,21 @@ typedef struct okid_mechanical_model {
     const okid_real *out_disp;  /**< Cd, m x n2, or NULL */
 } okid_mechanical_model;
 
+/**
+ * Mass, damping and stiffness matrices of a chain of n2 masses between two walls (the paper's
+ * 2-DOF system for n2 = 2): spring k_i and damper r_i join mass i-1 and mass i, where mass 0 and
+ * mass n2+1 are the walls. A zero k or r leaves that link out (a free end).
+ * \param[in]  dofs      n2, 1..OKID_MAX_ORDER / 2
+ * \param[in]  masses    n2 masses, finite and > 0
+ * \param[in]  dampers   n2 + 1 damping coefficients r_1 .. r_(n2+1), finite and >= 0
+ * \param[in]  springs   n2 + 1 stiffnesses k_1 .. k_(n2+1), finite and >= 0
+ * \param[out] mass, damping, stiffness  n2 x n2 each, column-major, leading dimension n2
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE, OKID_E_BAD_PARAMETER
+ */
+okid_status okid_chain_model(int dofs, const okid_real *masses, const okid_real *dampers,
+                             const okid_real *springs, okid_real *mass, okid_real *damping,
+                             okid_real *stiffness);
+
 /** Work reals okid_model_state_space() needs for n2 degrees of freedom and r inputs. */
 #define OKID_STATE_SPACE_WORK_REALS(dofs, r) ((size_t)(dofs) * ((size_t)(dofs) * 3u + (size_t)(r) + 1u))
 
