@@ -1,0 +1,293 @@
+/* End-to-end identification against exact models (reference values from numpy/scipy and the paper). */
+#include "test_support.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { PAPER_SAMPLES = 1001 }; /* the paper's T = 10 s at dt = 0.01 s */
+
+static void test_paper_noise_free(void **state)
+{
+    (void)state;
+    okid_config cfg;
+    test_config(&REF_PAPER, &cfg);
+    okid_identifier id;
+    okid_result res;
+    void *ws = NULL;
+    assert_int_equal(test_identify_case(&REF_PAPER, &cfg, PAPER_SAMPLES, 2024, &id, &ws, &res), OKID_OK);
+    assert_int_equal(res.order, 4);
+    assert_modes_match(&REF_PAPER, res.modes, res.num_modes, 1e-9, 0.999999);
+
+    /* The paper's printed eigenvalues (eq. 87, 94 to four decimals in the text of DESIGN.md/issue). */
+    assert_relative(res.modes[1].eigenvalue.re, 0.9767, 0.6e-4, "printed lambda re", 1);
+    assert_relative(res.modes[1].eigenvalue.im, 0.0608, 1e-3, "printed lambda im", 1);
+    assert_relative(res.modes[0].eigenvalue.re, 0.9945, 0.6e-4, "printed lambda re", 0);
+    assert_relative(res.modes[0].eigenvalue.im, 0.0311, 2e-3, "printed lambda im", 0);
+
+    /* Eq. 98-99 as printed (phi_1 for lambda_1 = 0.98 + 0.061i, phi_3 for 0.99 + 0.031i), up to the
+       sign our normalisation picks. Two decimals: the paper prints -0.037 where the exact value is
+       -0.0337 (phi_3), so half a unit of the third decimal would reject the paper itself. */
+    const double phi1[4][2] = {{0.041, 0.12}, {-0.027, -0.079}, {-0.82, 0}, {0.55, 0}};
+    const double phi3[4][2] = {{-0.037, -0.21}, {-0.037, -0.21}, {0.67, 0}, {0.67, 0}};
+    const double (*printed[2])[2] = {phi3, phi1};
+    for (int mode = 0; mode < 2; ++mode) {
+        const okid_complex *s = res.modes[mode].shape;
+        const double sign = (s[2].re * printed[mode][2][0] < 0) ? -1 : 1;
+        for (int i = 0; i < 4; ++i) {
+            assert_true(fabs(sign * s[i].re - printed[mode][i][0]) <= 0.005);
+            assert_true(fabs(sign * s[i].im - printed[mode][i][1]) <= 0.005);
+        }
+    }
+
+    /* System Markov parameters (eq. 51) against D, CB, CAB, ... of the exact model. */
+    const int count = REF_PAPER.m * REF_PAPER.r * (REF_PAPER.markov_count + 1);
+    assert_int_equal(res.markov.cols, REF_PAPER.r * 41);
+    assert_true(max_relative_difference(res.markov.data, REF_PAPER.markov, (size_t)count) < 1e-9);
+
+    /* Hankel singular values: n significant ones equal the exact Hankel's, the rest vanish. */
+    for (int i = 0; i < 4; ++i) {
+        assert_relative(res.singular_values[i], REF_PAPER.hankel_sv[i], 1e-9, "hankel sv", i);
+    }
+    assert_true(res.singular_values[4] < 1e-12 * res.singular_values[0]);
+    /* p = 20 is far above the minimum p = 1 for noise-free data: rank deficient, and said so. */
+    assert_true(res.regressor_rank < res.regressor_columns);
+    assert_true(res.warnings & OKID_W_REGRESSOR_RANK_DEFICIENT);
+    assert_int_equal(res.input_rank, 21);
+    free(ws);
+}
+
+/* The realization reproduces the Markov parameters it came from: C A^(k-1) B = Y_k. */
+static void test_realization_reproduces_markov(void **state)
+{
+    (void)state;
+    okid_config cfg;
+    test_config(&REF_PAPER, &cfg);
+    okid_identifier id;
+    okid_result res;
+    void *ws = NULL;
+    assert_int_equal(test_identify_case(&REF_PAPER, &cfg, PAPER_SAMPLES, 7, &id, &ws, &res), OKID_OK);
+    const int n = res.order;
+    double p[TEST_MAX_STATES], next[TEST_MAX_STATES];
+    for (int i = 0; i < n; ++i) p[i] = okid_matrix_at(res.B, i, 0);
+    for (int k = 1; k <= 40; ++k) {
+        for (int a = 0; a < 2; ++a) {
+            double y = 0;
+            for (int j = 0; j < n; ++j) y += okid_matrix_at(res.C, a, j) * p[j];
+            assert_relative(y, REF_PAPER.markov[a + 2 * k], 1e-8, "C A^(k-1) B", k);
+        }
+        for (int i = 0; i < n; ++i) {
+            next[i] = 0;
+            for (int j = 0; j < n; ++j) next[i] += okid_matrix_at(res.A, i, j) * p[j];
+        }
+        memcpy(p, next, sizeof(double) * (size_t)n);
+    }
+    assert_relative(okid_matrix_at(res.D, 0, 0), REF_PAPER.d[0], 1e-9, "D", 0);
+    free(ws);
+}
+
+static void test_mimo_displacement(void **state)
+{
+    (void)state;
+    okid_config cfg;
+    test_config(&REF_MIMO, &cfg);
+    okid_identifier id;
+    okid_result res;
+    void *ws = NULL;
+    assert_int_equal(test_identify_case(&REF_MIMO, &cfg, 1500, 11, &id, &ws, &res), OKID_OK);
+    assert_modes_match(&REF_MIMO, res.modes, res.num_modes, 1e-9, 0.999999);
+    assert_int_equal(res.input_rank, 2 * 21);
+    free(ws);
+}
+
+static void test_chain3_velocity(void **state)
+{
+    (void)state;
+    okid_config cfg;
+    test_config(&REF_CHAIN3, &cfg);
+    okid_identifier id;
+    okid_result res;
+    void *ws = NULL;
+    assert_int_equal(test_identify_case(&REF_CHAIN3, &cfg, 2000, 5, &id, &ws, &res), OKID_OK);
+    assert_int_equal(res.order, 6);
+    assert_modes_match(&REF_CHAIN3, res.modes, res.num_modes, 1e-9, 0.999999);
+    free(ws);
+}
+
+/* Automatic order: the largest singular-value gap of noise-free data is at the true order. */
+static void test_automatic_order(void **state)
+{
+    (void)state;
+    const ref_case *cases[3] = {&REF_PAPER, &REF_MIMO, &REF_CHAIN3};
+    for (int c = 0; c < 3; ++c) {
+        okid_config cfg;
+        test_config(cases[c], &cfg);
+        cfg.order = 0;
+        okid_identifier id;
+        okid_result res;
+        void *ws = NULL;
+        assert_int_equal(test_identify_case(cases[c], &cfg, 2000, 3, &id, &ws, &res), OKID_OK);
+        assert_int_equal(res.order, 2 * cases[c]->dofs);
+        assert_modes_match(cases[c], res.modes, res.num_modes, 1e-9, 0.999999);
+        free(ws);
+    }
+}
+
+/* Combined realization (eq. 54, 61): same modes, and G reproduces the observer-gain Markov
+   parameters it was realized from: C A^(k-1) G = Y°_k. */
+static void test_combined_realization(void **state)
+{
+    (void)state;
+    okid_config cfg;
+    test_config(&REF_PAPER, &cfg);
+    cfg.realization = OKID_REALIZATION_COMBINED;
+    cfg.observer_order = 2; /* a unique (deadbeat) observer: m p = n */
+    okid_identifier id;
+    okid_result res;
+    void *ws = NULL;
+    assert_int_equal(test_identify_case(&REF_PAPER, &cfg, PAPER_SAMPLES, 13, &id, &ws, &res), OKID_OK);
+    assert_modes_match(&REF_PAPER, res.modes, res.num_modes, 1e-9, 0.999999);
+    assert_non_null(res.G.data);
+    assert_int_equal(res.G.rows, 4);
+    assert_int_equal(res.G.cols, 2);
+    const int n = res.order;
+    double p[TEST_MAX_STATES * 2], next[TEST_MAX_STATES * 2];
+    for (int i = 0; i < n; ++i) {
+        p[i] = okid_matrix_at(res.G, i, 0);
+        p[n + i] = okid_matrix_at(res.G, i, 1);
+    }
+    double scale = 0;
+    for (int j = 0; j < res.observer_gain_markov.cols; ++j) {
+        for (int a = 0; a < 2; ++a) scale = fmax(scale, fabs(okid_matrix_at(res.observer_gain_markov, a, j)));
+    }
+    for (int k = 1; k <= 10; ++k) {
+        for (int col = 0; col < 2; ++col) {
+            for (int a = 0; a < 2; ++a) {
+                double y = 0;
+                for (int j = 0; j < n; ++j) y += okid_matrix_at(res.C, a, j) * p[col * n + j];
+                const double want = okid_matrix_at(res.observer_gain_markov, a, (k - 1) * 2 + col);
+                assert_true(fabs(y - want) <= 1e-7 * scale);
+            }
+            for (int i = 0; i < n; ++i) {
+                next[i] = 0;
+                for (int j = 0; j < n; ++j) next[i] += okid_matrix_at(res.A, i, j) * p[col * n + j];
+            }
+            memcpy(p + col * n, next, sizeof(double) * (size_t)n);
+        }
+    }
+    free(ws);
+}
+
+/* Forgetting factor: after a change of stiffness, lambda < 1 tracks the new structure. */
+static void test_forgetting_tracks_stiffness_change(void **state)
+{
+    (void)state;
+    enum { HALF = 3000 };
+    double *u = test_white_noise(1, 2 * HALF, 99);
+    double *y = malloc(sizeof(double) * 2 * 2 * HALF);
+    double x[TEST_MAX_STATES] = {0};
+    test_simulate(&REF_PAPER, HALF, u, y, x);
+    test_simulate(&REF_STIFFER, HALF, u + HALF, y + 2 * HALF, x); /* k2 changes, the motion goes on */
+
+    const double lambdas[2] = {0.99, 1.0};
+    for (int t = 0; t < 2; ++t) {
+        okid_config cfg;
+        test_config(&REF_PAPER, &cfg);
+        cfg.forgetting_factor = lambdas[t];
+        size_t bytes = 0;
+        void *ws = test_workspace(&cfg, &bytes);
+        okid_identifier id;
+        okid_result res;
+        assert_int_equal(okid_init(&id, &cfg, ws, bytes, NULL), OKID_OK);
+        assert_int_equal(okid_push_block(&id, 2 * HALF, u, 1, y, 2, NULL), OKID_OK);
+        assert_int_equal(okid_identify(&id, &res), OKID_OK);
+        double worst = 0;
+        for (int i = 0; i < 2; ++i) {
+            worst = fmax(worst, fabs(res.modes[i].frequency_hz - REF_STIFFER.freq_hz[i]) / REF_STIFFER.freq_hz[i]);
+        }
+        if (t == 0) {
+            assert_true(worst < 1e-6); /* old rows weigh 0.99^3000 ~ 1e-13 */
+        } else {
+            assert_true(worst > 1e-3); /* without forgetting the two structures are averaged */
+        }
+        free(ws);
+    }
+    free(u);
+    free(y);
+}
+
+/* Block pushes of any size give bit-identical results to sample-by-sample pushes. */
+static void test_block_push_equals_single_push(void **state)
+{
+    (void)state;
+    okid_config cfg;
+    test_config(&REF_PAPER, &cfg);
+    double *u = test_white_noise(1, PAPER_SAMPLES, 21);
+    double *y = malloc(sizeof(double) * 2 * PAPER_SAMPLES);
+    test_simulate(&REF_PAPER, PAPER_SAMPLES, u, y, NULL);
+    size_t bytes = 0;
+    void *ws1 = test_workspace(&cfg, &bytes), *ws2 = test_workspace(&cfg, &bytes);
+    okid_identifier id1, id2;
+    okid_result r1, r2;
+    assert_int_equal(okid_init(&id1, &cfg, ws1, bytes, NULL), OKID_OK);
+    assert_int_equal(okid_init(&id2, &cfg, ws2, bytes, NULL), OKID_OK);
+    for (int k = 0; k < PAPER_SAMPLES; ++k) {
+        assert_int_equal(okid_push(&id1, &u[k], &y[2 * k]), OKID_OK);
+    }
+    size_t k = 0, chunk = 1;
+    while (k < PAPER_SAMPLES) { /* chunks of 1, 2, 3, ... samples: every phase of the block buffer */
+        const size_t c = (k + chunk <= PAPER_SAMPLES) ? chunk : PAPER_SAMPLES - k;
+        assert_int_equal(okid_push_block(&id2, c, u + k, 1, y + 2 * k, 2, NULL), OKID_OK);
+        k += c;
+        ++chunk;
+    }
+    assert_int_equal(okid_identify(&id1, &r1), OKID_OK);
+    assert_int_equal(okid_identify(&id2, &r2), OKID_OK);
+    assert_memory_equal(r1.A.data, r2.A.data, sizeof(double) * 16);
+    assert_memory_equal(r1.singular_values, r2.singular_values, sizeof(double) * (size_t)r1.num_singular_values);
+    free(ws1);
+    free(ws2);
+    free(u);
+    free(y);
+}
+
+/* Records that do not start at rest: the first p samples only fill the window. */
+static void test_record_not_from_rest(void **state)
+{
+    (void)state;
+    okid_config cfg;
+    test_config(&REF_PAPER, &cfg);
+    cfg.zero_initial_state = 0;
+    double *u = test_white_noise(1, 1500, 4);
+    double *y = malloc(sizeof(double) * 2 * 1500);
+    test_simulate(&REF_PAPER, 1500, u, y, NULL);
+    size_t bytes = 0;
+    void *ws = test_workspace(&cfg, &bytes);
+    okid_identifier id;
+    okid_result res;
+    assert_int_equal(okid_init(&id, &cfg, ws, bytes, NULL), OKID_OK);
+    /* Drop the first 500 samples: the structure is moving when the record starts. */
+    assert_int_equal(okid_push_block(&id, 1000, u + 500, 1, y + 1000, 2, NULL), OKID_OK);
+    assert_int_equal(okid_identify(&id, &res), OKID_OK);
+    assert_int_equal(res.rows, 1000 - 20);
+    assert_modes_match(&REF_PAPER, res.modes, res.num_modes, 1e-9, 0.999999);
+    free(ws);
+    free(u);
+    free(y);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_paper_noise_free),
+        cmocka_unit_test(test_realization_reproduces_markov),
+        cmocka_unit_test(test_mimo_displacement),
+        cmocka_unit_test(test_chain3_velocity),
+        cmocka_unit_test(test_automatic_order),
+        cmocka_unit_test(test_combined_realization),
+        cmocka_unit_test(test_forgetting_tracks_stiffness_change),
+        cmocka_unit_test(test_block_push_equals_single_push),
+        cmocka_unit_test(test_record_not_from_rest),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,165 @@
+/* See test_support.h. */
+#include "test_support.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "reference/reference_data.h"
+
+#define REF_CASE(P, SENSING, CA, CV, CD)                                                                \
+    {#P, P##_DOFS, P##_R, P##_M, P##_MODES, P##_MARKOV_COUNT, P##_DT, SENSING, P##_MASS, P##_DAMPING,   \
+     P##_STIFFNESS, P##_B2, CA, CV, CD, P##_AC, P##_BC, P##_C, P##_D, P##_A, P##_B, P##_EIG_RE,        \
+     P##_EIG_IM, P##_POLE_RE, P##_POLE_IM, P##_FREQ_HZ, P##_DAMPING_RATIO, P##_SHAPE_RE, P##_SHAPE_IM, \
+     P##_MARKOV, P##_HANKEL_SV}
+
+const ref_case REF_PAPER = REF_CASE(PAPER, OKID_SENSING_ACCELERATION, PAPER_CA, NULL, NULL);
+const ref_case REF_STIFFER = REF_CASE(STIFFER, OKID_SENSING_ACCELERATION, STIFFER_CA, NULL, NULL);
+const ref_case REF_MIMO = REF_CASE(MIMO, OKID_SENSING_DISPLACEMENT, NULL, NULL, MIMO_CD);
+const ref_case REF_CHAIN3 = REF_CASE(CHAIN3, OKID_SENSING_VELOCITY, NULL, CHAIN3_CV, NULL);
+
+void test_simulate(const ref_case *rc, size_t count, const double *u, double *y, double *state)
+{
+    const int n = 2 * rc->dofs, r = rc->r, m = rc->m;
+    double x[TEST_MAX_STATES] = {0}, next[TEST_MAX_STATES];
+    if (state != NULL) {
+        memcpy(x, state, sizeof(double) * (size_t)n);
+    }
+    for (size_t k = 0; k < count; ++k) {
+        const double *uk = u + k * (size_t)r;
+        for (int i = 0; i < m; ++i) {
+            double s = 0;
+            for (int j = 0; j < n; ++j) s += rc->c[i + j * m] * x[j];
+            for (int j = 0; j < r; ++j) s += rc->d[i + j * m] * uk[j];
+            y[k * (size_t)m + (size_t)i] = s;
+        }
+        for (int i = 0; i < n; ++i) {
+            double s = 0;
+            for (int j = 0; j < n; ++j) s += rc->a[i + j * n] * x[j];
+            for (int j = 0; j < r; ++j) s += rc->b[i + j * n] * uk[j];
+            next[i] = s;
+        }
+        memcpy(x, next, sizeof(double) * (size_t)n);
+    }
+    if (state != NULL) {
+        memcpy(state, x, sizeof(double) * (size_t)n);
+    }
+}
+
+double *test_white_noise(int r, size_t count, uint64_t seed)
+{
+    double *u = malloc(sizeof(double) * (size_t)r * count);
+    assert_non_null(u);
+    okid_rng rng;
+    okid_rng_seed(&rng, seed);
+    assert_int_equal(okid_rng_normal(&rng, 1, (size_t)r * count, u, 1), OKID_OK);
+    return u;
+}
+
+void *test_workspace(const okid_config *cfg, size_t *bytes)
+{
+    assert_int_equal(okid_workspace_size(cfg, bytes), OKID_OK);
+    void *ws = aligned_alloc(OKID_WORKSPACE_ALIGN, (*bytes + 15u) / 16u * 16u);
+    assert_non_null(ws);
+    return ws;
+}
+
+void test_config(const ref_case *rc, okid_config *cfg)
+{
+    assert_int_equal(okid_config_default(cfg, rc->r, rc->m), OKID_OK);
+    cfg->dt = rc->dt;
+    cfg->observer_order = 20;
+    cfg->order = 2 * rc->dofs;
+    cfg->hankel_rows = 20;
+    cfg->hankel_cols = 20;
+    cfg->sensing = rc->sensing;
+    cfg->zero_initial_state = 1;
+}
+
+okid_status test_identify_case(const ref_case *rc, const okid_config *cfg, size_t samples, uint64_t seed,
+                               okid_identifier *id, void **workspace, okid_result *result)
+{
+    size_t bytes = 0;
+    *workspace = test_workspace(cfg, &bytes);
+    assert_int_equal(okid_init(id, cfg, *workspace, bytes, NULL), OKID_OK);
+    double *u = test_white_noise(rc->r, samples, seed);
+    double *y = malloc(sizeof(double) * (size_t)rc->m * samples);
+    assert_non_null(y);
+    test_simulate(rc, samples, u, y, NULL);
+    size_t accepted = 0;
+    assert_int_equal(okid_push_block(id, samples, u, (size_t)rc->r, y, (size_t)rc->m, &accepted), OKID_OK);
+    assert_int_equal(accepted, samples);
+    free(u);
+    free(y);
+    return okid_identify(id, result);
+}
+
+void assert_relative(double got, double want, double tol, const char *what, int index)
+{
+    const double scale = (want != 0) ? fabs(want) : 1;
+    const double err = fabs(got - want) / scale;
+    if (!(err <= tol)) {
+        fail_msg("%s[%d]: got %.17g, want %.17g (relative error %.3g > %.3g)", what, index, got, want, err, tol);
+    }
+}
+
+/* MAC and the phase-aligned relative difference of two complex vectors (b is the reference). */
+static void compare_shapes(const okid_complex *a, const double *b_re, const double *b_im, int len, double *mac,
+                           double *diff)
+{
+    double ab_re = 0, ab_im = 0, aa = 0, bb = 0;
+    for (int i = 0; i < len; ++i) {
+        ab_re += a[i].re * b_re[i] + a[i].im * b_im[i]; /* conj(a) b */
+        ab_im += a[i].re * b_im[i] - a[i].im * b_re[i];
+        aa += a[i].re * a[i].re + a[i].im * a[i].im;
+        bb += b_re[i] * b_re[i] + b_im[i] * b_im[i];
+    }
+    *mac = (ab_re * ab_re + ab_im * ab_im) / (aa * bb);
+    /* a scaled by (a^H b) / (a^H a) is the closest multiple of a to b. */
+    const double s_re = ab_re / aa, s_im = ab_im / aa;
+    double worst = 0;
+    for (int i = 0; i < len; ++i) {
+        const double re = a[i].re * s_re - a[i].im * s_im - b_re[i];
+        const double im = a[i].re * s_im + a[i].im * s_re - b_im[i];
+        worst = fmax(worst, hypot(re, im));
+    }
+    *diff = worst / sqrt(bb);
+}
+
+void assert_modes_match(const ref_case *rc, const okid_mode *modes, int num_modes, double tol, double mac_min)
+{
+    assert_int_equal(num_modes, rc->num_modes);
+    const int len = 2 * rc->dofs;
+    for (int i = 0; i < num_modes; ++i) {
+        char what[64];
+        snprintf(what, sizeof what, "%s eigenvalue", rc->name);
+        const double lambda_err = hypot(modes[i].eigenvalue.re - rc->eig_re[i], modes[i].eigenvalue.im - rc->eig_im[i]) /
+                                  hypot(rc->eig_re[i], rc->eig_im[i]);
+        assert_relative(lambda_err, 0, tol, what, i);
+        assert_int_equal(modes[i].is_pair, 1);
+        assert_relative(modes[i].pole.re, rc->pole_re[i], tol, "pole re", i);
+        assert_relative(modes[i].pole.im, rc->pole_im[i], tol, "pole im", i);
+        assert_relative(modes[i].frequency_hz, rc->freq_hz[i], tol, "frequency", i);
+        assert_relative(modes[i].damping_ratio, rc->damping_ratio[i], tol, "damping ratio", i);
+        double mac = 0, diff = 0;
+        compare_shapes(modes[i].shape, rc->shape_re + (size_t)i * (size_t)len, rc->shape_im + (size_t)i * (size_t)len,
+                       len, &mac, &diff);
+        if (!(mac > mac_min)) {
+            fail_msg("%s mode %d: MAC %.15f <= %.15f", rc->name, i, mac, mac_min);
+        }
+        if (!(diff <= tol)) {
+            fail_msg("%s mode %d: shape differs by %.3g (relative)", rc->name, i, diff);
+        }
+    }
+}
+
+double max_relative_difference(const double *a, const double *b, size_t count)
+{
+    double diff = 0, scale = 0;
+    for (size_t i = 0; i < count; ++i) {
+        diff = fmax(diff, fabs(a[i] - b[i]));
+        scale = fmax(scale, fabs(b[i]));
+    }
+    return diff / scale;
+}
