@@ -161,5 +161,5 @@ double max_relative_difference(const double *a, const double *b, size_t count)
         diff = fmax(diff, fabs(a[i] - b[i]));
         scale = fmax(scale, fabs(b[i]));
     }
-    return diff / scale;
+    return (scale > 0) ? diff / scale : diff;
 }

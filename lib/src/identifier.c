@@ -89,11 +89,11 @@ okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspa
     if (workspace == NULL) {
         return OKID_E_NULL_POINTER;
     }
-    if (bytes < needed) {
-        return OKID_E_WORKSPACE_TOO_SMALL;
-    }
     if (((size_t)workspace % OKID_WORKSPACE_ALIGN) != 0) {
         return OKID_E_WORKSPACE_ALIGNMENT;
+    }
+    if (bytes < needed) {
+        return OKID_E_WORKSPACE_TOO_SMALL;
     }
     id->cfg_ = *cfg;
     id->dims_ = dims;
