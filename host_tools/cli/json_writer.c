@@ -1,0 +1,132 @@
+/* See json_writer.h. */
+#include "json_writer.h"
+
+#include <math.h>
+
+void json_number(FILE *out, double value)
+{
+    if (isfinite(value)) {
+        fprintf(out, "%.17g", value);
+    } else {
+        fputs("null", out);
+    }
+}
+
+void json_string(FILE *out, const char *text)
+{
+    fputc('"', out);
+    for (const unsigned char *p = (const unsigned char *)text; *p; ++p) {
+        if (*p == '"' || *p == '\\') {
+            fprintf(out, "\\%c", *p);
+        } else if (*p < 0x20) {
+            fprintf(out, "\\u%04x", *p);
+        } else {
+            fputc(*p, out);
+        }
+    }
+    fputc('"', out);
+}
+
+void json_matrix(FILE *out, okid_matrix m)
+{
+    fputc('[', out);
+    for (int i = 0; i < m.rows; ++i) {
+        fputs(i ? ", [" : "[", out);
+        for (int j = 0; j < m.cols; ++j) {
+            if (j) fputs(", ", out);
+            json_number(out, (double)okid_matrix_at(m, i, j));
+        }
+        fputc(']', out);
+    }
+    fputc(']', out);
+}
+
+void json_vector(FILE *out, const okid_real *values, int count)
+{
+    fputc('[', out);
+    for (int i = 0; i < count; ++i) {
+        if (i) fputs(", ", out);
+        json_number(out, (double)values[i]);
+    }
+    fputc(']', out);
+}
+
+void json_complex(FILE *out, okid_complex z)
+{
+    fputc('[', out);
+    json_number(out, (double)z.re);
+    fputs(", ", out);
+    json_number(out, (double)z.im);
+    fputc(']', out);
+}
+
+void json_complex_vector(FILE *out, const okid_complex *values, int count)
+{
+    fputc('[', out);
+    for (int i = 0; i < count; ++i) {
+        if (i) fputs(", ", out);
+        json_complex(out, values[i]);
+    }
+    fputc(']', out);
+}
+
+static void json_warnings(FILE *out, unsigned warnings)
+{
+    fputc('[', out);
+    int first = 1;
+    for (unsigned bit = 1; bit != 0 && bit <= warnings; bit <<= 1) {
+        if (warnings & bit) {
+            if (!first) fputs(", ", out);
+            json_string(out, okid_warning_str(bit));
+            first = 0;
+        }
+    }
+    fputc(']', out);
+}
+
+void json_result(FILE *out, const okid_config *cfg, const okid_result *res)
+{
+    const int m = cfg->num_outputs;
+    fprintf(out, "{\n  \"order\": %d,\n  \"observer_order\": %d,\n", res->order, cfg->observer_order);
+    fprintf(out, "  \"hankel_rows\": %d,\n  \"hankel_cols\": %d,\n", cfg->hankel_rows, cfg->hankel_cols);
+    fprintf(out, "  \"realization\": \"%s\",\n",
+            cfg->realization == OKID_REALIZATION_COMBINED ? "combined" : "system");
+    fprintf(out, "  \"samples\": %llu,\n  \"rows\": %llu,\n  \"dt\": ", (unsigned long long)res->samples,
+            (unsigned long long)res->rows);
+    json_number(out, (double)res->dt);
+    fprintf(out, ",\n  \"regressor_rank\": %d,\n  \"regressor_columns\": %d,\n  \"input_rank\": %d,\n",
+            res->regressor_rank, res->regressor_columns, res->input_rank);
+    fputs("  \"warnings\": ", out);
+    json_warnings(out, res->warnings);
+    fputs(",\n  \"singular_values\": ", out);
+    json_vector(out, res->singular_values, res->num_singular_values);
+    const char *names[4] = {"A", "B", "C", "D"};
+    const okid_matrix mats[4] = {res->A, res->B, res->C, res->D};
+    for (int i = 0; i < 4; ++i) {
+        fprintf(out, ",\n  \"%s\": ", names[i]);
+        json_matrix(out, mats[i]);
+    }
+    if (res->G.data != NULL) {
+        fputs(",\n  \"G\": ", out);
+        json_matrix(out, res->G);
+    }
+    fputs(",\n  \"modes\": [", out);
+    for (int i = 0; i < res->num_modes; ++i) {
+        const okid_mode *md = &res->modes[i];
+        fputs(i ? ",\n    {" : "\n    {", out);
+        fputs("\"eigenvalue\": ", out);
+        json_complex(out, md->eigenvalue);
+        fputs(", \"pole\": ", out);
+        json_complex(out, md->pole);
+        fputs(", \"frequency_hz\": ", out);
+        json_number(out, (double)md->frequency_hz);
+        fputs(", \"damping_ratio\": ", out);
+        json_number(out, (double)md->damping_ratio);
+        fprintf(out, ", \"is_pair\": %s, \"sensor_shape\": ", md->is_pair ? "true" : "false");
+        json_complex_vector(out, md->sensor_shape, m);
+        fputs(", \"shape\": ", out);
+        json_complex_vector(out, md->shape, 2 * m);
+        fputc('}', out);
+    }
+    fputs(res->num_modes ? "\n  ]\n}\n" : "]\n}\n", out);
+}

@@ -1,0 +1,23 @@
+/* Just enough JSON output for the identification result: numbers round-trip (%.17g), NaN/Inf as null. */
+#ifndef OKID_CLI_JSON_WRITER_H
+#define OKID_CLI_JSON_WRITER_H
+
+#include <stdio.h>
+
+#include "okid/okid.h"
+
+void json_number(FILE *out, double value);
+void json_string(FILE *out, const char *text);
+/* [[row 0], [row 1], ...] of a matrix view. */
+void json_matrix(FILE *out, okid_matrix m);
+/* [v0, v1, ...] */
+void json_vector(FILE *out, const okid_real *values, int count);
+/* [re, im] */
+void json_complex(FILE *out, okid_complex z);
+/* [[re, im], ...] */
+void json_complex_vector(FILE *out, const okid_complex *values, int count);
+
+/* The whole result as one JSON object (keys documented in README.md). */
+void json_result(FILE *out, const okid_config *cfg, const okid_result *res);
+
+#endif
