@@ -276,6 +276,41 @@ static void test_record_not_from_rest(void **state)
     free(y);
 }
 
+/* One-step prediction with the identified observer reproduces noise-free outputs it never saw. */
+static void test_one_step_prediction(void **state)
+{
+    (void)state;
+    okid_config cfg;
+    test_config(&REF_PAPER, &cfg);
+    double *u = test_white_noise(1, PAPER_SAMPLES, 31);
+    double *y = malloc(sizeof(double) * 2 * PAPER_SAMPLES);
+    test_simulate(&REF_PAPER, PAPER_SAMPLES, u, y, NULL);
+    size_t bytes = 0;
+    void *ws = test_workspace(&cfg, &bytes);
+    okid_identifier id;
+    okid_result res;
+    double y_hat[2], scale = 0;
+    assert_int_equal(okid_init(&id, &cfg, ws, bytes, NULL), OKID_OK);
+    assert_int_equal(okid_predict(&id, u, y_hat), OKID_E_NOT_AVAILABLE);
+    assert_int_equal(okid_push_block(&id, 600, u, 1, y, 2, NULL), OKID_OK);
+    assert_int_equal(okid_identify(&id, &res), OKID_OK);
+    for (int k = 0; k < 2 * PAPER_SAMPLES; ++k) scale = fmax(scale, fabs(y[k]));
+    for (int k = 600; k < PAPER_SAMPLES; ++k) {
+        assert_int_equal(okid_predict(&id, &u[k], y_hat), OKID_OK);
+        assert_true(fabs(y_hat[0] - y[2 * k]) < 1e-9 * scale);
+        assert_true(fabs(y_hat[1] - y[2 * k + 1]) < 1e-9 * scale);
+        assert_int_equal(okid_push(&id, &u[k], &y[2 * k]), OKID_OK);
+    }
+    const double nan = NAN;
+    assert_int_equal(okid_predict(&id, &nan, y_hat), OKID_E_NONFINITE_SAMPLE);
+    assert_int_equal(okid_predict(&id, u, NULL), OKID_E_NULL_POINTER);
+    assert_int_equal(okid_reset(&id), OKID_OK);
+    assert_int_equal(okid_predict(&id, u, y_hat), OKID_E_NOT_AVAILABLE);
+    free(ws);
+    free(u);
+    free(y);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -288,6 +323,7 @@ int main(void)
         cmocka_unit_test(test_forgetting_tracks_stiffness_change),
         cmocka_unit_test(test_block_push_equals_single_push),
         cmocka_unit_test(test_record_not_from_rest),
+        cmocka_unit_test(test_one_step_prediction),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

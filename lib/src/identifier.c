@@ -67,6 +67,7 @@ static void clear_samples(okid_identifier *id)
     id->samples_ = 0;
     id->rejected_ = 0;
     id->rows_ = 0;
+    id->has_model_ = 0;
 }
 
 okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspace, size_t bytes,
@@ -199,6 +200,7 @@ okid_status okid_identify(okid_identifier *id, okid_result *result)
     if (st != OKID_OK) {
         return st;
     }
+    id->has_model_ = 0; /* the solution X is rewritten below */
     int regressor_rank = 0, input_rank = 0;
     st = okid_lsq_solve(id, &regressor_rank, &input_rank);
     if (st != OKID_OK) {
@@ -241,6 +243,28 @@ okid_status okid_identify(okid_identifier *id, okid_result *result)
     result->regressor_columns = d->q;
     result->input_rank = input_rank;
     result->warnings = warnings;
+    id->has_model_ = 1;
+    return OKID_OK;
+}
+
+okid_status okid_predict(const okid_identifier *id, const okid_real *u, okid_real *y_hat)
+{
+    if (id == NULL || u == NULL || y_hat == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    if (!is_initialized(id)) {
+        return OKID_E_NOT_INITIALIZED;
+    }
+    if (!id->has_model_) {
+        return OKID_E_NOT_AVAILABLE;
+    }
+    if (!okid_buffer_window_full(id)) {
+        return OKID_E_NOT_ENOUGH_DATA;
+    }
+    if (!okid_all_finite(id->dims_.r, 1, u, id->dims_.r)) {
+        return OKID_E_NONFINITE_SAMPLE;
+    }
+    okid_buffer_predict(id, u, id->at_.x, y_hat);
     return OKID_OK;
 }
 

@@ -49,6 +49,32 @@ void okid_buffer_write_row(const okid_identifier *id, const okid_real *u, const 
     }
 }
 
+void okid_buffer_predict(const okid_identifier *id, const okid_real *u, const okid_real *x, okid_real *y_hat)
+{
+    const int r = id->dims_.r, m = id->dims_.m, p = id->dims_.p, q = id->dims_.q;
+    for (int a = 0; a < m; ++a) {
+        const okid_real *xa = x + (size_t)a * (size_t)q; /* column a of X, in row-layout order */
+        okid_real s = 0;
+        int col = 0;
+        for (int i = 0; i < r; ++i) {
+            s += xa[col++] * u[i];
+        }
+        for (int j = 1; j <= p; ++j) {
+            const okid_real *v = past(id, j);
+            for (int i = 0; i < r; ++i) {
+                s += xa[col++] * v[i];
+            }
+        }
+        for (int j = 1; j <= p; ++j) {
+            const okid_real *v = past(id, j) + r;
+            for (int i = 0; i < m; ++i) {
+                s += xa[col++] * v[i];
+            }
+        }
+        y_hat[a] = s;
+    }
+}
+
 void okid_buffer_append(okid_identifier *id, const okid_real *u, const okid_real *y)
 {
     const int r = id->dims_.r, m = id->dims_.m, p = id->dims_.p;

@@ -19,6 +19,9 @@ int okid_buffer_window_full(const okid_identifier *id);
 /* Write the regressor row of sample k (u, y) into row `row` of the pending block (leading dimension block_rows). */
 void okid_buffer_write_row(const okid_identifier *id, const okid_real *u, const okid_real *y, int row);
 
+/* y_hat = X' phi(k): the regressor row of (u, window) times the q x m solution x (leading dimension q). */
+void okid_buffer_predict(const okid_identifier *id, const okid_real *u, const okid_real *x, okid_real *y_hat);
+
 /* Append v(k) = [u; y] to the window. */
 void okid_buffer_append(okid_identifier *id, const okid_real *u, const okid_real *y);
 

@@ -153,6 +153,7 @@ typedef struct okid_identifier {
     okid_dims_ dims_;
     okid_real forgetting_, rank_tolerance_;
     int block_fill_, window_fill_, ring_head_;
+    int has_model_;              /* 1 after a successful okid_identify(), until init/reset */
     uint64_t samples_, rejected_, rows_;
     okid_views_ at_;
 } okid_identifier;
@@ -293,6 +294,19 @@ okid_status okid_push_block(okid_identifier *id, size_t count, const okid_real *
  *         OKID_E_RANK_DEFICIENT, OKID_E_DECOMPOSITION_FAILED, OKID_E_BACKEND_ARGUMENT
  */
 okid_status okid_identify(okid_identifier *id, okid_result *result);
+
+/**
+ * One-step-ahead prediction of y(k) from u(k) and the last p samples, with the observer Markov
+ * parameters of the last successful okid_identify() (eq. 35: y(k) = D u(k) + sum_j Ybar_j v(k-j)).
+ * Call it before pushing sample k; y(k) - y_hat is the innovation, a fault or change indicator.
+ * \param[in]  id     identifier
+ * \param[in]  u      u(k), r values
+ * \param[out] y_hat  m values
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_NOT_AVAILABLE (no
+ *         identification yet), OKID_E_NOT_ENOUGH_DATA (fewer than p samples since the start or
+ *         the last gap), OKID_E_NONFINITE_SAMPLE
+ */
+okid_status okid_predict(const okid_identifier *id, const okid_real *u, okid_real *y_hat);
 
 /**
  * Forget every sample (configuration and workspace are kept).
