@@ -1,0 +1,186 @@
+"""Running the okid FMUs with fmpy: one adapter over FMI 2 and FMI 3 slaves, the plant alone,
+the identifier fed from arrays (simulate_fmu), and a master loop coupling both step by step."""
+from dataclasses import dataclass, field
+
+import numpy as np
+from fmpy import extract, read_model_description, simulate_fmu
+from fmpy.fmi2 import FMU2Slave
+from fmpy.fmi3 import FMU3Slave
+
+# Identifier settings of the verification cases (names of the FMU's parameters).
+PAPER_SETTINGS = dict(dt=0.01, observer_order=20, order=4, hankel_rows=20, hankel_cols=20, identify_every=100,
+                      zero_initial_state=1)
+NOISY_SETTINGS = dict(dt=0.05, observer_order=20, order=4, hankel_rows=40, hankel_cols=40, identify_every=200,
+                      zero_initial_state=1)
+
+
+class Slave:
+    """An FMU instance with the same few calls in FMI 2 and FMI 3."""
+
+    def __init__(self, path, name="instance", logger=None, unzipdir=None):
+        self.md = read_model_description(path)
+        self.version = 2 if self.md.fmiVersion.startswith("2") else 3
+        self.unzipdir = unzipdir or extract(path)
+        self.vars = {v.name: v for v in self.md.modelVariables}
+        cls = FMU2Slave if self.version == 2 else FMU3Slave
+        self.fmu = cls(guid=self.md.guid, unzipDirectory=self.unzipdir,
+                       modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=name)
+        self.logger = logger
+
+    def instantiate(self, logging_on=False):
+        if self.version == 2:
+            if self.logger is None:
+                self.fmu.instantiate(loggingOn=logging_on)
+            else:
+                from fmpy.fmi2 import fmi2CallbackFunctions, fmi2CallbackLoggerTYPE, fmi2CallbackAllocateMemoryTYPE, \
+                    fmi2CallbackFreeMemoryTYPE, printLogMessage  # noqa: F401
+                from fmpy import calloc, free
+                callbacks = fmi2CallbackFunctions()
+                callbacks.logger = fmi2CallbackLoggerTYPE(self._log2)
+                callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+                callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+                self._callbacks = callbacks
+                self.fmu.instantiate(callbacks=callbacks, loggingOn=logging_on)
+        else:
+            if self.logger is None:
+                self.fmu.instantiate(loggingOn=logging_on)
+            else:
+                from fmpy.fmi3 import fmi3LogMessageCallback
+                self._log_cb = fmi3LogMessageCallback(self._log3)
+                self.fmu.instantiate(loggingOn=logging_on, logMessage=self._log_cb)
+        return self
+
+    def _log2(self, env, name, status, category, message, *args):
+        text = message.decode()
+        if args and "%s" in text:  # okid passes the finished message as the argument of "%s"
+            text = args[0].decode() if isinstance(args[0], bytes) else str(args[0])
+        self.logger(status, category.decode(), text)
+
+    def _log3(self, env, status, category, message):
+        self.logger(status, category.decode(), message.decode())
+
+    def vr(self, name):
+        return self.vars[name].valueReference
+
+    def set(self, **values):
+        for name, value in values.items():
+            v = self.vars[name]
+            if v.type in ("Real", "Float64"):
+                (self.fmu.setReal if self.version == 2 else self.fmu.setFloat64)([v.valueReference], [float(value)])
+            else:
+                (self.fmu.setInteger if self.version == 2 else self.fmu.setInt32)([v.valueReference], [int(value)])
+
+    def get(self, *names):
+        out = []
+        for name in names:
+            v = self.vars[name]
+            if v.type in ("Real", "Float64"):
+                out.append((self.fmu.getReal if self.version == 2 else self.fmu.getFloat64)([v.valueReference])[0])
+            else:
+                out.append((self.fmu.getInteger if self.version == 2 else self.fmu.getInt32)([v.valueReference])[0])
+        return out
+
+    def initialize(self, start_time=0.0):
+        if self.version == 2:
+            self.fmu.setupExperiment(startTime=start_time)
+            self.fmu.enterInitializationMode()
+        else:
+            self.fmu.enterInitializationMode(startTime=start_time)
+        self.fmu.exitInitializationMode()
+
+    def step(self, t, h):
+        return self.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+
+    def close(self):
+        self.fmu.terminate()
+        self.fmu.freeInstance()
+
+
+def mode_outputs(num_modes=2, m=2):
+    names = []
+    for k in range(1, num_modes + 1):
+        names += [f"mode{k}_frequency", f"mode{k}_damping", f"mode{k}_eigenvalue_re", f"mode{k}_eigenvalue_im"]
+        names += [f"mode{k}_shape{j}_{part}" for j in range(1, 2 * m + 1) for part in ("re", "im")]
+    return names
+
+
+def modes_from(values, num_modes=2, m=2):
+    """Identifier outputs (dict name -> value) to a list of (eigenvalue, frequency, damping, shape)."""
+    modes = []
+    for k in range(1, num_modes + 1):
+        shape = np.array([values[f"mode{k}_shape{j}_re"] + 1j * values[f"mode{k}_shape{j}_im"]
+                          for j in range(1, 2 * m + 1)])
+        modes.append(dict(eigenvalue=values[f"mode{k}_eigenvalue_re"] + 1j * values[f"mode{k}_eigenvalue_im"],
+                          frequency_hz=values[f"mode{k}_frequency"], damping_ratio=values[f"mode{k}_damping"],
+                          shape=shape))
+    return modes
+
+
+def simulate_plant(plant_path, force, dt):
+    """The plant FMU with fmpy.simulate_fmu and an input array. fmpy applies the input at t, steps
+    to t + dt and records at t + dt: row k + 1 holds x(k + 1), v(k + 1) and acc = C x(k+1) + D u(k)
+    (the one-step recording lag of the force's feedthrough)."""
+    n = len(force)
+    t = np.arange(n + 1) * dt
+    signal = np.zeros(n + 1, dtype=[("time", np.float64), ("force", np.float64)])
+    signal["time"], signal["force"][:n], signal["force"][n] = t, force, force[-1]
+    return simulate_fmu(plant_path, start_time=0.0, stop_time=n * dt, step_size=dt, output_interval=dt,
+                        input=signal, output=["x1", "x2", "v1", "v2", "acc1", "acc2"], fmi_type="CoSimulation")
+
+
+def identify_from_arrays(identifier_path, u, y, settings):
+    """The identifier FMU with simulate_fmu: sample k (u[k], y[k]) is applied at t = k dt."""
+    dt = settings["dt"]
+    n = len(u)
+    signal = np.zeros(n + 1, dtype=[("time", np.float64), ("u1", np.float64), ("y1", np.float64), ("y2", np.float64)])
+    signal["time"] = np.arange(n + 1) * dt
+    signal["u1"][:n], signal["y1"][:n], signal["y2"][:n] = u, y[:, 0], y[:, 1]
+    signal[n] = signal[n - 1]
+    signal["time"][n] = n * dt
+    names = ["status", "samples", "identifications"] + mode_outputs()
+    res = simulate_fmu(identifier_path, start_time=0.0, stop_time=n * dt, step_size=dt, output_interval=dt,
+                       input=signal, output=names, start_values=settings, fmi_type="CoSimulation")
+    return {name: res[name][-1] for name in names}
+
+
+@dataclass
+class CoSimulation:
+    t: np.ndarray
+    force: np.ndarray
+    y: np.ndarray
+    history: dict = field(default_factory=dict)   # identifier outputs after every step
+    final: dict = field(default_factory=dict)
+
+
+def cosimulate(plant_path, identifier_path, settings, samples, seed=1, noise=0.0, noise_rms=None):
+    """Master loop: plant and identifier stepped together. At t_k the force u_k goes to the plant,
+    its accelerations y_k = C x_k + D u_k (plus output noise) go to the identifier, then both step."""
+    dt = settings["dt"]
+    rng = np.random.default_rng(seed)
+    force = rng.standard_normal(samples)
+    noise_rng = np.random.default_rng(seed + 1000)
+    plant = Slave(plant_path, "plant").instantiate()
+    ident = Slave(identifier_path, "identifier").instantiate()
+    plant.initialize()
+    ident.set(**settings)
+    ident.initialize()
+    watch = ["status", "samples", "mode1_frequency", "mode2_frequency", "mode1_damping", "mode2_damping"]
+    history = {name: np.empty(samples) for name in watch}
+    y = np.empty((samples, 2))
+    for k in range(samples):
+        t = k * dt
+        plant.set(force=force[k])
+        y[k] = plant.get("acc1", "acc2")
+        if noise > 0:
+            y[k] += noise * np.asarray(noise_rms) * noise_rng.standard_normal(2)
+        ident.set(u1=force[k], y1=y[k, 0], y2=y[k, 1])
+        plant.step(t, dt)
+        ident.step(t, dt)
+        for name, value in zip(watch, ident.get(*watch)):
+            history[name][k] = value
+    names = ["status", "samples", "identifications", "regressor_rank"] + mode_outputs() + \
+        [f"singular_value{i}" for i in range(1, 9)]
+    final = dict(zip(names, ident.get(*names)))
+    plant.close()
+    ident.close()
+    return CoSimulation(np.arange(samples) * dt, force, y, history, final)
