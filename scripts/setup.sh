@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs what is missing, and only that: Debian packages (apt, as root or through sudo) and the
-# Python packages of host_tools/requirements.txt in .venv. Safe to run again.
+# Python packages of host_tools/requirements.txt and the host_tools package itself in .venv. Safe to run again.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -25,10 +25,11 @@ if [[ ! -x .venv/bin/python ]]; then
     python3 -m venv .venv
 fi
 stamp=.venv/.requirements.sha256
-want=$(sha256sum host_tools/requirements.txt | cut -d' ' -f1)
+want=$(cat host_tools/requirements.txt host_tools/pyproject.toml | sha256sum | cut -d' ' -f1)
 if [[ ! -f $stamp || $(cat "$stamp") != "$want" ]]; then
     echo "setup: installing Python packages into .venv"
     .venv/bin/python -m pip install -q --upgrade pip
     .venv/bin/python -m pip install -q -r host_tools/requirements.txt
+    .venv/bin/python -m pip install -q -e host_tools   # okid_tools: the FMU verification
     echo "$want" > "$stamp"
 fi

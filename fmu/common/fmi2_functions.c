@@ -6,13 +6,25 @@
 #include "fmi2Functions.h"
 #include "fmu_instance.h"
 
-/* FMI 2's logger takes a printf format: hand the finished message over as the argument of "%s". */
+/*
+ * FMI 2's logger takes a printf format plus variadic arguments. The finished message goes as the
+ * format with every '%' doubled: a printf-style importer prints it literally, and importers that
+ * cannot see variadic arguments (ctypes callbacks, as in fmpy) still get the text.
+ */
 static void fmi2_sink(void *env, const char *instance, fmu_status status, const char *category, const char *message)
 {
     const fmi2CallbackFunctions *cb = env;
-    if (cb != NULL && cb->logger != NULL) {
-        cb->logger(cb->componentEnvironment, instance, (fmi2Status)status, category, "%s", message);
+    if (cb == NULL || cb->logger == NULL) {
+        return;
     }
+    char escaped[1024];
+    size_t n = 0;
+    for (const char *p = message; *p && n + 2 < sizeof escaped; ++p) {
+        if (*p == '%') escaped[n++] = '%';
+        escaped[n++] = *p;
+    }
+    escaped[n] = '\0';
+    cb->logger(cb->componentEnvironment, instance, (fmi2Status)status, category, escaped);
 }
 
 #define INST ((fmu_instance *)c)
@@ -225,4 +237,61 @@ fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2Stri
 {
     (void)s, (void)value;
     RET(fmu_unsupported(INST, "fmi2GetStringStatus"));
+}
+
+/* Model-exchange functions: exported as the standard asks, refused (this FMU is co-simulation only). */
+fmi2Status fmi2EnterEventMode(fmi2Component c) { RET(fmu_unsupported(INST, "fmi2EnterEventMode (co-simulation only)")); }
+
+fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info)
+{
+    (void)info;
+    RET(fmu_unsupported(INST, "fmi2NewDiscreteStates (co-simulation only)"));
+}
+
+fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c)
+{
+    RET(fmu_unsupported(INST, "fmi2EnterContinuousTimeMode (co-simulation only)"));
+}
+
+fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
+                                       fmi2Boolean *enterEventMode, fmi2Boolean *terminateSimulation)
+{
+    (void)noSetFMUStatePriorToCurrentPoint, (void)enterEventMode, (void)terminateSimulation;
+    RET(fmu_unsupported(INST, "fmi2CompletedIntegratorStep (co-simulation only)"));
+}
+
+fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time)
+{
+    (void)time;
+    RET(fmu_unsupported(INST, "fmi2SetTime (co-simulation only)"));
+}
+
+fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t nx)
+{
+    (void)x, (void)nx;
+    RET(fmu_unsupported(INST, "fmi2SetContinuousStates (co-simulation only)"));
+}
+
+fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx)
+{
+    (void)derivatives, (void)nx;
+    RET(fmu_unsupported(INST, "fmi2GetDerivatives (co-simulation only)"));
+}
+
+fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], size_t ni)
+{
+    (void)eventIndicators, (void)ni;
+    RET(fmu_unsupported(INST, "fmi2GetEventIndicators (co-simulation only)"));
+}
+
+fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx)
+{
+    (void)x, (void)nx;
+    RET(fmu_unsupported(INST, "fmi2GetContinuousStates (co-simulation only)"));
+}
+
+fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x_nominal[], size_t nx)
+{
+    (void)x_nominal, (void)nx;
+    RET(fmu_unsupported(INST, "fmi2GetNominalsOfContinuousStates (co-simulation only)"));
 }

@@ -110,6 +110,8 @@ void json_result(FILE *out, const okid_config *cfg, const okid_result *res)
         fputs(",\n  \"G\": ", out);
         json_matrix(out, res->G);
     }
+    fputs(",\n  \"markov\": ", out); /* [Y_0 Y_1 ... Y_L], m x r(L+1), eq. 51 */
+    json_matrix(out, res->markov);
     fputs(",\n  \"modes\": [", out);
     for (int i = 0; i < res->num_modes; ++i) {
         const okid_mode *md = &res->modes[i];

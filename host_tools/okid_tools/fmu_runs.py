@@ -50,11 +50,9 @@ class Slave:
                 self.fmu.instantiate(loggingOn=logging_on, logMessage=self._log_cb)
         return self
 
-    def _log2(self, env, name, status, category, message, *args):
-        text = message.decode()
-        if args and "%s" in text:  # okid passes the finished message as the argument of "%s"
-            text = args[0].decode() if isinstance(args[0], bytes) else str(args[0])
-        self.logger(status, category.decode(), text)
+    def _log2(self, env, name, status, category, message):
+        # okid's FMI 2 messages are formats without arguments, '%' doubled: print them as printf would.
+        self.logger(status, category.decode(), message.decode().replace("%%", "%"))
 
     def _log3(self, env, status, category, message):
         self.logger(status, category.decode(), message.decode())
