@@ -243,3 +243,22 @@ def test_plant_parameters_and_time(version):
     assert "plant parameters refused" in log.text()
     p.fmu.terminate()
     p.fmu.freeInstance()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("model", MODELS)
+def test_sources_build_without_prefixes(tmp_path, version, model):
+    """sources/ + its build description are enough to rebuild the binary (with a system LAPACK)."""
+    import zipfile
+    with zipfile.ZipFile(fmu(version, model)) as z:
+        z.extractall(tmp_path)
+    src = tmp_path / "sources"
+    files = re.findall(r'SourceFile name="([^"]+)"', (src / "buildDescription.xml").read_text()) if version == 3 \
+        else sorted(p.name for p in src.glob("*.c"))
+    lapacke_cflags = subprocess.run(["pkg-config", "--cflags", "lapacke"], capture_output=True, text=True).stdout.split()
+    so = tmp_path / "rebuilt.so"
+    subprocess.run(["cc", "-std=c11", "-shared", "-fPIC", "-O1", "-I.", *lapacke_cflags, *files, "-o", str(so),
+                    "-llapacke", "-llapack", "-lblas", "-lm"], cwd=src, check=True)
+    out = subprocess.run(["nm", "-D", "--defined-only", str(so)], capture_output=True, text=True).stdout
+    exported = {line.split()[-1] for line in out.splitlines() if line.split()[-1].startswith("fmi")}
+    assert exported == fmi_functions(version)
