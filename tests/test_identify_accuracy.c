@@ -311,6 +311,45 @@ static void test_one_step_prediction(void **state)
     free(y);
 }
 
+/* Determinism: the same input gives bit-identical results, also for two identifiers interleaved
+   sample by sample in one process (nothing is shared between them). */
+static void test_determinism_and_independence(void **state)
+{
+    (void)state;
+    okid_config cfg_a, cfg_b;
+    test_config(&REF_PAPER, &cfg_a);
+    test_config(&REF_CHAIN3, &cfg_b);
+    double *ua = test_white_noise(1, PAPER_SAMPLES, 41), *ub = test_white_noise(1, PAPER_SAMPLES, 42);
+    double *ya = malloc(sizeof(double) * 2 * PAPER_SAMPLES), *yb = malloc(sizeof(double) * 3 * PAPER_SAMPLES);
+    test_simulate(&REF_PAPER, PAPER_SAMPLES, ua, ya, NULL);
+    test_simulate(&REF_CHAIN3, PAPER_SAMPLES, ub, yb, NULL);
+    size_t bytes_a = 0, bytes_b = 0;
+    void *ws[3] = {test_workspace(&cfg_a, &bytes_a), test_workspace(&cfg_b, &bytes_b), test_workspace(&cfg_a, &bytes_a)};
+    okid_identifier a, b, solo;
+    okid_result ra, rb, rs;
+    assert_int_equal(okid_init(&a, &cfg_a, ws[0], bytes_a, NULL), OKID_OK);
+    assert_int_equal(okid_init(&b, &cfg_b, ws[1], bytes_b, NULL), OKID_OK);
+    assert_int_equal(okid_init(&solo, &cfg_a, ws[2], bytes_a, NULL), OKID_OK);
+    for (int k = 0; k < PAPER_SAMPLES; ++k) {
+        assert_int_equal(okid_push(&a, &ua[k], &ya[2 * k]), OKID_OK);
+        assert_int_equal(okid_push(&b, &ub[k], &yb[3 * k]), OKID_OK);
+        if (k % 250 == 249) { /* identifications in between change nothing for the other one */
+            assert_int_equal(okid_identify(&b, &rb), OKID_OK);
+        }
+    }
+    assert_int_equal(okid_push_block(&solo, PAPER_SAMPLES, ua, 1, ya, 2, NULL), OKID_OK);
+    assert_int_equal(okid_identify(&a, &ra), OKID_OK);
+    assert_int_equal(okid_identify(&solo, &rs), OKID_OK);
+    assert_memory_equal(ra.A.data, rs.A.data, sizeof(double) * 16);
+    assert_memory_equal(ra.singular_values, rs.singular_values, sizeof(double) * (size_t)ra.num_singular_values);
+    for (int i = 0; i < ra.num_modes; ++i) {
+        assert_memory_equal(&ra.modes[i].eigenvalue, &rs.modes[i].eigenvalue, sizeof(okid_complex));
+        assert_memory_equal(ra.modes[i].shape, rs.modes[i].shape, sizeof(okid_complex) * 4);
+    }
+    for (int i = 0; i < 3; ++i) free(ws[i]);
+    free(ua), free(ub), free(ya), free(yb);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -324,6 +363,7 @@ int main(void)
         cmocka_unit_test(test_block_push_equals_single_push),
         cmocka_unit_test(test_record_not_from_rest),
         cmocka_unit_test(test_one_step_prediction),
+        cmocka_unit_test(test_determinism_and_independence),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
