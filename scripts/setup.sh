@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 APT_PACKAGES=(build-essential cmake ninja-build pkg-config liblapacke-dev liblapack-dev libblas-dev
-              libcmocka-dev python3-venv python3-pip valgrind)
+              libcmocka-dev python3-venv python3-pip valgrind clang libclang-rt-dev llvm)
 
 missing=()
 for pkg in "${APT_PACKAGES[@]}"; do

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Every test: the default build (-Werror) with ctest, the whole suite again under ASan + UBSan,
-# and valgrind memcheck on the paper example. Stops at the first failure.
+# Every test: the default build (-Werror) with ctest (C, CLI, FMUs, install), the whole suite again
+# under ASan + UBSan, valgrind memcheck, and bounded fuzzing. Stops at the first failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -18,13 +18,21 @@ cmake --preset asan
 cmake --build --preset asan -j "$jobs"
 ctest --preset asan -j "$jobs"
 
-step "valgrind memcheck"
+step "valgrind memcheck: every C test, the example, the CLI, the FMUs through a C importer"
 vg=(valgrind --error-exitcode=1 --leak-check=full --errors-for-leak-kinds=definite,indirect -q)
+for test in build/tests/test_*; do
+    "${vg[@]}" "$test" >/dev/null
+done
+"${vg[@]}" build/tests/fuzz_replay_api fuzz/corpus/api/* >/dev/null
+"${vg[@]}" build/tests/fuzz_replay_csv fuzz/corpus/csv/* >/dev/null
 "${vg[@]}" build/examples/paper_2dof/paper_2dof >/dev/null
-"${vg[@]}" build/tests/test_identifier_api >/dev/null
 csv=$(mktemp --suffix=.csv)
 trap 'rm -f "$csv"' EXIT
 "${vg[@]}" build/host_tools/cli/okid simulate --output "$csv"
 "${vg[@]}" build/host_tools/cli/okid identify --json --order 4 "$csv" >/dev/null
+"${vg[@]}" build/tests/fmu_cosim build/fmu/fmi2/okid_plant_2dof build/fmu/fmi2/okid_identifier >/dev/null
+
+step "bounded fuzzing (libFuzzer, ASan + UBSan), ${FUZZ_SECONDS:-60} s per target"
+bash scripts/fuzz.sh
 
 echo; echo "all tests passed"

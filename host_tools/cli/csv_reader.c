@@ -10,6 +10,8 @@
 
 enum { MAX_COLUMNS = 4096, MAX_FIELD = 256 };
 
+static int fail(char *error, size_t size, const char *format, ...) __attribute__((format(printf, 3, 4)));
+
 static int fail(char *error, size_t size, const char *format, ...)
 {
     va_list args;
