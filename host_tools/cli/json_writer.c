@@ -84,7 +84,7 @@ static void json_warnings(FILE *out, unsigned warnings)
     fputc(']', out);
 }
 
-void json_result(FILE *out, const okid_config *cfg, const okid_result *res)
+void json_result(FILE *out, const okid_config *cfg, const okid_result *res, double elapsed)
 {
     const int m = cfg->num_outputs;
     fprintf(out, "{\n  \"order\": %d,\n  \"observer_order\": %d,\n", res->order, cfg->observer_order);
@@ -94,6 +94,9 @@ void json_result(FILE *out, const okid_config *cfg, const okid_result *res)
     fprintf(out, "  \"samples\": %llu,\n  \"rows\": %llu,\n  \"dt\": ", (unsigned long long)res->samples,
             (unsigned long long)res->rows);
     json_number(out, (double)res->dt);
+    if (elapsed >= 0) {
+        fprintf(out, ",\n  \"elapsed_seconds\": %.9g", elapsed);
+    }
     fprintf(out, ",\n  \"regressor_rank\": %d,\n  \"regressor_columns\": %d,\n  \"input_rank\": %d,\n",
             res->regressor_rank, res->regressor_columns, res->input_rank);
     fputs("  \"warnings\": ", out);

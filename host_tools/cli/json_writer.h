@@ -17,7 +17,7 @@ void json_complex(FILE *out, okid_complex z);
 /* [[re, im], ...] */
 void json_complex_vector(FILE *out, const okid_complex *values, int count);
 
-/* The whole result as one JSON object (keys documented in README.md). */
-void json_result(FILE *out, const okid_config *cfg, const okid_result *res);
+/* The whole result as one JSON object (keys documented in README.md); elapsed >= 0 adds "elapsed_seconds". */
+void json_result(FILE *out, const okid_config *cfg, const okid_result *res, double elapsed);
 
 #endif
