@@ -13,6 +13,9 @@ cmake --preset default
 cmake --build --preset default -j "$jobs"
 ctest --preset default -j "$jobs"
 
+step "benchmark smoke run (figures only; nothing is timed against a limit)"
+.venv/bin/okid-bench --quick --out build/bench-smoke --results build/bench-smoke/results.json
+
 step "AddressSanitizer + UndefinedBehaviorSanitizer"
 cmake --preset asan
 cmake --build --preset asan -j "$jobs"
