@@ -3,10 +3,18 @@
 # under ASan + UBSan, valgrind memcheck, and bounded fuzzing. Stops at the first failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
 jobs=$(nproc)
 
-step() { echo; echo "=== $* ==="; }
+# Each step's header also reports how long the previous one took (CI has 90 minutes for all of it).
+step_name=""; step_start=$SECONDS
+step() {
+    if [[ -n $step_name ]]; then echo "--- $step_name: $((SECONDS - step_start)) s"; fi
+    step_name=$*; step_start=$SECONDS
+    echo; echo "=== $* ==="
+}
+
+step "setup (installs only what is missing)"
+bash scripts/setup.sh
 
 step "default build and tests"
 cmake --preset default
@@ -38,4 +46,5 @@ trap 'rm -f "$csv"' EXIT
 step "bounded fuzzing (libFuzzer, ASan + UBSan), ${FUZZ_SECONDS:-60} s per target"
 bash scripts/fuzz.sh
 
-echo; echo "all tests passed"
+step "done"
+echo "all tests passed in $SECONDS s"

@@ -101,6 +101,12 @@ static int parse_header(const char *b, const char *e, char sep, csv_table *t, ch
         if (fe - fb > MAX_FIELD) {
             return fail(error, size, "header column %d: name longer than %d characters", j + 1, MAX_FIELD);
         }
+        for (const char *q2 = fb; q2 < fe; ++q2) {
+            /* A control character in a name would break the one-line error messages that quote it. */
+            if ((unsigned char)*q2 < 0x20 || *q2 == 0x7f) {
+                return fail(error, size, "header column %d: the name holds a control character", j + 1);
+            }
+        }
         t->names[j] = malloc((size_t)(fe - fb) + 1);
         if (t->names[j] == NULL) {
             return fail(error, size, "out of memory");
@@ -176,9 +182,13 @@ static int append_row(csv_table *t, size_t *capacity, const char *b, const char 
 int csv_parse(const char *text, size_t length, csv_table *table, char *error, size_t error_size)
 {
     memset(table, 0, sizeof *table);
+    if (text == NULL) {
+        length = 0;
+        text = ""; /* no arithmetic on a null pointer */
+    }
     line_cursor c = {text, text + length, 0};
     const char *b, *e;
-    if (text == NULL || !next_line(&c, &b, &e)) {
+    if (!next_line(&c, &b, &e)) {
         return fail(error, error_size, "the file is empty (a header row and data rows are needed)");
     }
     if (memchr(text, '\0', length) != NULL) {
@@ -204,13 +214,9 @@ int csv_parse(const char *text, size_t length, csv_table *table, char *error, si
     return 0;
 }
 
-int csv_read_file(const char *path, csv_table *table, char *error, size_t error_size)
+int csv_read_stream(FILE *f, csv_table *table, char *error, size_t error_size)
 {
     memset(table, 0, sizeof *table);
-    FILE *f = fopen(path, "rb");
-    if (f == NULL) {
-        return fail(error, error_size, "cannot open '%s': %s", path, strerror(errno));
-    }
     size_t capacity = 1 << 16, length = 0;
     char *text = malloc(capacity);
     while (text != NULL) {
@@ -227,14 +233,28 @@ int csv_read_file(const char *path, csv_table *table, char *error, size_t error_
         text = grown;
         capacity *= 2;
     }
-    const int read_error = ferror(f);
-    fclose(f);
-    if (text == NULL || read_error) {
+    if (text == NULL || ferror(f)) {
+        const char *why = ferror(f) ? strerror(errno) : "out of memory";
         free(text);
-        return fail(error, error_size, "cannot read '%s'", path);
+        return fail(error, error_size, "cannot read: %s", why);
     }
     const int rc = csv_parse(text, length, table, error, error_size);
     free(text);
+    return rc;
+}
+
+int csv_read_file(const char *path, csv_table *table, char *error, size_t error_size)
+{
+    memset(table, 0, sizeof *table);
+    if (strcmp(path, "-") == 0) {
+        return csv_read_stream(stdin, table, error, error_size);
+    }
+    FILE *f = fopen(path, "rb");
+    if (f == NULL) {
+        return fail(error, error_size, "cannot open: %s", strerror(errno));
+    }
+    const int rc = csv_read_stream(f, table, error, error_size);
+    fclose(f);
     return rc;
 }
 

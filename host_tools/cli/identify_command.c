@@ -1,4 +1,5 @@
 /* okid identify: read a CSV recording, choose the input and output columns, identify, print. */
+#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -10,10 +11,14 @@
 #include "json_writer.h"
 
 static const char identify_usage[] =
-    "usage: okid identify [options] FILE.csv\n"
+    "usage: okid identify [options] FILE.csv      (FILE '-' reads standard input)\n"
     "\n"
-    "FILE.csv has a header row of column names; an optional first column named t or time holds the\n"
-    "sample times. Every other cell is a finite number.\n"
+    "FILE.csv has a header row of column names; an optional first column named t or time (any case)\n"
+    "holds the sample times (uniform to 0.01 %). Every other cell is a finite number; a NaN, an empty\n"
+    "or a non-numeric cell, or a row with a missing field rejects the file. At most 64 inputs and 64\n"
+    "outputs. Noisy records need a larger p and a Hankel window spanning about one period of the\n"
+    "slowest mode; for the paper's case with 2 % noise:\n"
+    "  --observer-order 60 --hankel-rows 100 --hankel-cols 100\n"
     "\n"
     "  --inputs NAMES|COUNT     input (force) columns: comma-separated names, or how many columns\n"
     "                           follow the time column (default 1)\n"
@@ -31,7 +36,9 @@ static const char identify_usage[] =
     "  --zero-initial-state     the record starts at rest (use its first samples with zero history)\n"
     "  --json                   print one JSON object instead of a table\n"
     "  --timing                 report the seconds from okid_init to the modes (\"elapsed_seconds\" in JSON)\n"
-    "  --repeat K               with --timing: identify K times from scratch, report the fastest (default 1)\n";
+    "  --repeat K               with --timing: identify K times from scratch, report the fastest (default 1)\n"
+    "\n"
+    "Exit status: 0 success, 1 bad data or identification failure, 2 usage error.\n";
 
 typedef struct identify_options {
     const char *file, *inputs, *outputs;
@@ -39,6 +46,20 @@ typedef struct identify_options {
     int have_dt, json, timing, repeat;
     okid_config cfg;
 } identify_options;
+
+/* The options followed by a value: an unknown option is reported as such, not as lacking a value. */
+static int takes_value(const char *opt)
+{
+    static const char *const names[] = {"--inputs", "--outputs", "--repeat", "--dt", "--observer-order", "--order",
+                                         "--hankel-rows", "--hankel-cols", "--sensing", "--realization",
+                                         "--forgetting", "--rank-tolerance"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
+        if (strcmp(opt, names[i]) == 0) {
+            return 1;
+        }
+    }
+    return 0;
+}
 
 static int parse_options(int argc, char **argv, identify_options *o)
 {
@@ -65,12 +86,15 @@ static int parse_options(int argc, char **argv, identify_options *o)
             o->cfg.zero_initial_state = 1;
             continue;
         }
-        if (strncmp(opt, "--", 2) != 0) {
+        if (opt[0] != '-' || strcmp(opt, "-") == 0) {
             if (o->file != NULL) {
                 return cli_error(EXIT_USAGE, "more than one input file ('%s' and '%s')", o->file, opt);
             }
             o->file = opt;
             continue;
+        }
+        if (!takes_value(opt)) {
+            return cli_error(EXIT_USAGE, "unknown option '%s' (see 'okid identify --help')", opt);
         }
         if (i + 1 >= argc) {
             return cli_error(EXIT_USAGE, "option %s needs a value (see 'okid identify --help')", opt);
@@ -119,22 +143,42 @@ static int parse_options(int argc, char **argv, identify_options *o)
     return 0;
 }
 
+/* t, T, time, Time, TIME: loggers differ in case. */
 static int is_time_name(const char *name)
 {
-    return strcmp(name, "t") == 0 || strcmp(name, "time") == 0;
+    static const char time_name[] = "time";
+    if ((name[0] == 't' || name[0] == 'T') && name[1] == '\0') {
+        return 1;
+    }
+    for (int i = 0; i < 5; ++i) {
+        if (tolower((unsigned char)name[i]) != time_name[i]) {
+            return 0;
+        }
+    }
+    return 1;
 }
 
-/* Fills columns[] from NAMES or COUNT (starting at *next for a count). */
-static int select_columns(const csv_table *t, const char *spec, int *next, int *columns, int *count,
+/*
+ * Fills columns[] (room for OKID_MAX_DIMENSION) from NAMES or COUNT (a count starts at column
+ * *next). used[] marks the columns already taken (the time column, the inputs): a column is an
+ * input or an output, never both, and never twice.
+ */
+static int select_columns(const csv_table *t, const char *spec, int *next, char *used, int *columns, int *count,
                           const char *what)
 {
     int n = 0;
+    *count = 0;
     if (cli_parse_int(spec, &n) == 0) {
-        if (n < 1 || *next + n > t->num_columns) {
-            return cli_error(EXIT_USAGE, "--%s %d: the file has %d columns after the ones already taken", what, n,
-                             t->num_columns - *next);
+        const int left = t->num_columns - *next;
+        if (n < 1 || n > left) {
+            return cli_error(EXIT_USAGE, "--%s %d: the file has %d column(s) after the ones already taken", what, n,
+                             left);
+        }
+        if (n > OKID_MAX_DIMENSION) {
+            return cli_error(EXIT_USAGE, "--%s %d: at most %d %s", what, n, OKID_MAX_DIMENSION, what);
         }
         for (int j = 0; j < n; ++j) {
+            used[*next] = 1;
             columns[j] = (*next)++;
         }
         *count = n;
@@ -145,22 +189,26 @@ static int select_columns(const csv_table *t, const char *spec, int *next, int *
         return cli_error(EXIT_DATA, "out of memory");
     }
     strcpy(copy, spec);
-    *count = 0;
-    for (char *name = strtok(copy, ","); name != NULL; name = strtok(NULL, ",")) {
+    int rc = 0;
+    for (char *name = strtok(copy, ","); name != NULL && rc == 0; name = strtok(NULL, ",")) {
         const int col = csv_find_column(t, name);
         if (col < 0) {
-            cli_error(EXIT_USAGE, "--%s: no column named '%s' in the file", what, name);
-            free(copy);
-            return EXIT_USAGE;
+            rc = cli_error(EXIT_USAGE, "--%s: no column named '%s' in the file", what, name);
+        } else if (used[col]) {
+            rc = cli_error(EXIT_USAGE, "--%s: column '%s' is already the time column, an input or an output", what,
+                           name);
+        } else if (*count >= OKID_MAX_DIMENSION) {
+            rc = cli_error(EXIT_USAGE, "--%s: at most %d %s", what, OKID_MAX_DIMENSION, what);
+        } else {
+            used[col] = 1;
+            columns[(*count)++] = col;
         }
-        if (*count >= OKID_MAX_DIMENSION) {
-            free(copy);
-            return cli_error(EXIT_USAGE, "--%s: more than %d columns", what, OKID_MAX_DIMENSION);
-        }
-        columns[(*count)++] = col;
     }
     free(copy);
-    return (*count > 0) ? 0 : cli_error(EXIT_USAGE, "--%s: no column given", what);
+    if (rc == 0 && *count == 0) {
+        rc = cli_error(EXIT_USAGE, "--%s: no column given", what);
+    }
+    return rc;
 }
 
 /* dt from a uniform time column. */
@@ -176,7 +224,8 @@ static int time_step(const csv_table *t, int col, double *dt)
     }
     for (size_t k = 1; k < n; ++k) {
         const double step = t->values[k * nc + (size_t)col] - t->values[(k - 1) * nc + (size_t)col];
-        if (fabs(step - *dt) > 1e-6 * *dt) {
+        /* 1e-4: times printed with a few digits jitter; a real gap or a resampling is far larger */
+        if (fabs(step - *dt) > 1e-4 * *dt) {
             return cli_error(EXIT_DATA, "the time column is not uniform (data row %zu steps by %g, mean step %g): "
                                         "resample it or give --dt", k + 1, step, *dt);
         }
@@ -184,10 +233,22 @@ static int time_step(const csv_table *t, int col, double *dt)
     return 0;
 }
 
-static void print_table(const okid_config *cfg, const okid_result *res, const char *file)
+/* Names of the chosen columns, for the table and the JSON. */
+typedef struct column_choice {
+    int inputs[OKID_MAX_DIMENSION], outputs[OKID_MAX_DIMENSION];
+    const char *input_names[OKID_MAX_DIMENSION], *output_names[OKID_MAX_DIMENSION];
+    int r, m;
+} column_choice;
+
+static void print_table(const okid_config *cfg, const okid_result *res, const column_choice *cc, const char *file)
 {
     printf("okid %s: %s, %llu samples, dt = %g s\n", OKID_VERSION_STRING, file, (unsigned long long)res->samples,
            (double)res->dt);
+    printf("inputs:");
+    for (int i = 0; i < cc->r; ++i) printf(" %s", cc->input_names[i]);
+    printf("; outputs:");
+    for (int i = 0; i < cc->m; ++i) printf(" %s", cc->output_names[i]);
+    printf("\n");
     printf("r = %d inputs, m = %d outputs, p = %d, Hankel %d x %d, %s realization, %s sensing\n", cfg->num_inputs,
            cfg->num_outputs, cfg->observer_order, cfg->hankel_rows, cfg->hankel_cols,
            cfg->realization == OKID_REALIZATION_COMBINED ? "combined" : "system", cli_sensing_name(cfg->sensing));
@@ -206,11 +267,21 @@ static void print_table(const okid_config *cfg, const okid_result *res, const ch
     printf("\n mode  frequency [Hz]  damping ratio        eigenvalue (discrete)\n");
     for (int i = 0; i < res->num_modes; ++i) {
         const okid_mode *md = &res->modes[i];
-        printf("%5d  %14.8f  %13.8f  %+.10f %c %.10fi\n", i + 1, (double)md->frequency_hz,
-               (double)md->damping_ratio, (double)md->eigenvalue.re, md->is_pair ? '+' : ' ',
-               md->is_pair ? (double)md->eigenvalue.im : 0.0);
+        printf("%5d  %14.8f  %13.8f  %+.10f", i + 1, (double)md->frequency_hz, (double)md->damping_ratio,
+               (double)md->eigenvalue.re);
+        if (md->is_pair) {
+            printf(" +/- %.10fi", fabs((double)md->eigenvalue.im));
+        } else {
+            printf("  (real)");
+        }
+        printf("\n");
     }
-    printf("\nmode shapes (eq. 64: displacements, then velocities at the sensors; unit norm)\n");
+    /* eq. 64: the displacement, then the velocity, at each sensor location */
+    printf("\nmode shapes (eq. 64, unit norm); columns:");
+    for (int a = 0; a < 2 * cc->m; ++a) {
+        printf(" %s(%s)", a < cc->m ? "disp" : "vel", cc->output_names[a % cc->m]);
+    }
+    printf("\n");
     for (int i = 0; i < res->num_modes; ++i) {
         printf("%5d ", i + 1);
         for (int a = 0; a < 2 * cfg->num_outputs; ++a) {
@@ -220,56 +291,100 @@ static void print_table(const okid_config *cfg, const okid_result *res, const ch
     }
 }
 
+/* Inputs and outputs from --inputs / --outputs (defaults: one input, every other column an output). */
+static int choose_columns(const identify_options *o, const csv_table *t, int time_col, column_choice *cc)
+{
+    char *used = calloc((size_t)t->num_columns, 1);
+    if (used == NULL) {
+        return cli_error(EXIT_DATA, "out of memory");
+    }
+    if (time_col >= 0) used[time_col] = 1;
+    int next = time_col + 1;
+    int rc = select_columns(t, o->inputs ? o->inputs : "1", &next, used, cc->inputs, &cc->r, "inputs");
+    if (rc == 0 && o->outputs != NULL) {
+        rc = select_columns(t, o->outputs, &next, used, cc->outputs, &cc->m, "outputs");
+    } else if (rc == 0) {
+        cc->m = 0;
+        for (int j = 0; j < t->num_columns && rc == 0; ++j) {
+            if (used[j]) continue;
+            if (cc->m == OKID_MAX_DIMENSION) {
+                rc = cli_error(EXIT_USAGE, "more than %d output columns: choose them with --outputs", OKID_MAX_DIMENSION);
+            } else {
+                cc->outputs[cc->m++] = j;
+            }
+        }
+        if (rc == 0 && cc->m == 0) {
+            rc = cli_error(EXIT_USAGE, "no output columns left after the inputs");
+        }
+    }
+    free(used);
+    for (int i = 0; rc == 0 && i < cc->r; ++i) cc->input_names[i] = t->names[cc->inputs[i]];
+    for (int i = 0; rc == 0 && i < cc->m; ++i) cc->output_names[i] = t->names[cc->outputs[i]];
+    return rc;
+}
+
+/* okid_workspace_size() said no: say which setting is out of range, not only the status. */
+static int settings_error(const okid_config *cfg, okid_status st)
+{
+    const char *hint = "";
+    if (cfg->observer_order < 1 || cfg->observer_order > OKID_MAX_HORIZON || cfg->hankel_rows < 1 ||
+        cfg->hankel_rows > OKID_MAX_HORIZON || cfg->hankel_cols < 1 || cfg->hankel_cols > OKID_MAX_HORIZON) {
+        hint = "; p, alpha and beta must be 1..1000";
+    } else if (cfg->order < 0 || cfg->order > OKID_MAX_ORDER) {
+        hint = "; n must be 0 (automatic) or 1..512";
+    } else if (st == OKID_E_BAD_ORDER) {
+        hint = "; n must be at most m*p and at most the Hankel size";
+    } else if (st == OKID_E_BAD_PARAMETER) {
+        hint = "; the forgetting factor must be in (0, 1], the rank tolerance >= 0, dt > 0";
+    }
+    return cli_error(EXIT_USAGE, "invalid settings (r = %d, m = %d, p = %d, n = %d, Hankel %d x %d): %s%s",
+                     cfg->num_inputs, cfg->num_outputs, cfg->observer_order, cfg->order, cfg->hankel_rows,
+                     cfg->hankel_cols, okid_status_str(st), hint);
+}
+
 static int run(identify_options *o, const csv_table *t)
 {
-    int inputs[OKID_MAX_DIMENSION], outputs[OKID_MAX_DIMENSION], r = 0, m = 0;
     const int time_col = is_time_name(t->names[0]) ? 0 : -1;
-    int next = time_col + 1, rc = 0;
-    if ((rc = select_columns(t, o->inputs ? o->inputs : "1", &next, inputs, &r, "inputs")) != 0) {
+    column_choice *cc = calloc(1, sizeof *cc);
+    if (cc == NULL) {
+        return cli_error(EXIT_DATA, "out of memory");
+    }
+    int rc = choose_columns(o, t, time_col, cc);
+    if (rc != 0) {
+        free(cc);
         return rc;
     }
-    if (o->outputs != NULL) {
-        if ((rc = select_columns(t, o->outputs, &next, outputs, &m, "outputs")) != 0) {
-            return rc;
-        }
-    } else {
-        for (int j = 0; j < t->num_columns && m < OKID_MAX_DIMENSION; ++j) {
-            int used = (j == time_col);
-            for (int i = 0; i < r; ++i) used |= (inputs[i] == j);
-            if (!used) outputs[m++] = j;
-        }
-        if (m == 0) {
-            return cli_error(EXIT_USAGE, "no output columns left after the inputs");
-        }
-    }
+    const int r = cc->r, m = cc->m;
     double dt = o->dt;
     if (!o->have_dt) {
-        if (time_col < 0) {
-            return cli_error(EXIT_USAGE, "no time column (t or time) in the file: give --dt");
-        }
-        if ((rc = time_step(t, time_col, &dt)) != 0) {
+        rc = time_col < 0 ? cli_error(EXIT_USAGE, "no time column (t or time) in the file: give --dt")
+                          : time_step(t, time_col, &dt);
+        if (rc != 0) {
+            free(cc);
             return rc;
         }
     }
     okid_config cfg = o->cfg;
     cfg.num_inputs = r;
     cfg.num_outputs = m;
-    cfg.dt = dt;
+    cfg.dt = (okid_real)dt;
     size_t bytes = 0;
     okid_status st = okid_workspace_size(&cfg, &bytes);
     if (st != OKID_OK) {
-        return cli_error(EXIT_USAGE, "invalid settings: %s", okid_status_str(st));
+        free(cc);
+        return settings_error(&cfg, st);
     }
     const size_t n = t->num_rows, nc = (size_t)t->num_columns;
+    /* aligned_alloc wants a size that is a multiple of the alignment */
     void *ws = aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16);
     okid_real *u = malloc(sizeof(okid_real) * n * (size_t)r), *y = malloc(sizeof(okid_real) * n * (size_t)m);
     if (ws == NULL || u == NULL || y == NULL) {
-        free(ws), free(u), free(y);
+        free(ws), free(u), free(y), free(cc);
         return cli_error(EXIT_DATA, "out of memory (workspace of %zu bytes)", bytes);
     }
     for (size_t k = 0; k < n; ++k) {
-        for (int i = 0; i < r; ++i) u[k * (size_t)r + (size_t)i] = (okid_real)t->values[k * nc + (size_t)inputs[i]];
-        for (int i = 0; i < m; ++i) y[k * (size_t)m + (size_t)i] = (okid_real)t->values[k * nc + (size_t)outputs[i]];
+        for (int i = 0; i < r; ++i) u[k * (size_t)r + (size_t)i] = (okid_real)t->values[k * nc + (size_t)cc->inputs[i]];
+        for (int i = 0; i < m; ++i) y[k * (size_t)m + (size_t)i] = (okid_real)t->values[k * nc + (size_t)cc->outputs[i]];
     }
     okid_identifier id;
     okid_result res;
@@ -291,14 +406,15 @@ static int run(identify_options *o, const csv_table *t)
     } else if (st != OKID_OK) {
         rc = cli_error(EXIT_DATA, "identification failed: %s", okid_status_str(st));
     } else if (o->json) {
-        json_result(stdout, &cfg, &res, o->timing ? elapsed : -1);
+        json_result(stdout, &cfg, &res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
     } else {
-        print_table(&cfg, &res, o->file);
+        print_table(&cfg, &res, cc, o->file);
         if (o->timing) printf("\nelapsed from okid_init to the modes: %.6f s\n", elapsed);
     }
     free(ws);
     free(u);
     free(y);
+    free(cc);
     return rc;
 }
 
@@ -312,9 +428,13 @@ int identify_command(int argc, char **argv)
     csv_table table;
     char error[512];
     if (csv_read_file(o.file, &table, error, sizeof error) != 0) {
-        return cli_error(EXIT_DATA, "%s: %s", o.file, error);
+        return cli_error(EXIT_DATA, "%s: %s", strcmp(o.file, "-") == 0 ? "standard input" : o.file, error);
     }
     rc = run(&o, &table);
     csv_free(&table);
+    /* a full disk or a closed pipe must not look like success */
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        return rc ? rc : cli_error(EXIT_DATA, "cannot write the result to standard output");
+    }
     return rc;
 }

@@ -1,7 +1,10 @@
 /* See json_writer.h. */
 #include "json_writer.h"
 
+#include "cli_common.h"
+
 #include <math.h>
+#include <string.h>
 
 void json_number(FILE *out, double value)
 {
@@ -12,16 +15,41 @@ void json_number(FILE *out, double value)
     }
 }
 
+/* Length of the valid UTF-8 sequence at p (at most end - p bytes), or 0 when it is not one. */
+static int utf8_length(const unsigned char *p, const unsigned char *end)
+{
+    int n = 0;
+    unsigned min = 0, cp = 0;
+    if (*p < 0x80) return 1;
+    if ((*p & 0xe0) == 0xc0) n = 2, min = 0x80, cp = *p & 0x1fu;
+    else if ((*p & 0xf0) == 0xe0) n = 3, min = 0x800, cp = *p & 0x0fu;
+    else if ((*p & 0xf8) == 0xf0) n = 4, min = 0x10000, cp = *p & 0x07u;
+    else return 0;
+    if (end - p < n) return 0;
+    for (int i = 1; i < n; ++i) {
+        if ((p[i] & 0xc0) != 0x80) return 0;
+        cp = (cp << 6) | (p[i] & 0x3fu);
+    }
+    /* overlong forms, surrogates and code points above U+10FFFF are not UTF-8 */
+    return (cp < min || (cp >= 0xd800 && cp <= 0xdfff) || cp > 0x10ffff) ? 0 : n;
+}
+
 void json_string(FILE *out, const char *text)
 {
+    const unsigned char *p = (const unsigned char *)text, *end = p + strlen(text);
     fputc('"', out);
-    for (const unsigned char *p = (const unsigned char *)text; *p; ++p) {
-        if (*p == '"' || *p == '\\') {
-            fprintf(out, "\\%c", *p);
-        } else if (*p < 0x20) {
-            fprintf(out, "\\u%04x", *p);
+    while (p < end) {
+        const int n = utf8_length(p, end);
+        if (n == 0) {
+            fputs("\\ufffd", out); /* column names come from files: keep the JSON valid whatever they hold */
+            ++p;
+        } else if (*p == '"' || *p == '\\') {
+            fprintf(out, "\\%c", *p++);
+        } else if (*p < 0x20 || *p == 0x7f) {
+            fprintf(out, "\\u%04x", *p++);
         } else {
-            fputc(*p, out);
+            fwrite(p, 1, (size_t)n, out);
+            p += n;
         }
     }
     fputc('"', out);
@@ -84,10 +112,32 @@ static void json_warnings(FILE *out, unsigned warnings)
     fputc(']', out);
 }
 
-void json_result(FILE *out, const okid_config *cfg, const okid_result *res, double elapsed)
+static void json_string_list(FILE *out, const char *const *texts, int count)
+{
+    fputc('[', out);
+    for (int i = 0; i < count; ++i) {
+        if (i) fputs(", ", out);
+        json_string(out, texts[i]);
+    }
+    fputc(']', out);
+}
+
+void json_result(FILE *out, const okid_config *cfg, const okid_result *res, const char *const *input_names,
+                 const char *const *output_names, double elapsed)
 {
     const int m = cfg->num_outputs;
     fprintf(out, "{\n  \"order\": %d,\n  \"observer_order\": %d,\n", res->order, cfg->observer_order);
+    if (input_names != NULL) {
+        fputs("  \"inputs\": ", out);
+        json_string_list(out, input_names, cfg->num_inputs);
+        fputs(",\n", out);
+    }
+    if (output_names != NULL) {
+        fputs("  \"outputs\": ", out);
+        json_string_list(out, output_names, m);
+        fputs(",\n", out);
+    }
+    fprintf(out, "  \"sensing\": \"%s\",\n", cli_sensing_name(cfg->sensing));
     fprintf(out, "  \"hankel_rows\": %d,\n  \"hankel_cols\": %d,\n", cfg->hankel_rows, cfg->hankel_cols);
     fprintf(out, "  \"realization\": \"%s\",\n",
             cfg->realization == OKID_REALIZATION_COMBINED ? "combined" : "system");

@@ -1,4 +1,5 @@
-/* Just enough JSON output for the identification result: numbers round-trip (%.17g), NaN/Inf as null. */
+/* Just enough JSON output for the identification result: numbers round-trip (%.17g), NaN/Inf as
+   null, strings always valid UTF-8 (invalid bytes become U+FFFD). */
 #ifndef OKID_CLI_JSON_WRITER_H
 #define OKID_CLI_JSON_WRITER_H
 
@@ -17,7 +18,11 @@ void json_complex(FILE *out, okid_complex z);
 /* [[re, im], ...] */
 void json_complex_vector(FILE *out, const okid_complex *values, int count);
 
-/* The whole result as one JSON object (keys documented in README.md); elapsed >= 0 adds "elapsed_seconds". */
-void json_result(FILE *out, const okid_config *cfg, const okid_result *res, double elapsed);
+/*
+ * The whole result as one JSON object (keys documented in README.md). input_names (r) and
+ * output_names (m) label the columns (either may be NULL); elapsed >= 0 adds "elapsed_seconds".
+ */
+void json_result(FILE *out, const okid_config *cfg, const okid_result *res, const char *const *input_names,
+                 const char *const *output_names, double elapsed);
 
 #endif

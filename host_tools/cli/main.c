@@ -14,9 +14,8 @@ static const char usage[] =
 
 int main(int argc, char **argv)
 {
-    if (argc < 2) {
-        fputs(usage, stderr);
-        return EXIT_USAGE;
+    if (argc < 2) { /* like every other usage error: one line, so scripts can show it */
+        return cli_error(EXIT_USAGE, "no command (usage: okid identify|simulate [options]; see 'okid --help')");
     }
     if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
         fputs(usage, stdout);

@@ -1,4 +1,5 @@
 /* okid simulate: a chain of masses excited by white noise, sampled exactly (ZOH), written as CSV. */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -25,7 +26,9 @@ static const char simulate_usage[] =
     "  --dt S                   sample interval [s] (default 0.01)\n"
     "  --seed S                 random seed (default 1)\n"
     "  --noise F                output noise: normal, std F times each output's RMS (default 0)\n"
-    "  --output FILE            write to FILE instead of standard output\n";
+    "  --output FILE            write to FILE instead of standard output\n"
+    "\n"
+    "Exit status: 0 success, 1 write error, 2 usage error (a bad option or model).\n";
 
 typedef struct simulate_options {
     double masses[MAX_DOFS], dampers[MAX_DOFS + 1], springs[MAX_DOFS + 1];
@@ -34,6 +37,19 @@ typedef struct simulate_options {
     okid_sensing sensing;
     const char *output;
 } simulate_options;
+
+/* Every simulate option takes a value; an unknown one is reported as such, not as lacking a value. */
+static int is_option(const char *opt)
+{
+    static const char *const names[] = {"--masses", "--dampers", "--springs", "--force-dof", "--sensing",
+                                         "--samples", "--dt", "--seed", "--noise", "--output"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
+        if (strcmp(opt, names[i]) == 0) {
+            return 1;
+        }
+    }
+    return 0;
+}
 
 static int parse_options(int argc, char **argv, simulate_options *o)
 {
@@ -52,6 +68,9 @@ static int parse_options(int argc, char **argv, simulate_options *o)
         }
         if (strncmp(opt, "--", 2) != 0) {
             return cli_error(EXIT_USAGE, "unexpected argument '%s' (see 'okid simulate --help')", opt);
+        }
+        if (!is_option(opt)) {
+            return cli_error(EXIT_USAGE, "unknown option '%s' (see 'okid simulate --help')", opt);
         }
         if (i + 1 >= argc) {
             return cli_error(EXIT_USAGE, "option %s needs a value (see 'okid simulate --help')", opt);
@@ -80,6 +99,10 @@ static int parse_options(int argc, char **argv, simulate_options *o)
             o->output = val;
         } else {
             return cli_error(EXIT_USAGE, "unknown option '%s' (see 'okid simulate --help')", opt);
+        }
+        if (bad && (strcmp(opt, "--masses") == 0 || strcmp(opt, "--dampers") == 0 || strcmp(opt, "--springs") == 0)) {
+            return cli_error(EXIT_USAGE, "bad value '%s' for %s: comma-separated finite numbers, at most %d masses",
+                             val, opt, MAX_DOFS);
         }
         if (bad) {
             return cli_error(EXIT_USAGE, "bad value '%s' for %s", val, opt);
@@ -159,7 +182,7 @@ static int write_csv(const simulate_options *o, const okid_real *u, const okid_r
         for (int i = 0; i < o->dofs; ++i) fprintf(out, ",%.17g", (double)y[(size_t)k * (size_t)o->dofs + (size_t)i]);
         fputc('\n', out);
     }
-    return ferror(out) ? -1 : 0;
+    return (fflush(out) != 0 || ferror(out)) ? -1 : 0;
 }
 
 int simulate_command(int argc, char **argv)
@@ -190,10 +213,11 @@ int simulate_command(int argc, char **argv)
         if (o.noise > 0) add_output_noise(&o, y, (size_t)o.samples, o.dofs);
         FILE *out = o.output ? fopen(o.output, "w") : stdout;
         if (out == NULL) {
-            rc = cli_error(EXIT_DATA, "cannot write '%s'", o.output);
+            rc = cli_error(EXIT_DATA, "cannot write '%s': %s", o.output, strerror(errno));
         } else {
-            if (write_csv(&o, u, y, out) != 0) rc = cli_error(EXIT_DATA, "write error");
-            if (o.output && fclose(out) != 0) rc = cli_error(EXIT_DATA, "cannot write '%s'", o.output);
+            int failed = write_csv(&o, u, y, out) != 0;
+            failed |= o.output != NULL && fclose(out) != 0;
+            if (failed) rc = cli_error(EXIT_DATA, "cannot write '%s'", o.output ? o.output : "standard output");
         }
     }
     free(dm);

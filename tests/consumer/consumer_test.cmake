@@ -21,7 +21,11 @@ run(${CMAKE_COMMAND} --build ${WORK_DIR}/cmake-build)
 run(${WORK_DIR}/cmake-build/okid_consumer)
 
 # 2. pkg-config.
+# GNUInstallDirs gives lib or lib/<multiarch> (prefix /usr on Debian): look for the .pc file.
 file(GLOB_RECURSE pc_files ${prefix}/*/okid.pc)
+if(NOT pc_files)
+  message(FATAL_ERROR "no okid.pc installed under ${prefix}")
+endif()
 list(GET pc_files 0 pc_file)
 get_filename_component(pc_dir ${pc_file} DIRECTORY)
 set(ENV{PKG_CONFIG_PATH} ${pc_dir})
