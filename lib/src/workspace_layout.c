@@ -49,7 +49,10 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims)
     dims->svd_size = MIN(dims->hankel_rows, dims->hankel_cols);
     dims->markov_count = cfg->hankel_rows + cfg->hankel_cols; /* Y_0 .. Y_(alpha+beta) */
     dims->block_rows = cfg->block_rows > 0 ? cfg->block_rows : 32;
-    dims->block_tile = MIN(dims->block_rows, dims->w);
+    /* Inner block of the blocked QR update (xTPQRT's NB): a narrow panel keeps the level-2 part
+       small and hands the rest to level-3 BLAS; 8 up to w = 128, 16 above, was fastest with both
+       the reference BLAS and OpenBLAS (2.2x at r = 1, m = 2, p = 20; docs/benchmarks.md). */
+    dims->block_tile = MIN(MIN(dims->block_rows, dims->w), dims->w <= 128 ? 8 : 16);
     if (!fits_int(dims->w, dims->w) || !fits_int(dims->hankel_rows, dims->hankel_cols) ||
         !fits_int(dims->block_rows, dims->w)) {
         return OKID_E_BAD_SIZE;

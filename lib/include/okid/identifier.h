@@ -178,7 +178,8 @@ typedef struct okid_identifier {
 #define OKID__N(r, m, p, alpha, beta, order, combined) \
     ((order) > 0 ? OKID__Z(order) : OKID__MIN(OKID__K(r, m, alpha, beta, combined), OKID__Z(m) * OKID__Z(p)))
 #define OKID__NB(block_rows) ((block_rows) > 0 ? OKID__Z(block_rows) : 32u)
-#define OKID__NBT(r, m, p, block_rows) OKID__MIN(OKID__NB(block_rows), OKID__W(r, m, p))
+#define OKID__NBT(r, m, p, block_rows) \
+    OKID__MIN(OKID__MIN(OKID__NB(block_rows), OKID__W(r, m, p)), OKID__W(r, m, p) <= 128u ? 8u : 16u)
 
 #define OKID__PERSISTENT_BYTES(r, m, p, block_rows)                                                \
     (OKID__RB(OKID__Z(p) * (OKID__Z(r) + OKID__Z(m))) + OKID__RB(OKID__NB(block_rows) * OKID__W(r, m, p)) \
