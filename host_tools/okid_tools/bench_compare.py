@@ -30,13 +30,24 @@ CASES = [("paper, noise-free", 0.01, 1001, 0.0), ("paper dt, 2 % noise", 0.01, 1
 
 # Parameter grids, tuned per case on a tuning seed (the best of the grid is then run on fresh seeds).
 # The most accurate setting wins; among settings within 1.5x of its error (or below 1e-9), the fastest.
+# okid and the numpy OKID/ERA get the same grid; the Hankel span reaches one period of the slowest
+# mode at the paper's dt (h = 100), which noisy oversampled data needs (DESIGN.md).
+OKID_GRID = [dict(p=p, h=h) for p in (2, 5, 10, 20, 40, 60, 80, 100) for h in (10, 20, 40, 60, 100)]
 GRIDS = {
-    "okid (CLI)": [dict(p=p, h=h) for p in (2, 5, 10, 20, 40) for h in (10, 20, 40, 60)],
-    "numpy OKID/ERA": [dict(p=p, h=h) for p in (2, 5, 10, 20, 40) for h in (10, 20, 40, 60)],
-    "mdof OKID+ERA": [dict(m=m, h=h) for m in (60, 120, 200) for h in (10, 20, 40)],
-    "mdof SRIM": [dict(h=h) for h in (5, 10, 20, 40)],
-    "python-control": [dict(m=m, h=h) for m in (60, 120, 300) for h in (10, 20, 40)],
+    "okid (CLI)": OKID_GRID,
+    "numpy OKID/ERA": OKID_GRID,
+    "mdof OKID+ERA": [dict(m=m, h=h) for m in (60, 120, 200, 300) for h in (10, 20, 40, 60)],
+    "mdof SRIM": [dict(h=h) for h in (5, 10, 20, 40, 60)],
+    "python-control": [dict(m=m, h=h) for m in (60, 120, 200, 300) for h in (10, 20, 40, 60)],
 }
+
+# Every method's time is the fastest of a few calls on the same data (at most PEER_REPEATS, and no
+# more once TIME_BUDGET seconds are spent), then the median over the evaluation seeds; okid's C API
+# figure is the fastest of 20 identifications inside the process (okid identify --timing --repeat 20).
+PEER_REPEATS, TIME_BUDGET = 5, 0.5
+
+# Relative errors below this are round-off for every method (noise-free data): they count as equal.
+ROUND_OFF = 1e-9
 
 
 def modal(A, dt):
@@ -132,7 +143,8 @@ def errors(result, ref):
     return f_err, z_err
 
 
-def run_method(name, params, cli, path, u, y, dt):
+def call_method(name, params, cli, path, u, y, dt):
+    """One identification: (frequencies, damping ratios) and the seconds it took."""
     t0 = time.perf_counter()
     if name == "okid (CLI)":
         result, wall, _ = okid_cli(cli, path, dt, params["p"], params["h"])
@@ -148,6 +160,18 @@ def run_method(name, params, cli, path, u, y, dt):
         else:
             result = control_era(u, y, dt, params["m"], params["h"])
     return result, time.perf_counter() - t0
+
+
+def run_method(name, params, cli, path, u, y, dt, repeats=1):
+    """The result and the fastest of up to `repeats` calls (fewer once TIME_BUDGET is spent)."""
+    result, best = call_method(name, params, cli, path, u, y, dt)
+    spent = best
+    for _ in range(repeats - 1):
+        if spent > TIME_BUDGET:
+            break
+        _, seconds = call_method(name, params, cli, path, u, y, dt)
+        best, spent = min(best, seconds), spent + seconds
+    return result, best
 
 
 def compare(cli, quick):
@@ -168,14 +192,14 @@ def compare(cli, quick):
             best = None
             if finite:
                 best_err = min(t[0] for t in finite)
-                good = [t for t in finite if t[0] <= max(1.5 * best_err, 1e-9)]
+                good = [t for t in finite if t[0] <= max(1.5 * best_err, ROUND_OFF)]
                 best = min(good, key=lambda t: t[1])[2]
             best = best or grid[0]
             f_errs, z_errs, times = [], [], []
             for seed in seeds:  # evaluation on fresh data
                 path, u, y = simulate(cli, dt, samples, noise, seed)
                 try:
-                    result, seconds = run_method(name, best, cli, path, u, y, dt)
+                    result, seconds = run_method(name, best, cli, path, u, y, dt, PEER_REPEATS)
                     f, z = errors(result, ref)
                 except Exception:
                     f, z, seconds = np.inf, np.inf, np.nan
@@ -235,6 +259,43 @@ def plot(rows, path):
     plt.close(fig)
 
 
+def targets(rows, results):
+    """The targets of the benchmark issue, each with the measured figure and met / missed (by how much)."""
+    out = []
+
+    def add(what, measured, goal, met, margin):
+        out.append((what, measured, goal, "met" if met else f"missed: {margin}"))
+
+    push, frac = results["push_samples_per_s"], results["dgemm_fraction"]
+    add(f"push r=1 m=2 p=20 ({results['blas']})", f"{push:,.0f} samples/s", ">= 1,000,000 samples/s",
+        push >= 1e6, f"{push / 1e6:.2f}x of it")
+    add("push as a fraction of the same run's DGEMM", f"{100 * frac:.1f} %", ">= 25 %", frac >= 0.25,
+        f"{frac / 0.25:.2f}x of it")
+    paper = [r for r in rows if r["case"] == CASES[0][0]]
+    ours = next(r for r in paper if r["method"] == "okid (C API)")
+    peer = min((r for r in paper if not r["method"].startswith("okid")), key=lambda r: r["seconds"])
+    speedup = peer["seconds"] / ours["seconds"]
+    accurate = max(ours["freq_error"], ours["damping_error"], ROUND_OFF) <= max(peer["freq_error"],
+                                                                             peer["damping_error"], ROUND_OFF)
+    add(f"paper end to end vs the fastest peer ({peer['method']})", f"{speedup:.1f}x faster"
+        f"{'' if accurate else ' (less accurate)'}", ">= 50x at equal or better accuracy", speedup >= 50 and accurate,
+        f"{speedup / 50:.2f} of the factor")
+    for case in dict.fromkeys(r["case"] for r in rows):
+        mine = next(r for r in rows if r["case"] == case and r["method"] == "okid (C API)")
+        others = [r for r in rows if r["case"] == case and not r["method"].startswith("okid")]
+        for key, label in (("freq_error", "frequency"), ("damping_error", "damping")):
+            best = min(r[key] for r in others)
+            add(f"{case}: {label} error vs the best peer", f"{mine[key]:.2e} (best peer {best:.2e})",
+                f"no worse (below {ROUND_OFF:g} counts as equal)", mine[key] <= max(best, ROUND_OFF),
+                f"{mine[key] / best:.1f}x the best peer's error")
+        if case == CASES[3][0]:
+            add(f"{case}: frequency error", f"{100 * mine['freq_error']:.3f} %", "<= 0.1 %",
+                mine["freq_error"] <= 1e-3, f"{mine['freq_error'] / 1e-3:.2f}x the bound")
+            add(f"{case}: damping error", f"{100 * mine['damping_error']:.3f} %", "<= 1 %",
+                mine["damping_error"] <= 1e-2, f"{mine['damping_error'] / 1e-2:.2f}x the bound")
+    return out
+
+
 def markdown(rows, cbench, results, quick):
     lines = ["# Benchmarks", "", f"Generated by `.venv/bin/okid-bench{' --quick' if quick else ''}` "
              f"on {platform.node() or 'this machine'}: {platform.processor() or platform.machine()}, "
@@ -251,7 +312,10 @@ def markdown(rows, cbench, results, quick):
               "inside the process, fastest of 20; Python peers: the identification call on arrays in memory). "
               "p is the observer order, h the Hankel block rows = columns, m the number of Markov parameters "
               "(python-control, mdof). Every method's A goes through the same eigen-analysis.", "",
-              "![benchmark](img/benchmark.png)", "", "## Speed of the C core", ""]
+              "![benchmark](img/benchmark.png)", "", "## Targets of the benchmark issue", "",
+              "| target | measured | goal | verdict |", "|---|---|---|---|"]
+    lines += [f"| {what} | {measured} | {goal} | {verdict} |" for what, measured, goal, verdict in targets(rows, results)]
+    lines += ["", "## Speed of the C core", ""]
     for blas, data in cbench.items():
         lines += [f"### {blas} BLAS (one thread)", "", "```", data["text"].rstrip(), "```", ""]
     lines += ["## Machine-readable", "", "```json", json.dumps(results, indent=2), "```", ""]
