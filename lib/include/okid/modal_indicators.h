@@ -25,7 +25,7 @@
  *   ((l1 - l2) / (l1 + l2))^2 of the eigenvalues l1 >= l2 of the 2 x 2 matrix
  *   [Re phi, Im phi]' [Re phi, Im phi]; 1 when all components share one phase (a real mode)
  * - MSV_i = sqrt(|c_i|_2 |b_i|_2 (1 + |lambda_i| + ... + |lambda_i|^(l - 1))), l = alpha + beta - 1
- *   Markov parameters in H(0): the mode's share of the Hankel singular values
+ *   Markov parameters in H(0) (Juang 1994, sec. 7.4): the size of the mode in the pulse response
  * - CMI_i = EMAC_i * MPC_i                                     in [0, 1]
  *
  * Noise-free data realized at its true order gives EMAC = 1 (the shift structure of P and Q holds
