@@ -24,6 +24,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import MaxNLocator  # noqa: E402
 
 KINDS = {  # kind: (marker, size, label)
     "stable": ("o", 36, "stable (f 1 %, damping 5 %, MAC 0.98)"),
@@ -79,6 +80,7 @@ def plot_stabilization(source, png, max_frequency=None, min_cmi=0.5, title=None)
             ax.axvline(mode["frequency_hz"], color="0.4", linestyle="--", linewidth=0.8)
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("model order n")
+    ax.yaxis.set_major_locator(MaxNLocator(integer=True))
     ax.set_title(title or f"Stabilization diagram (orders up to {result['stabilization']['max_order']}; "
                           f"dashed: identified n = {result.get('order', '?')})")
     ax.grid(True, alpha=0.3)
