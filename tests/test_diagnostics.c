@@ -32,7 +32,7 @@ static void test_noise_free_above_minimum(void **state)
     assert_relative(res.realization_condition, REF_PAPER.hankel_sv[0] / REF_PAPER.hankel_sv[3], 1e-8,
                     "realization condition", 0);
     assert_true(res.lsq_condition > 1e12);                            /* rank deficient */
-    assert_true(res.input_condition >= 1 && res.input_condition < 3); /* white noise */
+    assert_true(res.input_condition >= 1 && res.input_condition < 5); /* white noise: 2.6 */
     /* alpha = beta = 20 at dt = 0.01 s span 0.4 s, the slowest period is 1 / 0.503 Hz. */
     assert_true(w & OKID_W_HANKEL_SPAN_SHORT);
     free(ws);
@@ -98,8 +98,9 @@ static void test_noisy_well_posed(void **state)
     free(ws);
 }
 
-/* An AR(1) input u(k) = 0.99 u(k-1) + e(k): its equilibrated regressor has a condition number of
-   about (1 + a) / (1 - a) = 199 — above 1 / sqrt(1e-3), below 1 / 1e-3: weakly exciting, usable. */
+/* An AR(1) input u(k) = 0.99 u(k-1) + e(k): its equilibrated regressor has a 2-norm condition of
+   about (1 + a) / (1 - a) = 199 (the 1-norm figure reported is within a factor 21 of it): above
+   1 / sqrt(1e-3), below 1 / 1e-3: weakly exciting, still usable. */
 static void test_weak_excitation(void **state)
 {
     (void)state;

@@ -11,12 +11,12 @@
 
 typedef struct okid_regressor_diagnostics {
     int expected_rank;         /* min(q, r (p + 1) + n) */
-    okid_real lsq_condition;   /* sigma_1 / sigma_q of the equilibrated R11 (+inf when singular) */
+    okid_real lsq_condition;   /* 1-norm condition of the equilibrated R11 (+inf when singular) */
     okid_real input_condition; /* the same for its leading r (p + 1) columns */
 } okid_regressor_diagnostics;
 
 /*
- * Singular values of the column-equilibrated regressor factor (the diag views of the scratch; the
+ * Conditioning of the column-equilibrated regressor factor (the diag views of the scratch; the
  * least-squares solution in the x view is kept). n is the realized order, regressor_rank the
  * numerical rank the solve found. Sets OKID_W_RANK_BELOW_MODEL, OKID_W_WEAK_EXCITATION and
  * OKID_W_OBSERVER_ORDER_ABOVE_MINIMUM in *warnings.

@@ -135,10 +135,10 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, unsigned char *base,
 
     c.used = scratch;
     v->diag_scale = okid_carve_reals(&c, q);
+    v->diag_b = okid_carve_reals(&c, q);
     v->diag_a = okid_carve_reals(&c, q * q);
-    v->diag_vt = okid_carve_reals(&c, q * q);
-    v->diag_s = okid_carve_reals(&c, q);
-    v->diag_work = okid_carve_reals(&c, OKID__LWORK_GESVD(q, q));
+    v->diag_jpvt = (int *)okid_carve_bytes(&c, sizeof(int) * q);
+    v->diag_work = okid_carve_reals(&c, OKID__LWORK_GELSY(q, 1u));
     end = MAX(end, c.used);
 
     return end;

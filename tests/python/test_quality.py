@@ -83,6 +83,27 @@ def match(modes, lam):
 
 # ---- item 3: diagnostics ----
 
+def numpy_conditions(csv, p):
+    """1-norm condition numbers of the column-equilibrated triangular factor of the regressor (row
+    k = [u(k), u(k-1..k-p), y(k-1..k-p)], from rest) and of its input columns, by numpy's QR
+    (the factor is unique up to row signs, which the 1-norm condition ignores)."""
+    data = np.loadtxt(csv, delimiter=",", skiprows=1)
+    u, y = data[:, 1], data[:, 2:]
+    past = lambda x, j: np.concatenate([np.zeros((j,) + x.shape[1:]), x[:len(x) - j]])  # noqa: E731
+    phi = np.column_stack([u] + [past(u, j) for j in range(1, p + 1)] + [past(y, j) for j in range(1, p + 1)])
+    R = np.linalg.qr(phi / np.linalg.norm(phi, axis=0), mode="r")
+    kappa = lambda T: np.linalg.norm(T, 1) * np.linalg.norm(np.linalg.inv(T), 1)  # noqa: E731
+    return kappa(R), kappa(R[:p + 1, :p + 1])
+
+
+@pytest.mark.parametrize("name, p", [("clean.csv", 2), ("noisy.csv", 60)])
+def test_condition_numbers_match_numpy(data, name, p):
+    res = identify(data / name, "--observer-order", p, "--order", 4, "--zero-initial-state")
+    lsq, inputs = numpy_conditions(data / name, p)
+    assert res["lsq_condition"] == pytest.approx(lsq, rel=1e-6)
+    assert res["input_condition"] == pytest.approx(inputs, rel=1e-9)
+
+
 def test_noise_free_diagnostics(data):
     res = identify(data / "clean.csv", *PAPER_SETTINGS)
     assert res["regressor_rank"] == res["regressor_rank_expected"] == 1 * 21 + 4

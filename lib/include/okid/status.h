@@ -58,14 +58,16 @@ enum okid_warning {
      */
     OKID_W_RANK_BELOW_MODEL = 1u << 4,
     /**
-     * The input is only weakly persistently exciting: the condition number of its column-equilibrated
-     * regressor exceeds 1 / sqrt(rank tolerance) (it becomes the error OKID_E_RANK_DEFICIENT at 1 / tolerance).
+     * The input is only weakly persistently exciting: the condition number (okid_result::input_condition)
+     * of its column-equilibrated regressor factor exceeds 1 / sqrt(rank tolerance); near 1 / tolerance the
+     * input rank drops and okid_identify() fails with OKID_E_RANK_DEFICIENT.
      */
     OKID_W_WEAK_EXCITATION = 1u << 5,
     /**
-     * The data is (near) noise-free and m p > n: singular value r (p + 1) + n + 1 of the equilibrated
-     * regressor is below sqrt(rank tolerance) times the largest. The observer Markov parameters are then
-     * not unique (the system ones are); p = ceil(n / m) gives the unique deadbeat observer.
+     * The data is (near) noise-free and m p > n: even at the looser tolerance sqrt(rank tolerance) the
+     * equilibrated regressor's numerical rank is at most r (p + 1) + n (noise would fill every column).
+     * The observer Markov parameters are then not unique (the system ones are); p = ceil(n / m) gives
+     * the unique deadbeat observer.
      */
     OKID_W_OBSERVER_ORDER_ABOVE_MINIMUM = 1u << 6,
     /**
