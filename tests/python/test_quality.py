@@ -180,6 +180,10 @@ def test_stabilization_usage(data, tmp_path):
     assert stabilization_main([str(tmp_path / "plain.json"), "--output", str(tmp_path / "x.png")]) == 1
     proc = run("identify", "--stabilization", 41, *PAPER_SETTINGS, data / "clean.csv", check=False)
     assert proc.returncode == 2 and "at most the Hankel size" in proc.stderr
+    table = run("identify", *NOISY, "--order", 4, "--stabilization", 8, data / "noisy.csv").stdout
+    assert "EMAC    MPC    CMI" in table and "condition numbers: least squares" in table
+    rows = [line for line in table.splitlines() if line.strip().startswith(("6:", "8:"))]
+    assert len(rows) == 2 and all(line.count("s") >= 2 for line in rows), table  # both modes stable
     # Noise-free: the Hankel rank (4) caps the diagram.
     st = identify(data / "clean.csv", *PAPER_SETTINGS, "--stabilization", 10)["stabilization"]
     assert st["rank_limit"] == 4 and [o["order"] for o in st["orders"]] == [2, 4]
