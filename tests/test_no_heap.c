@@ -82,6 +82,7 @@ static void test_paper_case_allocates_nothing(void **state)
 #else
 enum { SAMPLES = 1001 };
 static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char workspace[OKID_WORKSPACE_BYTES(1, 2, 20, 20, 20, 4, 0, 0)];
+static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char stab_workspace[OKID_STABILIZATION_WORKSPACE_BYTES(1, 2, 20, 20, 8, 2, 0)];
 static double force[SAMPLES], accelerations[2 * SAMPLES];
 
 static void test_paper_case_allocates_nothing(void **state)
@@ -111,7 +112,10 @@ static void test_paper_case_allocates_nothing(void **state)
         push = okid_push(&id, &force[k], &accelerations[2 * k]);
     }
     const okid_status identify = okid_identify(&id, &res);
+    okid_stabilization st;
+    const okid_status stab = okid_stabilization_compute(&id, 8, 2, NULL, stab_workspace, sizeof stab_workspace, &st);
     counting = 0;
+    assert_int_equal(stab, OKID_OK);
     assert_int_equal(init, OKID_OK);
     assert_int_equal(push, OKID_OK);
     assert_int_equal(identify, OKID_OK);

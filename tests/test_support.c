@@ -80,6 +80,25 @@ void test_config(const ref_case *rc, okid_config *cfg)
 okid_status test_identify_case(const ref_case *rc, const okid_config *cfg, size_t samples, uint64_t seed,
                                okid_identifier *id, void **workspace, okid_result *result)
 {
+    return test_identify_noisy(rc, cfg, samples, seed, 0, id, workspace, result);
+}
+
+/* Adds white noise of std noise * RMS(output a) to each output a (seeded apart from the input). */
+static void add_output_noise(int m, size_t samples, double *y, double noise, uint64_t seed)
+{
+    double *e = test_white_noise(m, samples, seed ^ 0x5EEDu);
+    for (int a = 0; a < m; ++a) {
+        double power = 0;
+        for (size_t k = 0; k < samples; ++k) power += y[k * (size_t)m + (size_t)a] * y[k * (size_t)m + (size_t)a];
+        const double std = noise * sqrt(power / (double)samples);
+        for (size_t k = 0; k < samples; ++k) y[k * (size_t)m + (size_t)a] += std * e[k * (size_t)m + (size_t)a];
+    }
+    free(e);
+}
+
+okid_status test_identify_noisy(const ref_case *rc, const okid_config *cfg, size_t samples, uint64_t seed,
+                                double noise, okid_identifier *id, void **workspace, okid_result *result)
+{
     size_t bytes = 0;
     *workspace = test_workspace(cfg, &bytes);
     assert_int_equal(okid_init(id, cfg, *workspace, bytes, NULL), OKID_OK);
@@ -87,6 +106,7 @@ okid_status test_identify_case(const ref_case *rc, const okid_config *cfg, size_
     double *y = malloc(sizeof(double) * (size_t)rc->m * samples);
     assert_non_null(y);
     test_simulate(rc, samples, u, y, NULL);
+    if (noise > 0) add_output_noise(rc->m, samples, y, noise, seed);
     size_t accepted = 0;
     assert_int_equal(okid_push_block(id, samples, u, (size_t)rc->r, y, (size_t)rc->m, &accepted), OKID_OK);
     assert_int_equal(accepted, samples);

@@ -44,6 +44,10 @@ void test_config(const ref_case *rc, okid_config *cfg);
 okid_status test_identify_case(const ref_case *rc, const okid_config *cfg, size_t samples, uint64_t seed,
                                okid_identifier *id, void **workspace, okid_result *result);
 
+/* Like test_identify_case, with white output noise of std noise * RMS of each output (0: none). */
+okid_status test_identify_noisy(const ref_case *rc, const okid_config *cfg, size_t samples, uint64_t seed,
+                                double noise, okid_identifier *id, void **workspace, okid_result *result);
+
 /* |got - want| <= tol * |want| (or tol when want = 0), with a message naming what. */
 void assert_relative(double got, double want, double tol, const char *what, int index);
 

@@ -45,9 +45,10 @@ typedef struct identifier_data {
     /* inputs */
     double u[R], y[M];
     /* outputs */
-    int status, samples, rejected, rank, num_modes, identifications, last_error;
+    int status, samples, rejected, rank, num_modes, identifications, last_error, warnings;
     double y_hat[M], y_error[M], singular_values[NUM_SV];
     double frequency[MAX_MODES], damping[MAX_MODES], eig_re[MAX_MODES], eig_im[MAX_MODES];
+    double emac[MAX_MODES], mpc[MAX_MODES], cmi[MAX_MODES];
     double shape_re[MAX_MODES][2 * M], shape_im[MAX_MODES][2 * M];
     /* internal */
     int since_identify, has_model;
@@ -83,11 +84,15 @@ static const fmu_variable_group GROUPS[] = {
     OUT_INT("regressor_rank", rank, "numerical rank of the regressor"),
     OUT_INT("num_modes", num_modes, "modes identified"),
     OUT_INT("identifications", identifications, "successful identifications so far"),
+    OUT_INT("warnings", warnings, "okid_warning bits of the last identification (okid/status.h)"),
     OUT_REALS("y_hat%d", M, y_hat, NULL, "one-step prediction of y with the identified observer"),
     OUT_REALS("y_error%d", M, y_error, NULL, "y - y_hat (innovation)"),
     OUT_REALS("singular_value%d", NUM_SV, singular_values, NULL, "Hankel singular values, decreasing"),
     OUT_REALS("mode%d_frequency", MAX_MODES, frequency, "Hz", "natural frequency"),
     OUT_REALS("mode%d_damping", MAX_MODES, damping, NULL, "damping ratio"),
+    OUT_REALS("mode%d_emac", MAX_MODES, emac, NULL, "extended modal amplitude coherence in [0, 1]"),
+    OUT_REALS("mode%d_mpc", MAX_MODES, mpc, NULL, "modal phase collinearity in [0, 1]"),
+    OUT_REALS("mode%d_cmi", MAX_MODES, cmi, NULL, "consistent mode indicator EMAC * MPC in [0, 1]: low for computational modes"),
     OUT_REALS("mode%d_eigenvalue_re", MAX_MODES, eig_re, NULL, "discrete eigenvalue, real part"),
     OUT_REALS("mode%d_eigenvalue_im", MAX_MODES, eig_im, NULL, "discrete eigenvalue, imaginary part"),
     {"mode%d_shape%d_re", MAX_MODES, 2 * M, FMU_REAL, FMU_OUTPUT, FMU_DISCRETE, OFF(shape_re), sizeof(double) * 2 * M,
@@ -164,6 +169,7 @@ static void publish(identifier_data *d, const okid_result *res)
 {
     d->num_modes = res->num_modes < MAX_MODES ? res->num_modes : MAX_MODES;
     d->rank = res->regressor_rank;
+    d->warnings = (int)res->warnings;
     for (int i = 0; i < NUM_SV; ++i) {
         d->singular_values[i] = i < res->num_singular_values ? (double)res->singular_values[i] : 0.0;
     }
@@ -174,6 +180,9 @@ static void publish(identifier_data *d, const okid_result *res)
         d->damping[k] = live ? (double)md->damping_ratio : 0.0;
         d->eig_re[k] = live ? (double)md->eigenvalue.re : 0.0;
         d->eig_im[k] = live ? (double)md->eigenvalue.im : 0.0;
+        d->emac[k] = live ? (double)md->emac : 0.0;
+        d->mpc[k] = live ? (double)md->mpc : 0.0;
+        d->cmi[k] = live ? (double)md->cmi : 0.0;
         for (int j = 0; j < 2 * M; ++j) {
             d->shape_re[k][j] = live ? (double)md->shape[j].re : 0.0;
             d->shape_im[k][j] = live ? (double)md->shape[j].im : 0.0;

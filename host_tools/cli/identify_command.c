@@ -34,6 +34,9 @@ static const char identify_usage[] =
     "  --forgetting L           exponential forgetting factor in (0, 1] (default 1)\n"
     "  --rank-tolerance T       relative tolerance of the rank-revealing least squares (default 1e-10)\n"
     "  --zero-initial-state     the record starts at rest (use its first samples with zero history)\n"
+    "  --stabilization NMAX     stabilization diagram data for the even orders 2..NMAX (at most the\n"
+    "                           Hankel size) from one SVD; \"stabilization\" in the JSON, plot it with\n"
+    "                           okid-stabilization (docs/quality.md)\n"
     "  --json                   print one JSON object instead of a table\n"
     "  --timing                 report the seconds from okid_init to the modes (\"elapsed_seconds\" in JSON)\n"
     "  --repeat K               with --timing: identify K times from scratch, report the fastest (default 1)\n"
@@ -43,7 +46,7 @@ static const char identify_usage[] =
 typedef struct identify_options {
     const char *file, *inputs, *outputs;
     double dt;
-    int have_dt, json, timing, repeat;
+    int have_dt, json, timing, repeat, stabilization;
     okid_config cfg;
 } identify_options;
 
@@ -52,7 +55,7 @@ static int takes_value(const char *opt)
 {
     static const char *const names[] = {"--inputs", "--outputs", "--repeat", "--dt", "--observer-order", "--order",
                                          "--hankel-rows", "--hankel-cols", "--sensing", "--realization",
-                                         "--forgetting", "--rank-tolerance"};
+                                         "--forgetting", "--rank-tolerance", "--stabilization"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
         if (strcmp(opt, names[i]) == 0) {
             return 1;
@@ -127,6 +130,8 @@ static int parse_options(int argc, char **argv, identify_options *o)
         } else if (strcmp(opt, "--forgetting") == 0) {
             bad = cli_parse_real(val, &real) != 0;
             o->cfg.forgetting_factor = real;
+        } else if (strcmp(opt, "--stabilization") == 0) {
+            bad = cli_parse_int(val, &o->stabilization) != 0 || o->stabilization < 2;
         } else if (strcmp(opt, "--rank-tolerance") == 0) {
             bad = cli_parse_real(val, &real) != 0;
             o->cfg.rank_tolerance = real;
@@ -252,8 +257,10 @@ static void print_table(const okid_config *cfg, const okid_result *res, const co
     printf("r = %d inputs, m = %d outputs, p = %d, Hankel %d x %d, %s realization, %s sensing\n", cfg->num_inputs,
            cfg->num_outputs, cfg->observer_order, cfg->hankel_rows, cfg->hankel_cols,
            cfg->realization == OKID_REALIZATION_COMBINED ? "combined" : "system", cli_sensing_name(cfg->sensing));
-    printf("order n = %d, regressor rank %d of %d, input rank %d\n", res->order, res->regressor_rank,
-           res->regressor_columns, res->input_rank);
+    printf("order n = %d, regressor rank %d of %d (an n-state system gives %d), input rank %d\n", res->order,
+           res->regressor_rank, res->regressor_columns, res->regressor_rank_expected, res->input_rank);
+    printf("condition numbers: least squares %.3g, input %.3g, realization %.3g\n", (double)res->lsq_condition,
+           (double)res->input_condition, (double)res->realization_condition);
     printf("singular values:");
     for (int i = 0; i < res->num_singular_values && i < 12; ++i) {
         printf(" %.4g", (double)res->singular_values[i]);
@@ -264,10 +271,11 @@ static void print_table(const okid_config *cfg, const okid_result *res, const co
             printf("warning: %s\n", okid_warning_str(bit));
         }
     }
-    printf("\n mode  frequency [Hz]  damping ratio        eigenvalue (discrete)\n");
+    printf("\n mode  frequency [Hz]  damping ratio   EMAC    MPC    CMI          MSV   eigenvalue (discrete)\n");
     for (int i = 0; i < res->num_modes; ++i) {
         const okid_mode *md = &res->modes[i];
-        printf("%5d  %14.8f  %13.8f  %+.10f", i + 1, (double)md->frequency_hz, (double)md->damping_ratio,
+        printf("%5d  %14.8f  %13.8f  %5.3f  %5.3f  %5.3f  %11.4g  %+.10f", i + 1, (double)md->frequency_hz,
+               (double)md->damping_ratio, (double)md->emac, (double)md->mpc, (double)md->cmi, (double)md->msv,
                (double)md->eigenvalue.re);
         if (md->is_pair) {
             printf(" +/- %.10fi", fabs((double)md->eigenvalue.im));
@@ -342,6 +350,65 @@ static int settings_error(const okid_config *cfg, okid_status st)
                      cfg->hankel_cols, okid_status_str(st), hint);
 }
 
+/* The stability marks of the table: 's' all three criteria, 'f' frequency only or with one more, 'o' new. */
+static char stability_mark(unsigned flags)
+{
+    return flags == OKID_STABLE_ALL ? 's' : (flags & OKID_STABLE_FREQUENCY) ? 'f' : 'o';
+}
+
+static void print_stabilization(const okid_stabilization *st)
+{
+    printf("\nstabilization (s: stable in frequency 1 %%, damping 5 %%, MAC 0.98; f: frequency only; o: new)\n");
+    for (int i = 0; i < st->num_orders; ++i) {
+        const okid_stabilization_order *o = &st->orders[i];
+        printf("%4d:", o->order);
+        for (int k = 0; k < o->num_modes; ++k) {
+            const okid_mode *md = &st->modes[o->first + k];
+            if (md->is_pair) printf(" %.4f%c", (double)md->frequency_hz, stability_mark(st->stability[o->first + k]));
+        }
+        printf("\n");
+    }
+    if (st->rank_limit < st->orders[st->num_orders - 1].order + 2) {
+        printf("(the Hankel matrix has numerical rank %d: no higher orders)\n", st->rank_limit);
+    }
+}
+
+/* Print the result (and the stabilization diagram when asked) as a table or JSON. */
+static int report(const identify_options *o, const okid_config *cfg, okid_identifier *id, const okid_result *res,
+                  const column_choice *cc, double elapsed)
+{
+    okid_stabilization st;
+    void *stab_ws = NULL;
+    if (o->stabilization > 0) {
+        size_t bytes = 0;
+        okid_status s = okid_stabilization_workspace_size(id, o->stabilization, 2, &bytes);
+        if (s == OKID_E_BAD_ORDER) {
+            return cli_error(EXIT_USAGE, "--stabilization %d: at most the Hankel size min(alpha m, beta r) = %d",
+                             o->stabilization, res->num_singular_values);
+        }
+        stab_ws = s == OKID_OK ? aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16) : NULL;
+        if (stab_ws == NULL) {
+            return cli_error(EXIT_DATA, "stabilization: %s", s == OKID_OK ? "out of memory" : okid_status_str(s));
+        }
+        s = okid_stabilization_compute(id, o->stabilization, 2, NULL, stab_ws, bytes, &st);
+        if (s != OKID_OK) {
+            free(stab_ws);
+            return cli_error(EXIT_DATA, "stabilization failed: %s", okid_status_str(s));
+        }
+    }
+    if (o->json) {
+        json_result(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
+        if (stab_ws != NULL) json_stabilization(stdout, &st, o->stabilization, 2, cfg->num_outputs);
+        fputs("\n}\n", stdout);
+    } else {
+        print_table(cfg, res, cc, o->file);
+        if (stab_ws != NULL && st.num_orders > 0) print_stabilization(&st);
+        if (o->timing) printf("\nelapsed from okid_init to the modes: %.6f s\n", elapsed);
+    }
+    free(stab_ws);
+    return 0;
+}
+
 static int run(identify_options *o, const csv_table *t)
 {
     const int time_col = is_time_name(t->names[0]) ? 0 : -1;
@@ -405,11 +472,8 @@ static int run(identify_options *o, const csv_table *t)
                        (unsigned long long)progress.rows, n, progress.rows_needed);
     } else if (st != OKID_OK) {
         rc = cli_error(EXIT_DATA, "identification failed: %s", okid_status_str(st));
-    } else if (o->json) {
-        json_result(stdout, &cfg, &res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
     } else {
-        print_table(&cfg, &res, cc, o->file);
-        if (o->timing) printf("\nelapsed from okid_init to the modes: %.6f s\n", elapsed);
+        rc = report(o, &cfg, &id, &res, cc, elapsed);
     }
     free(ws);
     free(u);

@@ -149,7 +149,13 @@ void json_result(FILE *out, const okid_config *cfg, const okid_result *res, cons
     }
     fprintf(out, ",\n  \"regressor_rank\": %d,\n  \"regressor_columns\": %d,\n  \"input_rank\": %d,\n",
             res->regressor_rank, res->regressor_columns, res->input_rank);
-    fputs("  \"warnings\": ", out);
+    fprintf(out, "  \"regressor_rank_expected\": %d,\n  \"lsq_condition\": ", res->regressor_rank_expected);
+    json_number(out, (double)res->lsq_condition);
+    fputs(",\n  \"input_condition\": ", out);
+    json_number(out, (double)res->input_condition);
+    fputs(",\n  \"realization_condition\": ", out);
+    json_number(out, (double)res->realization_condition);
+    fprintf(out, ",\n  \"warning_bits\": %u,\n  \"warnings\": ", res->warnings);
     json_warnings(out, res->warnings);
     fputs(",\n  \"singular_values\": ", out);
     json_vector(out, res->singular_values, res->num_singular_values);
@@ -167,21 +173,51 @@ void json_result(FILE *out, const okid_config *cfg, const okid_result *res, cons
     json_matrix(out, res->markov);
     fputs(",\n  \"modes\": [", out);
     for (int i = 0; i < res->num_modes; ++i) {
-        const okid_mode *md = &res->modes[i];
         fputs(i ? ",\n    {" : "\n    {", out);
-        fputs("\"eigenvalue\": ", out);
-        json_complex(out, md->eigenvalue);
-        fputs(", \"pole\": ", out);
-        json_complex(out, md->pole);
-        fputs(", \"frequency_hz\": ", out);
-        json_number(out, (double)md->frequency_hz);
-        fputs(", \"damping_ratio\": ", out);
-        json_number(out, (double)md->damping_ratio);
-        fprintf(out, ", \"is_pair\": %s, \"sensor_shape\": ", md->is_pair ? "true" : "false");
-        json_complex_vector(out, md->sensor_shape, m);
-        fputs(", \"shape\": ", out);
-        json_complex_vector(out, md->shape, 2 * m);
+        json_mode_members(out, &res->modes[i], m);
         fputc('}', out);
     }
-    fputs(res->num_modes ? "\n  ]\n}\n" : "]\n}\n", out);
+    fputs(res->num_modes ? "\n  ]" : "]", out);
+}
+
+void json_mode_members(FILE *out, const okid_mode *md, int m)
+{
+    fputs("\"eigenvalue\": ", out);
+    json_complex(out, md->eigenvalue);
+    fputs(", \"pole\": ", out);
+    json_complex(out, md->pole);
+    fputs(", \"frequency_hz\": ", out);
+    json_number(out, (double)md->frequency_hz);
+    fputs(", \"damping_ratio\": ", out);
+    json_number(out, (double)md->damping_ratio);
+    fprintf(out, ", \"is_pair\": %s, \"sensor_shape\": ", md->is_pair ? "true" : "false");
+    json_complex_vector(out, md->sensor_shape, m);
+    fputs(", \"shape\": ", out);
+    json_complex_vector(out, md->shape, 2 * m);
+    const char *names[6] = {"emac", "emac_output", "emac_input", "mpc", "msv", "cmi"};
+    const okid_real values[6] = {md->emac, md->emac_output, md->emac_input, md->mpc, md->msv, md->cmi};
+    for (int k = 0; k < 6; ++k) {
+        fprintf(out, ", \"%s\": ", names[k]);
+        json_number(out, (double)values[k]);
+    }
+}
+
+void json_stabilization(FILE *out, const okid_stabilization *st, int max_order, int step, int m)
+{
+    fprintf(out, ",\n  \"stabilization\": {\"max_order\": %d, \"step\": %d, \"rank_limit\": %d, \"orders\": [",
+            max_order, step, st->rank_limit);
+    for (int i = 0; i < st->num_orders; ++i) {
+        const okid_stabilization_order *o = &st->orders[i];
+        fprintf(out, "%s{\"order\": %d, \"modes\": [", i ? ",\n    " : "\n    ", o->order);
+        for (int k = 0; k < o->num_modes; ++k) {
+            const unsigned flags = st->stability[o->first + k];
+            fprintf(out, "%s{\"stable_frequency\": %s, \"stable_damping\": %s, \"stable_shape\": %s, ",
+                    k ? ",\n      " : "\n      ", (flags & OKID_STABLE_FREQUENCY) ? "true" : "false",
+                    (flags & OKID_STABLE_DAMPING) ? "true" : "false", (flags & OKID_STABLE_SHAPE) ? "true" : "false");
+            json_mode_members(out, &st->modes[o->first + k], m);
+            fputc('}', out);
+        }
+        fputs("]}", out);
+    }
+    fputs(st->num_orders ? "\n  ]}" : "]}", out);
 }

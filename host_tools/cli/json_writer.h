@@ -18,11 +18,17 @@ void json_complex(FILE *out, okid_complex z);
 /* [[re, im], ...] */
 void json_complex_vector(FILE *out, const okid_complex *values, int count);
 
+/* The members (no braces) of one mode: eigenvalue, pole, frequency, damping, shapes, indicators (m outputs). */
+void json_mode_members(FILE *out, const okid_mode *md, int m);
+
 /*
- * The whole result as one JSON object (keys documented in README.md). input_names (r) and
+ * The whole result as the members of one JSON object (keys documented in README.md). input_names (r) and
  * output_names (m) label the columns (either may be NULL); elapsed >= 0 adds "elapsed_seconds".
  */
 void json_result(FILE *out, const okid_config *cfg, const okid_result *res, const char *const *input_names,
                  const char *const *output_names, double elapsed);
+
+/* ',\n  "stabilization": {...}': the diagram data (keys documented in docs/quality.md). */
+void json_stabilization(FILE *out, const okid_stabilization *st, int max_order, int step, int m);
 
 #endif

@@ -2,9 +2,11 @@
 #include "okid/identifier.h"
 
 #include "dense.h"
+#include "diagnostics.h"
 #include "era.h"
 #include "least_squares.h"
 #include "markov.h"
+#include "modal_indicators_internal.h"
 #include "modal_internal.h"
 #include "real_math.h"
 #include "sample_buffer.h"
@@ -214,6 +216,12 @@ okid_status okid_identify(okid_identifier *id, okid_result *result)
     if (st != OKID_OK) {
         return st;
     }
+    okid_indicators_capture(id, n, id->at_.obs_last, id->at_.ctrl_last);
+    okid_regressor_diagnostics diag;
+    st = okid_diagnose_regressor(id, n, regressor_rank, &diag, &warnings);
+    if (st != OKID_OK) {
+        return st;
+    }
     const okid_modal_scratch scratch = {id->at_.modal_a, id->at_.modal_vr, id->at_.modal_wr, id->at_.modal_wi,
                                         id->at_.modal_work};
     int num_modes = 0;
@@ -222,6 +230,16 @@ okid_status okid_identify(okid_identifier *id, okid_result *result)
     if (st != OKID_OK) {
         return st;
     }
+    const okid_indicator_inputs ind = {n, d->m, d->r, id->cfg_.hankel_rows, id->cfg_.hankel_cols,
+                                       id->at_.b, n, id->at_.c, d->m, id->at_.obs_last, d->m, id->at_.ctrl_last, n};
+    const okid_indicator_scratch ind_scratch = {id->at_.modal_a, id->at_.ind_rhs, id->at_.ind_jpvt, id->at_.ind_work};
+    st = okid_modal_indicators(&ind, id->at_.modal_vr, id->at_.modal_wr, id->at_.modal_wi, &ind_scratch,
+                               id->at_.modes, num_modes);
+    if (st != OKID_OK) {
+        return st;
+    }
+    okid_real realization_condition = 0;
+    okid_diagnose_realization(id, n, id->at_.modes, num_modes, &realization_condition, &warnings);
 
     const int r = d->r, m = d->m, L = d->markov_count;
     result->order = n;
@@ -243,6 +261,10 @@ okid_status okid_identify(okid_identifier *id, okid_result *result)
     result->regressor_columns = d->q;
     result->input_rank = input_rank;
     result->warnings = warnings;
+    result->regressor_rank_expected = diag.expected_rank;
+    result->lsq_condition = diag.lsq_condition;
+    result->input_condition = diag.input_condition;
+    result->realization_condition = realization_condition;
     id->has_model_ = 1;
     return OKID_OK;
 }

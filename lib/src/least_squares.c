@@ -36,8 +36,7 @@ okid_status okid_lsq_fold_pending(okid_identifier *id)
     return st;
 }
 
-/* Column norms of the leading n columns of the triangular factor: the regressor's column norms. */
-static void column_scale(const okid_real *r, int ldr, int n, okid_real *scale)
+void okid_lsq_column_norms(const okid_real *r, int ldr, int n, okid_real *scale)
 {
     for (int j = 0; j < n; ++j) {
         okid_real s = 0;
@@ -49,8 +48,7 @@ static void column_scale(const okid_real *r, int ldr, int n, okid_real *scale)
     }
 }
 
-/* s = R(0:n, 0:n) diag(1/scale), equilibrated so that units do not decide the rank. */
-static void scaled_copy(const okid_real *r, int ldr, int n, const okid_real *scale, okid_real *s)
+void okid_lsq_equilibrated_copy(const okid_real *r, int ldr, int n, const okid_real *scale, okid_real *s)
 {
     for (int j = 0; j < n; ++j) {
         for (int i = 0; i < n; ++i) {
@@ -65,11 +63,11 @@ okid_status okid_lsq_solve(okid_identifier *id, int *regressor_rank, int *input_
     const int q = d->q, m = d->m, w = d->w, nu = d->r * (d->p + 1);
     const okid_real tol = id->rank_tolerance_;
     okid_views_ *v = &id->at_;
-    column_scale(v->r, w, q, v->lsq_scale);
+    okid_lsq_column_norms(v->r, w, q, v->lsq_scale);
 
     /* Persistence of excitation: rank of the input-only regressor (leading nu columns). */
     /* One dummy right-hand side: xGELSY returns rank 0 at once when NRHS = 0. */
-    scaled_copy(v->r, w, nu, v->lsq_scale, v->lsq_s);
+    okid_lsq_equilibrated_copy(v->r, w, nu, v->lsq_scale, v->lsq_s);
     okid_zero_matrix(q, 1, v->x, q);
     okid_status st = okid_la_lstsq_rank(nu, 1, v->lsq_s, nu, v->x, q, tol, input_rank, v->lsq_jpvt, v->lsq_work);
     if (st != OKID_OK) {
@@ -80,7 +78,7 @@ okid_status okid_lsq_solve(okid_identifier *id, int *regressor_rank, int *input_
     }
 
     /* Minimum-norm solution of the equilibrated R11 x~ = R12, then x = diag(1/scale) x~. */
-    scaled_copy(v->r, w, q, v->lsq_scale, v->lsq_s);
+    okid_lsq_equilibrated_copy(v->r, w, q, v->lsq_scale, v->lsq_s);
     okid_copy_matrix(q, m, v->r + (size_t)q * (size_t)w, w, v->x, q);
     st = okid_la_lstsq_rank(q, m, v->lsq_s, q, v->x, q, tol, regressor_rank, v->lsq_jpvt, v->lsq_work);
     if (st != OKID_OK) {

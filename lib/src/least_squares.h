@@ -20,4 +20,10 @@ okid_status okid_lsq_fold_pending(okid_identifier *id);
  */
 okid_status okid_lsq_solve(okid_identifier *id, int *regressor_rank, int *input_rank);
 
+/* Column norms of the leading n columns of the triangular factor r (the regressor's); 1 for a zero column. */
+void okid_lsq_column_norms(const okid_real *r, int ldr, int n, okid_real *scale);
+
+/* s (n x n) = R(0:n, 0:n) diag(1 / scale): equilibrated, so that units do not decide rank or condition. */
+void okid_lsq_equilibrated_copy(const okid_real *r, int ldr, int n, const okid_real *scale, okid_real *s);
+
 #endif

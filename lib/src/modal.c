@@ -7,6 +7,7 @@
 #include "modal_internal.h"
 
 #include "okid/identifier.h"
+#include "okid/modal_indicators.h"
 #include "carve.h"
 #include "dense.h"
 #include "linalg.h"
@@ -89,6 +90,8 @@ static void fill_mode(okid_mode *mode, okid_complex lambda, const okid_complex *
     normalise_shape(shape, 2 * m);
     mode->sensor_shape = sensor;
     mode->shape = shape;
+    mode->mpc = okid_mpc(sensor, m);
+    mode->emac_output = mode->emac_input = mode->emac = mode->msv = mode->cmi = -1; /* need a realization */
 }
 
 static int mode_before(const okid_mode *a, const okid_mode *b)

@@ -29,6 +29,11 @@ const char *okid_warning_str(unsigned warning_bit)
     case OKID_W_UNSTABLE_POLE: return "an identified pole lies on or outside the unit circle";
     case OKID_W_NONPHYSICAL_POLE: return "an identified eigenvalue is real and non-positive (no continuous-time pole)";
     case OKID_W_ORDER_AT_LIMIT: return "the automatic order reached the largest order the Hankel matrix allows";
+    case OKID_W_RANK_BELOW_MODEL: return "regressor rank below r(p+1)+n: the order exceeds what the data supports, or a mode is not excited";
+    case OKID_W_WEAK_EXCITATION: return "the input is only weakly persistently exciting (ill-conditioned input regressor)";
+    case OKID_W_OBSERVER_ORDER_ABOVE_MINIMUM: return "(near) noise-free data with observer order p above the minimum ceil(n/m): observer Markov parameters not unique";
+    case OKID_W_HANKEL_SPAN_SHORT: return "the Hankel span (alpha+beta)*dt is shorter than the slowest identified period";
+    case OKID_W_REALIZATION_ILL_CONDITIONED: return "the realization is ill conditioned (sigma_1/sigma_n of the Hankel above 1/sqrt(eps))";
     default: return "unknown warning";
     }
 }

@@ -97,6 +97,8 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, unsigned char *base,
     v->c = okid_carve_reals(&c, m * n);
     v->d = okid_carve_reals(&c, m * r);
     v->g = combined ? okid_carve_reals(&c, n * m) : NULL;
+    v->obs_last = okid_carve_reals(&c, m * n);
+    v->ctrl_last = okid_carve_reals(&c, n * r);
     v->modes = (okid_mode *)okid_carve_bytes(&c, sizeof(okid_mode) * n);
     v->shapes = (okid_complex *)okid_carve_bytes(&c, sizeof(okid_complex) * n * 3u * m);
 
@@ -129,6 +131,17 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, unsigned char *base,
     v->modal_wr = okid_carve_reals(&c, n);
     v->modal_wi = okid_carve_reals(&c, n);
     v->modal_work = okid_carve_reals(&c, OKID__LWORK_GEEV(n));
+    v->ind_rhs = okid_carve_reals(&c, n * 2u * r);
+    v->ind_work = okid_carve_reals(&c, OKID__LWORK_GELSY(n, 2u * r));
+    v->ind_jpvt = (int *)okid_carve_bytes(&c, sizeof(int) * n);
+    end = MAX(end, c.used);
+
+    c.used = scratch;
+    v->diag_scale = okid_carve_reals(&c, q);
+    v->diag_b = okid_carve_reals(&c, q);
+    v->diag_a = okid_carve_reals(&c, q * q);
+    v->diag_jpvt = (int *)okid_carve_bytes(&c, sizeof(int) * q);
+    v->diag_work = okid_carve_reals(&c, OKID__LWORK_GELSY(q, 1u));
     end = MAX(end, c.used);
 
     return end;

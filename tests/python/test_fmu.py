@@ -170,6 +170,22 @@ def test_nan_sample_rejected_and_learning_kept(version):
 
 
 @pytest.mark.parametrize("version", VERSIONS)
+def test_indicator_and_warning_outputs(version):
+    """Noise-free paper data: both modes fully consistent (CMI = EMAC * MPC = 1), and the warnings
+    output carries the okid_warning bits: rank deficient (1) and observer order above the minimum (64)."""
+    _, u, y = paper_data()
+    s = identifier(version)
+    run(s, u, y)
+    for k in (1, 2):
+        emac, mpc, cmi = s.get(f"mode{k}_emac", f"mode{k}_mpc", f"mode{k}_cmi")
+        assert emac == pytest.approx(1, abs=1e-6) and mpc == pytest.approx(1, abs=1e-9)
+        assert cmi == pytest.approx(emac * mpc, rel=1e-12)
+    warnings = s.get("warnings")[0]
+    assert warnings & 1 and warnings & 64
+    s.close()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
 def test_reset_then_rerun_is_identical(version):
     _, u, y = paper_data(400)
     s = identifier(version)

@@ -119,6 +119,18 @@ typedef struct okid_result {
     int regressor_columns;           /**< q = r + (r + m) p */
     int input_rank;                  /**< numerical rank of the input part: r (p + 1) when persistently exciting */
     unsigned warnings;               /**< okid_warning bits */
+    int regressor_rank_expected;     /**< min(q, r (p + 1) + n): the rank of noise-free data from an n-state system */
+    /**
+     * 1-norm condition number |R|_1 |R^-1|_1 of the column-equilibrated regressor factor R = R11
+     * (computed exactly, O(q^3 / 6); within a factor q of the regressor's 2-norm condition; +inf when
+     * singular): how much the least squares amplifies errors. Noise-free data with p above the
+     * minimum makes it huge.
+     */
+    okid_real lsq_condition;
+    /** The same for the input columns (leading r (p + 1)) alone: large when the input barely excites. */
+    okid_real input_condition;
+    /** sigma_1 / sigma_n of the Hankel matrix H(0) at the realized order n. */
+    okid_real realization_condition;
 } okid_result;
 
 /** Views into the workspace (internal: use the functions below). */
@@ -127,6 +139,7 @@ typedef struct okid_views_ {
     okid_real *ring, *block, *r;
     /* results of the last okid_identify() */
     okid_real *markov, *markov_obs, *sv, *a, *b, *c, *d, *g;
+    okid_real *obs_last, *ctrl_last; /* last block row of U_n S^1/2, last block column of S^1/2 V_n' (indicators) */
     okid_mode *modes;
     okid_complex *shapes;
     /* scratch shared by the phases of okid_push() and okid_identify() */
@@ -136,6 +149,10 @@ typedef struct okid_views_ {
     int *lsq_jpvt;
     okid_real *era_h, *era_vt, *era_t, *era_scale, *era_work;
     okid_real *modal_a, *modal_vr, *modal_wr, *modal_wi, *modal_work;
+    okid_real *ind_rhs, *ind_work;
+    int *ind_jpvt;
+    okid_real *diag_scale, *diag_a, *diag_b, *diag_work;
+    int *diag_jpvt;
 } okid_views_;
 
 /** Sizes derived from the configuration (internal). */
@@ -191,6 +208,7 @@ typedef struct okid_identifier {
      + OKID__RB(k) + OKID__RB(OKID__Z(n) * OKID__Z(n)) + OKID__RB(OKID__Z(n) * OKID__Z(r))              \
      + OKID__RB(OKID__Z(m) * OKID__Z(n)) + OKID__RB(OKID__Z(m) * OKID__Z(r))                           \
      + ((combined) ? OKID__RB(OKID__Z(n) * OKID__Z(m)) : 0u)                                           \
+     + OKID__RB(OKID__Z(m) * OKID__Z(n)) + OKID__RB(OKID__Z(n) * OKID__Z(r))                           \
      + OKID__ALIGN16(sizeof(okid_mode) * OKID__Z(n))                                                   \
      + OKID__ALIGN16(sizeof(okid_complex) * OKID__Z(n) * 3u * OKID__Z(m)))
 
@@ -206,11 +224,21 @@ typedef struct okid_identifier {
      + OKID__RB(OKID__LWORK_GESVD(OKID__HR(m, alpha), OKID__HC(r, m, beta, combined))))
 #define OKID__PHASE_MODAL_BYTES(n) \
     (2u * OKID__RB(OKID__Z(n) * OKID__Z(n)) + 2u * OKID__RB(n) + OKID__RB(OKID__LWORK_GEEV(n)))
+/* The modal indicators run on the eigenvectors the modal phase leaves, in memory after it. */
+#define OKID__PHASE_INDICATOR_BYTES(n, r)                                                          \
+    (OKID__RB(OKID__Z(n) * 2u * OKID__Z(r)) + OKID__RB(OKID__LWORK_GELSY(n, 2u * OKID__Z(r)))        \
+     + OKID__ALIGN16(sizeof(int) * OKID__Z(n)))
+/* Conditioning of the equilibrated regressor factor: its rank at a looser tolerance (noise-free test). */
+#define OKID__PHASE_DIAG_BYTES(r, m, p)                                                            \
+    (2u * OKID__RB(OKID__Q(r, m, p)) + OKID__RB(OKID__Q(r, m, p) * OKID__Q(r, m, p))                 \
+     + OKID__ALIGN16(sizeof(int) * OKID__Q(r, m, p)) + OKID__RB(OKID__LWORK_GELSY(OKID__Q(r, m, p), 1u)))
 
 #define OKID__SCRATCH_BYTES(r, m, p, alpha, beta, n, k, block_rows, combined)                        \
     (OKID__RB(OKID__Q(r, m, p) * OKID__Z(m))                                                        \
-     + OKID__MAX(OKID__MAX(OKID__PHASE_FOLD_BYTES(r, m, p, block_rows), OKID__PHASE_LSQ_BYTES(r, m, p)), \
-                 OKID__MAX(OKID__PHASE_ERA_BYTES(r, m, alpha, beta, n, k, combined), OKID__PHASE_MODAL_BYTES(n))))
+     + OKID__MAX(OKID__MAX(OKID__MAX(OKID__PHASE_FOLD_BYTES(r, m, p, block_rows), OKID__PHASE_LSQ_BYTES(r, m, p)), \
+                           OKID__PHASE_DIAG_BYTES(r, m, p)),                                                \
+                 OKID__MAX(OKID__PHASE_ERA_BYTES(r, m, alpha, beta, n, k, combined),                         \
+                           OKID__PHASE_MODAL_BYTES(n) + OKID__PHASE_INDICATOR_BYTES(n, r))))
 
 /**
  * Workspace bytes for a configuration, as a constant expression for static buffers:

@@ -37,6 +37,17 @@ typedef struct okid_mode {
      * (displacements, then velocities, when the sensors sit on the degrees of freedom).
      */
     const okid_complex *shape;
+    /**
+     * Accuracy indicators, defined in okid/modal_indicators.h. okid_identify() fills every one;
+     * okid_modal_analysis() (which has no Hankel matrix to judge against) fills mpc and sets the
+     * others to -1.
+     */
+    okid_real emac_output; /**< output (C-side) extended modal amplitude coherence, [0, 1] */
+    okid_real emac_input;  /**< input (B-side) EMAC, [0, 1] */
+    okid_real emac;        /**< EMAC = emac_output * emac_input, [0, 1] */
+    okid_real mpc;         /**< modal phase collinearity of sensor_shape, [0, 1] */
+    okid_real msv;         /**< mode singular value (units of the Hankel singular values), >= 0 */
+    okid_real cmi;         /**< consistent mode indicator EMAC * MPC, [0, 1] */
 } okid_mode;
 
 /** Bytes of workspace okid_modal_analysis() needs for an n-state model with m outputs. */

@@ -7,8 +7,10 @@
 
 #include "okid/identifier.h"
 #include "okid/modal.h"
+#include "okid/modal_indicators.h"
 #include "okid/model.h"
 #include "okid/random.h"
+#include "okid/stabilization.h"
 #include "okid/status.h"
 #include "okid/types.h"
 

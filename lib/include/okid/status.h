@@ -51,7 +51,32 @@ enum okid_warning {
     /** At least one identified eigenvalue is real and non-positive, so it has no continuous-time counterpart. */
     OKID_W_NONPHYSICAL_POLE = 1u << 2,
     /** The automatic order rule met the maximum order the Hankel matrix allows. */
-    OKID_W_ORDER_AT_LIMIT = 1u << 3
+    OKID_W_ORDER_AT_LIMIT = 1u << 3,
+    /**
+     * The regressor's numerical rank is below min(q, r (p + 1) + n), the rank that data from an
+     * n-state system has: the order is larger than the data supports, or some mode is not excited.
+     */
+    OKID_W_RANK_BELOW_MODEL = 1u << 4,
+    /**
+     * The input is only weakly persistently exciting: the condition number (okid_result::input_condition)
+     * of its column-equilibrated regressor factor exceeds 1 / sqrt(rank tolerance); near 1 / tolerance the
+     * input rank drops and okid_identify() fails with OKID_E_RANK_DEFICIENT.
+     */
+    OKID_W_WEAK_EXCITATION = 1u << 5,
+    /**
+     * The data is (near) noise-free and m p > n: even at the looser tolerance sqrt(rank tolerance) the
+     * equilibrated regressor's numerical rank is at most r (p + 1) + n (noise would fill every column).
+     * The observer Markov parameters are then not unique (the system ones are); p = ceil(n / m) gives
+     * the unique deadbeat observer.
+     */
+    OKID_W_OBSERVER_ORDER_ABOVE_MINIMUM = 1u << 6,
+    /**
+     * The Hankel span (alpha + beta) dt is shorter than 0.9 times the period of the slowest consistent
+     * mode (a stable complex pair with CMI >= 0.5): the window sees less than about one period.
+     */
+    OKID_W_HANKEL_SPAN_SHORT = 1u << 7,
+    /** The realization condition sigma_1 / sigma_n of H(0) exceeds 1 / sqrt(machine epsilon). */
+    OKID_W_REALIZATION_ILL_CONDITIONED = 1u << 8
 };
 
 /** A short, static, human-readable description of a status (never NULL, also for unknown codes). */

@@ -1,0 +1,115 @@
+/* Identifiability diagnostics: see diagnostics.h and the warning bits of okid/status.h. */
+#include "diagnostics.h"
+
+#include "dense.h"
+#include "least_squares.h"
+#include "linalg.h"
+#include "real_math.h"
+
+/* Only modes this consistent count as identified for the Hankel-span rule. */
+#define SPAN_MIN_CMI OKID_R(0.5)
+/* "About one period" (DESIGN.md): the span may fall short of the slowest period by this factor. */
+#define SPAN_PERIOD_FRACTION OKID_R(0.9)
+
+static okid_real ratio_or_inf(okid_real largest, okid_real smallest)
+{
+    return smallest > 0 ? largest / smallest : (okid_real)INFINITY;
+}
+
+/*
+ * |R|_1 |R^-1|_1 of the leading cols x cols block of R diag(1 / scale), R upper triangular: R^-1
+ * column by column by back substitution into x (cols reals). Exact, O(cols^3 / 6), no extra memory
+ * beyond x; +inf for a zero pivot or an inverse beyond the range of okid_real.
+ */
+static okid_real triangular_condition(const okid_real *r, int ldr, int cols, const okid_real *scale, okid_real *x)
+{
+    okid_real norm = 0, inverse_norm = 0;
+    for (int j = 0; j < cols; ++j) {
+        okid_real column = 0;
+        for (int i = 0; i <= j; ++i) {
+            column += okid_fabs(OKID_AT(r, ldr, i, j)) / scale[j];
+        }
+        norm = column > norm ? column : norm;
+    }
+    for (int j = 0; j < cols; ++j) {
+        okid_real column = 0;
+        for (int i = j; i >= 0; --i) {
+            okid_real sum = (i == j) ? 1 : 0;
+            for (int k = i + 1; k <= j; ++k) {
+                sum -= OKID_AT(r, ldr, i, k) / scale[k] * x[k];
+            }
+            const okid_real pivot = OKID_AT(r, ldr, i, i) / scale[i];
+            if (pivot == 0) {
+                return (okid_real)INFINITY;
+            }
+            x[i] = sum / pivot;
+            column += okid_fabs(x[i]);
+        }
+        if (!okid_is_finite(column)) { /* overflow, or inf - inf */
+            return (okid_real)INFINITY;
+        }
+        inverse_norm = column > inverse_norm ? column : inverse_norm;
+    }
+    return norm * inverse_norm;
+}
+
+okid_status okid_diagnose_regressor(okid_identifier *id, int n, int regressor_rank, okid_regressor_diagnostics *out,
+                                    unsigned *warnings)
+{
+    const okid_dims_ *d = &id->dims_;
+    okid_views_ *v = &id->at_;
+    const int q = d->q, w = d->w, nu = d->r * (d->p + 1);
+    const okid_real gap = okid_sqrt(id->rank_tolerance_);
+    okid_lsq_column_norms(v->r, w, q, v->diag_scale);
+
+    out->input_condition = triangular_condition(v->r, w, nu, v->diag_scale, v->diag_b);
+    if (out->input_condition * gap > 1) {
+        *warnings |= OKID_W_WEAK_EXCITATION;
+    }
+    out->lsq_condition = triangular_condition(v->r, w, q, v->diag_scale, v->diag_b);
+
+    const int model_rank = nu + n;
+    out->expected_rank = model_rank < q ? model_rank : q;
+    if (regressor_rank < out->expected_rank) {
+        *warnings |= OKID_W_RANK_BELOW_MODEL;
+    }
+    if (model_rank >= q) {
+        return OKID_OK;
+    }
+    /* Noise lifts the regressor's rank past the model's r (p + 1) + n at any tolerance; (near)
+       noise-free data keeps it there even at the looser tolerance sqrt(tol). */
+    okid_lsq_equilibrated_copy(v->r, w, q, v->diag_scale, v->diag_a);
+    okid_zero_matrix(q, 1, v->diag_b, q); /* a dummy right-hand side: xGELSY returns at once without one */
+    int loose_rank = 0;
+    const okid_status st =
+        okid_la_lstsq_rank(q, 1, v->diag_a, q, v->diag_b, q, gap, &loose_rank, v->diag_jpvt, v->diag_work);
+    if (st != OKID_OK) {
+        return st;
+    }
+    if (loose_rank <= model_rank) {
+        *warnings |= OKID_W_OBSERVER_ORDER_ABOVE_MINIMUM;
+    }
+    return OKID_OK;
+}
+
+void okid_diagnose_realization(const okid_identifier *id, int n, const okid_mode *modes, int num_modes,
+                               okid_real *condition, unsigned *warnings)
+{
+    const okid_real *sv = id->at_.sv;
+    *condition = ratio_or_inf(sv[0], sv[n - 1]);
+    if (*condition * okid_sqrt(OKID_EPSILON) > 1) {
+        *warnings |= OKID_W_REALIZATION_ILL_CONDITIONED;
+    }
+    okid_real slowest = 0; /* Hz; 0 = no consistent oscillating mode */
+    for (int i = 0; i < num_modes; ++i) {
+        const okid_mode *md = &modes[i];
+        if (md->is_pair && okid_cabs(md->eigenvalue) < 1 && md->cmi >= SPAN_MIN_CMI &&
+            (slowest == 0 || md->frequency_hz < slowest)) {
+            slowest = md->frequency_hz;
+        }
+    }
+    const okid_real span = (okid_real)(id->cfg_.hankel_rows + id->cfg_.hankel_cols) * id->cfg_.dt;
+    if (slowest > 0 && span * slowest < SPAN_PERIOD_FRACTION) {
+        *warnings |= OKID_W_HANKEL_SPAN_SHORT;
+    }
+}
