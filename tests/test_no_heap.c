@@ -82,7 +82,7 @@ static void test_paper_case_allocates_nothing(void **state)
 #else
 enum { SAMPLES = 1001 };
 static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char workspace[OKID_WORKSPACE_BYTES(1, 2, 20, 20, 20, 4, 0, 0)];
-static double force[SAMPLES], accelerations[2 * SAMPLES];
+static okid_real force[SAMPLES], accelerations[2 * SAMPLES];
 
 static void test_paper_case_allocates_nothing(void **state)
 {
