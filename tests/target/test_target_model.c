@@ -16,16 +16,16 @@ static const double MODEL_TOL = 2e-6, MARKOV_TOL = 2e-5;
 static const double MODEL_TOL = 1e-12, MARKOV_TOL = 1e-11;
 #endif
 
-static double max_abs(const double *x, int count)
+static double max_abs(const okid_real *x, int count)
 {
     double m = 0;
     for (int i = 0; i < count; ++i) {
-        m = fmax(m, fabs(x[i]));
+        m = fmax(m, fabs((double)x[i]));
     }
     return m;
 }
 
-static void check_matrix(const okid_real *got, const double *want, int count, double tol)
+static void check_matrix(const okid_real *got, const okid_real *want, int count, double tol)
 {
     const double scale = max_abs(want, count);
     for (int i = 0; i < count; ++i) {
