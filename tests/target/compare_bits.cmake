@@ -2,6 +2,7 @@
 # (IEEE bit patterns of every stage's results) one by one. Prints each stage's tally and every
 # differing value; fails when any value differs.
 # -DTARGET_CMD=a|b|c (command words joined by |), -DHOST_CMD=path
+cmake_minimum_required(VERSION 3.21)
 string(REPLACE "|" ";" target_cmd "${TARGET_CMD}")
 execute_process(COMMAND ${target_cmd} OUTPUT_VARIABLE target_out RESULT_VARIABLE target_rc)
 execute_process(COMMAND ${HOST_CMD} OUTPUT_VARIABLE host_out RESULT_VARIABLE host_rc)
