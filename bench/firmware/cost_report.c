@@ -17,12 +17,13 @@
 #define OKID_ICOUNT_SHIFT 5
 #endif
 
-enum { P = 20, ALPHA = 20, BETA = 20, N = 4, SAMPLES = 1001, KNOWN_LOOP = 100000 };
+enum { SAMPLES = 1001, KNOWN_LOOP = 100000 };
 #define DT ((okid_real)0.01)
 
 /* Room for the larger of the two configurations measured (block_rows 1 and the default 32). */
 static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char
-    workspace[OKID_WORKSPACE_BYTES(PLANT_INPUTS, PLANT_OUTPUTS, P, ALPHA, BETA, N, 32, 0)];
+    workspace[OKID_WORKSPACE_BYTES(PLANT_INPUTS, PLANT_OUTPUTS, PLANT_OBSERVER_ORDER, PLANT_HANKEL_ROWS,
+                                   PLANT_HANKEL_COLS, PLANT_STATES, 32, 0)];
 static okid_real force[SAMPLES], accelerations[PLANT_OUTPUTS * SAMPLES];
 static okid_identifier identifier;
 
@@ -78,15 +79,7 @@ static void make_data(void)
 static int measure(int block_rows)
 {
     okid_config cfg;
-    okid_config_default(&cfg, PLANT_INPUTS, PLANT_OUTPUTS);
-    cfg.dt = DT;
-    cfg.observer_order = P;
-    cfg.hankel_rows = ALPHA;
-    cfg.hankel_cols = BETA;
-    cfg.order = N;
-    cfg.block_rows = block_rows;
-    cfg.sensing = OKID_SENSING_ACCELERATION;
-    cfg.zero_initial_state = 1;
+    plant_2dof_identifier_config(&cfg, DT, block_rows);
     size_t bytes = 0;
     if (okid_workspace_size(&cfg, &bytes) != OKID_OK || okid_init(&identifier, &cfg, workspace, bytes, NULL) != OKID_OK) {
         return 0;

@@ -15,15 +15,15 @@
 
 #define SAMPLE_INTERVAL ((okid_real)0.01) /* s: the paper's 100 Hz */
 
-/* The paper's configuration; BLOCK_ROWS 1 folds each sample at once by Givens rotations, so every
-   tick costs the same (no burst every 32nd sample) and the workspace keeps one pending row only. */
-enum { OBSERVER_ORDER = 20, HANKEL_ROWS = 20, HANKEL_COLS = 20, MODEL_ORDER = 4, BLOCK_ROWS = 1 };
+/* BLOCK_ROWS 1 folds each sample at once by Givens rotations, so every tick costs the same (no
+   burst every 32nd sample) and the workspace keeps one pending row only. */
+enum { BLOCK_ROWS = 1 };
 enum { IDENTIFY_EVERY = 500, RUN_SAMPLES = 1500 };
 
 #ifndef OKID_WORKSPACE_BYTES_FOR_EXAMPLE
 #define OKID_WORKSPACE_BYTES_FOR_EXAMPLE                                                                  \
-    OKID_WORKSPACE_BYTES(PLANT_INPUTS, PLANT_OUTPUTS, OBSERVER_ORDER, HANKEL_ROWS, HANKEL_COLS, MODEL_ORDER, \
-                         BLOCK_ROWS, 0)
+    OKID_WORKSPACE_BYTES(PLANT_INPUTS, PLANT_OUTPUTS, PLANT_OBSERVER_ORDER, PLANT_HANKEL_ROWS, PLANT_HANKEL_COLS, \
+                         PLANT_STATES, BLOCK_ROWS, 0)
 #endif
 
 static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char workspace[OKID_WORKSPACE_BYTES_FOR_EXAMPLE];
@@ -92,15 +92,7 @@ int main(void)
 {
     static plant_io io;
     okid_config cfg;
-    okid_config_default(&cfg, PLANT_INPUTS, PLANT_OUTPUTS);
-    cfg.dt = SAMPLE_INTERVAL;
-    cfg.observer_order = OBSERVER_ORDER;
-    cfg.hankel_rows = HANKEL_ROWS;
-    cfg.hankel_cols = HANKEL_COLS;
-    cfg.order = MODEL_ORDER;
-    cfg.block_rows = BLOCK_ROWS;
-    cfg.sensing = OKID_SENSING_ACCELERATION;
-    cfg.zero_initial_state = 1; /* the structure is at rest when the controller starts */
+    plant_2dof_identifier_config(&cfg, SAMPLE_INTERVAL, BLOCK_ROWS);
 
     okid_status st = plant_2dof_build(&io.model, SAMPLE_INTERVAL);
     if (st == OKID_OK) {

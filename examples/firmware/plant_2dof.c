@@ -23,3 +23,16 @@ okid_status plant_2dof_build(plant_2dof *plant, okid_real dt)
     return okid_discretize_zoh(PLANT_STATES, PLANT_INPUTS, ac, bc, dt, plant->a, plant->b, zoh_work,
                                sizeof zoh_work / sizeof zoh_work[0]);
 }
+
+void plant_2dof_identifier_config(okid_config *cfg, okid_real dt, int block_rows)
+{
+    okid_config_default(cfg, PLANT_INPUTS, PLANT_OUTPUTS);
+    cfg->dt = dt;
+    cfg->observer_order = PLANT_OBSERVER_ORDER;
+    cfg->hankel_rows = PLANT_HANKEL_ROWS;
+    cfg->hankel_cols = PLANT_HANKEL_COLS;
+    cfg->order = PLANT_STATES;
+    cfg->block_rows = block_rows;
+    cfg->sensing = OKID_SENSING_ACCELERATION;
+    cfg->zero_initial_state = 1; /* the structure is at rest when the controller starts */
+}

@@ -10,6 +10,9 @@
 
 enum { PLANT_DOFS = 2, PLANT_STATES = 4, PLANT_INPUTS = 1, PLANT_OUTPUTS = 2 };
 
+/* The paper's identifier configuration for it: p = 20, alpha = beta = 20, n = 4. */
+enum { PLANT_OBSERVER_ORDER = 20, PLANT_HANKEL_ROWS = 20, PLANT_HANKEL_COLS = 20 };
+
 typedef struct plant_2dof {
     okid_real a[PLANT_STATES * PLANT_STATES], b[PLANT_STATES * PLANT_INPUTS];
     okid_real c[PLANT_OUTPUTS * PLANT_STATES], d[PLANT_OUTPUTS * PLANT_INPUTS];
@@ -17,5 +20,11 @@ typedef struct plant_2dof {
 
 /* Discrete model {A, B, C, D} of the structure for the sample interval dt (eq. 65-82, 13-14). */
 okid_status plant_2dof_build(plant_2dof *plant, okid_real dt);
+
+/*
+ * The paper's configuration of the identifier for this plant (the enum above, acceleration
+ * sensing, from rest) with the sample interval dt and block_rows (1: fold every sample at once).
+ */
+void plant_2dof_identifier_config(okid_config *cfg, okid_real dt, int block_rows);
 
 #endif

@@ -11,10 +11,11 @@
 #include <string.h>
 
 #include "okid/okid.h"
+#include "plant_2dof.h"
 #include "reference/reference_data.h"
 #include "target_check.h"
 
-enum { SAMPLES = 1001, P = 20, ALPHA = 20, BETA = 20, N = 4 };
+enum { SAMPLES = 1001, N = PLANT_STATES };
 
 #if OKID_REAL_IS_FLOAT
 static const double LAMBDA_TOL = 3e-4, MARKOV_TOL = 2e-6; /* README: accuracy in float */
@@ -22,7 +23,8 @@ static const double LAMBDA_TOL = 3e-4, MARKOV_TOL = 2e-6; /* README: accuracy in
 static const double LAMBDA_TOL = 1e-9, MARKOV_TOL = 1e-9;
 #endif
 
-static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char workspace[OKID_WORKSPACE_BYTES(PAPER_R, PAPER_M, P, ALPHA, BETA, N, 0, 0)];
+static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char
+    workspace[OKID_WORKSPACE_BYTES(PAPER_R, PAPER_M, PLANT_OBSERVER_ORDER, PLANT_HANKEL_ROWS, PLANT_HANKEL_COLS, N, 0, 0)];
 static okid_real force[SAMPLES], accelerations[PAPER_M * SAMPLES];
 static okid_identifier identifier;
 
@@ -121,14 +123,7 @@ static void print_stages(const okid_result *res)
 int main(void)
 {
     okid_config cfg;
-    okid_config_default(&cfg, PAPER_R, PAPER_M);
-    cfg.dt = (okid_real)PAPER_DT;
-    cfg.observer_order = P;
-    cfg.hankel_rows = ALPHA;
-    cfg.hankel_cols = BETA;
-    cfg.order = N;
-    cfg.sensing = OKID_SENSING_ACCELERATION;
-    cfg.zero_initial_state = 1;
+    plant_2dof_identifier_config(&cfg, (okid_real)PAPER_DT, 0); /* the paper's configuration, blocks of 32 rows */
     make_data();
     okid_result res;
     CHECK(okid_init(&identifier, &cfg, workspace, sizeof workspace, NULL) == OKID_OK);
