@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Every test: the default build (-Werror) with ctest (C, CLI, FMUs, install), the whole suite again
+# Every test: the default build (-Werror) with ctest (C, CLI, FMUs, install), the float build, the
+# Cortex-M cross-builds with their tests under QEMU and the footprint report, the whole suite again
 # under ASan + UBSan, valgrind memcheck, and bounded fuzzing. Stops at the first failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -20,6 +21,21 @@ step "default build and tests"
 cmake --preset default
 cmake --build --preset default -j "$jobs"
 ctest --preset default -j "$jobs"
+
+step "float build (okid_real = float): the C tests with the float tolerances"
+cmake --preset float
+cmake --build --preset float -j "$jobs"
+ctest --preset float -j "$jobs"
+
+for target in cortex-m4f cortex-m7; do
+    step "$target cross-build, target tests under qemu-system-arm"
+    cmake --preset $target
+    cmake --build --preset $target -j "$jobs"
+    ctest --preset $target -j "$jobs"
+done
+
+step "firmware footprint and cost report (Cortex-M4F float, Cortex-M7 double)"
+bash scripts/footprint.sh
 
 step "benchmark smoke run (figures only; nothing is timed against a limit)"
 .venv/bin/okid-bench --quick --out build/bench-smoke --results build/bench-smoke/results.json

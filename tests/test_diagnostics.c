@@ -108,7 +108,7 @@ static void test_weak_excitation(void **state)
     test_config(&REF_PAPER, &cfg);
     cfg.rank_tolerance = 1e-3;
     const size_t n = 3000;
-    double *u = test_white_noise(1, n, 77), *y = malloc(sizeof(double) * 2 * n);
+    okid_real *u = test_white_noise(1, n, 77), *y = malloc(sizeof(okid_real) * 2 * n);
     assert_non_null(y);
     for (size_t k = 1; k < n; ++k) u[k] += 0.99 * u[k - 1];
     test_simulate(&REF_PAPER, n, u, y, NULL);

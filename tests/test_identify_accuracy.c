@@ -17,7 +17,7 @@ static void test_paper_noise_free(void **state)
     void *ws = NULL;
     assert_int_equal(test_identify_case(&REF_PAPER, &cfg, PAPER_SAMPLES, 2024, &id, &ws, &res), OKID_OK);
     assert_int_equal(res.order, 4);
-    assert_modes_match(&REF_PAPER, res.modes, res.num_modes, 1e-9, 0.999999);
+    assert_modes_match(&REF_PAPER, res.modes, res.num_modes, IDENTIFY_TOL, IDENTIFY_MAC_MIN);
 
     /* The paper's printed eigenvalues (eq. 87, 94 to four decimals in the text of DESIGN.md/issue). */
     assert_relative(res.modes[1].eigenvalue.re, 0.9767, 0.6e-4, "printed lambda re", 1);
@@ -28,12 +28,12 @@ static void test_paper_noise_free(void **state)
     /* Eq. 98-99 as printed (phi_1 for lambda_1 = 0.98 + 0.061i, phi_3 for 0.99 + 0.031i), up to the
        sign our normalisation picks. Two decimals: the paper prints -0.037 where the exact value is
        -0.0337 (phi_3), so half a unit of the third decimal would reject the paper itself. */
-    const double phi1[4][2] = {{0.041, 0.12}, {-0.027, -0.079}, {-0.82, 0}, {0.55, 0}};
-    const double phi3[4][2] = {{-0.037, -0.21}, {-0.037, -0.21}, {0.67, 0}, {0.67, 0}};
-    const double (*printed[2])[2] = {phi3, phi1};
+    const okid_real phi1[4][2] = {{0.041, 0.12}, {-0.027, -0.079}, {-0.82, 0}, {0.55, 0}};
+    const okid_real phi3[4][2] = {{-0.037, -0.21}, {-0.037, -0.21}, {0.67, 0}, {0.67, 0}};
+    const okid_real (*printed[2])[2] = {phi3, phi1};
     for (int mode = 0; mode < 2; ++mode) {
         const okid_complex *s = res.modes[mode].shape;
-        const double sign = (s[2].re * printed[mode][2][0] < 0) ? -1 : 1;
+        const okid_real sign = (s[2].re * printed[mode][2][0] < 0) ? -1 : 1;
         for (int i = 0; i < 4; ++i) {
             assert_true(fabs(sign * s[i].re - printed[mode][i][0]) <= 0.005);
             assert_true(fabs(sign * s[i].im - printed[mode][i][1]) <= 0.005);
@@ -43,13 +43,18 @@ static void test_paper_noise_free(void **state)
     /* System Markov parameters (eq. 51) against D, CB, CAB, ... of the exact model. */
     const int count = REF_PAPER.m * REF_PAPER.r * (REF_PAPER.markov_count + 1);
     assert_int_equal(res.markov.cols, REF_PAPER.r * 41);
-    assert_true(max_relative_difference(res.markov.data, REF_PAPER.markov, (size_t)count) < 1e-9);
+    assert_true(max_relative_difference(res.markov.data, REF_PAPER.markov, (size_t)count) < TOL(1e-9, 2e-6));
 
     /* Hankel singular values: n significant ones equal the exact Hankel's, the rest vanish. */
     for (int i = 0; i < 4; ++i) {
+#if OKID_REAL_IS_FLOAT
+        /* Weyl: each singular value moves by at most the norm of the Hankel's error (~ eps sigma_1) */
+        assert_relative(res.singular_values[i], REF_PAPER.hankel_sv[i], 1e-5 * REF_PAPER.hankel_sv[0] / REF_PAPER.hankel_sv[i], "hankel sv", i);
+#else
         assert_relative(res.singular_values[i], REF_PAPER.hankel_sv[i], 1e-9, "hankel sv", i);
+#endif
     }
-    assert_true(res.singular_values[4] < 1e-12 * res.singular_values[0]);
+    assert_true(res.singular_values[4] < TOL(1e-12, 1e-5) * res.singular_values[0]);
     /* p = 20 is far above the minimum p = 1 for noise-free data: rank deficient, and said so. */
     assert_true(res.regressor_rank < res.regressor_columns);
     assert_true(res.warnings & OKID_W_REGRESSOR_RANK_DEFICIENT);
@@ -68,21 +73,21 @@ static void test_realization_reproduces_markov(void **state)
     void *ws = NULL;
     assert_int_equal(test_identify_case(&REF_PAPER, &cfg, PAPER_SAMPLES, 7, &id, &ws, &res), OKID_OK);
     const int n = res.order;
-    double p[TEST_MAX_STATES], next[TEST_MAX_STATES];
+    okid_real p[TEST_MAX_STATES], next[TEST_MAX_STATES];
     for (int i = 0; i < n; ++i) p[i] = okid_matrix_at(res.B, i, 0);
     for (int k = 1; k <= 40; ++k) {
         for (int a = 0; a < 2; ++a) {
-            double y = 0;
+            okid_real y = 0;
             for (int j = 0; j < n; ++j) y += okid_matrix_at(res.C, a, j) * p[j];
-            assert_relative(y, REF_PAPER.markov[a + 2 * k], 1e-8, "C A^(k-1) B", k);
+            assert_relative(y, REF_PAPER.markov[a + 2 * k], TOL(1e-8, 2e-3), "C A^(k-1) B", k);
         }
         for (int i = 0; i < n; ++i) {
             next[i] = 0;
             for (int j = 0; j < n; ++j) next[i] += okid_matrix_at(res.A, i, j) * p[j];
         }
-        memcpy(p, next, sizeof(double) * (size_t)n);
+        memcpy(p, next, sizeof(okid_real) * (size_t)n);
     }
-    assert_relative(okid_matrix_at(res.D, 0, 0), REF_PAPER.d[0], 1e-9, "D", 0);
+    assert_relative(okid_matrix_at(res.D, 0, 0), REF_PAPER.d[0], TOL(1e-9, 2e-6), "D", 0);
     free(ws);
 }
 
@@ -95,7 +100,7 @@ static void test_mimo_displacement(void **state)
     okid_result res;
     void *ws = NULL;
     assert_int_equal(test_identify_case(&REF_MIMO, &cfg, 1500, 11, &id, &ws, &res), OKID_OK);
-    assert_modes_match(&REF_MIMO, res.modes, res.num_modes, 1e-9, 0.999999);
+    assert_modes_match(&REF_MIMO, res.modes, res.num_modes, IDENTIFY_TOL, IDENTIFY_MAC_MIN);
     assert_int_equal(res.input_rank, 2 * 21);
     free(ws);
 }
@@ -110,7 +115,7 @@ static void test_chain3_velocity(void **state)
     void *ws = NULL;
     assert_int_equal(test_identify_case(&REF_CHAIN3, &cfg, 2000, 5, &id, &ws, &res), OKID_OK);
     assert_int_equal(res.order, 6);
-    assert_modes_match(&REF_CHAIN3, res.modes, res.num_modes, 1e-9, 0.999999);
+    assert_modes_match(&REF_CHAIN3, res.modes, res.num_modes, IDENTIFY_TOL, IDENTIFY_MAC_MIN);
     free(ws);
 }
 
@@ -128,7 +133,7 @@ static void test_automatic_order(void **state)
         void *ws = NULL;
         assert_int_equal(test_identify_case(cases[c], &cfg, 2000, 3, &id, &ws, &res), OKID_OK);
         assert_int_equal(res.order, 2 * cases[c]->dofs);
-        assert_modes_match(cases[c], res.modes, res.num_modes, 1e-9, 0.999999);
+        assert_modes_match(cases[c], res.modes, res.num_modes, IDENTIFY_TOL, IDENTIFY_MAC_MIN);
         free(ws);
     }
 }
@@ -146,33 +151,33 @@ static void test_combined_realization(void **state)
     okid_result res;
     void *ws = NULL;
     assert_int_equal(test_identify_case(&REF_PAPER, &cfg, PAPER_SAMPLES, 13, &id, &ws, &res), OKID_OK);
-    assert_modes_match(&REF_PAPER, res.modes, res.num_modes, 1e-9, 0.999999);
+    assert_modes_match(&REF_PAPER, res.modes, res.num_modes, IDENTIFY_TOL, IDENTIFY_MAC_MIN);
     assert_non_null(res.G.data);
     assert_int_equal(res.G.rows, 4);
     assert_int_equal(res.G.cols, 2);
     const int n = res.order;
-    double p[TEST_MAX_STATES * 2], next[TEST_MAX_STATES * 2];
+    okid_real p[TEST_MAX_STATES * 2], next[TEST_MAX_STATES * 2];
     for (int i = 0; i < n; ++i) {
         p[i] = okid_matrix_at(res.G, i, 0);
         p[n + i] = okid_matrix_at(res.G, i, 1);
     }
-    double scale = 0;
+    okid_real scale = 0;
     for (int j = 0; j < res.observer_gain_markov.cols; ++j) {
         for (int a = 0; a < 2; ++a) scale = fmax(scale, fabs(okid_matrix_at(res.observer_gain_markov, a, j)));
     }
     for (int k = 1; k <= 10; ++k) {
         for (int col = 0; col < 2; ++col) {
             for (int a = 0; a < 2; ++a) {
-                double y = 0;
+                okid_real y = 0;
                 for (int j = 0; j < n; ++j) y += okid_matrix_at(res.C, a, j) * p[col * n + j];
-                const double want = okid_matrix_at(res.observer_gain_markov, a, (k - 1) * 2 + col);
-                assert_true(fabs(y - want) <= 1e-7 * scale);
+                const okid_real want = okid_matrix_at(res.observer_gain_markov, a, (k - 1) * 2 + col);
+                assert_true(fabs(y - want) <= TOL(1e-7, 1e-5) * scale);
             }
             for (int i = 0; i < n; ++i) {
                 next[i] = 0;
                 for (int j = 0; j < n; ++j) next[i] += okid_matrix_at(res.A, i, j) * p[col * n + j];
             }
-            memcpy(p + col * n, next, sizeof(double) * (size_t)n);
+            memcpy(p + col * n, next, sizeof(okid_real) * (size_t)n);
         }
     }
     free(ws);
@@ -183,13 +188,13 @@ static void test_forgetting_tracks_stiffness_change(void **state)
 {
     (void)state;
     enum { HALF = 3000 };
-    double *u = test_white_noise(1, 2 * HALF, 99);
-    double *y = malloc(sizeof(double) * 2 * 2 * HALF);
-    double x[TEST_MAX_STATES] = {0};
+    okid_real *u = test_white_noise(1, 2 * HALF, 99);
+    okid_real *y = malloc(sizeof(okid_real) * 2 * 2 * HALF);
+    okid_real x[TEST_MAX_STATES] = {0};
     test_simulate(&REF_PAPER, HALF, u, y, x);
     test_simulate(&REF_STIFFER, HALF, u + HALF, y + 2 * HALF, x); /* k2 changes, the motion goes on */
 
-    const double lambdas[2] = {0.99, 1.0};
+    const okid_real lambdas[2] = {0.99, 1.0};
     for (int t = 0; t < 2; ++t) {
         okid_config cfg;
         test_config(&REF_PAPER, &cfg);
@@ -201,12 +206,12 @@ static void test_forgetting_tracks_stiffness_change(void **state)
         assert_int_equal(okid_init(&id, &cfg, ws, bytes, NULL), OKID_OK);
         assert_int_equal(okid_push_block(&id, 2 * HALF, u, 1, y, 2, NULL), OKID_OK);
         assert_int_equal(okid_identify(&id, &res), OKID_OK);
-        double worst = 0;
+        okid_real worst = 0;
         for (int i = 0; i < 2; ++i) {
             worst = fmax(worst, fabs(res.modes[i].frequency_hz - REF_STIFFER.freq_hz[i]) / REF_STIFFER.freq_hz[i]);
         }
         if (t == 0) {
-            assert_true(worst < 1e-6); /* old rows weigh 0.99^3000 ~ 1e-13 */
+            assert_true(worst < TOL(1e-6, 2e-4)); /* old rows weigh 0.99^3000 ~ 1e-13 */
         } else {
             assert_true(worst > 1e-3); /* without forgetting the two structures are averaged */
         }
@@ -222,8 +227,8 @@ static void test_block_push_equals_single_push(void **state)
     (void)state;
     okid_config cfg;
     test_config(&REF_PAPER, &cfg);
-    double *u = test_white_noise(1, PAPER_SAMPLES, 21);
-    double *y = malloc(sizeof(double) * 2 * PAPER_SAMPLES);
+    okid_real *u = test_white_noise(1, PAPER_SAMPLES, 21);
+    okid_real *y = malloc(sizeof(okid_real) * 2 * PAPER_SAMPLES);
     test_simulate(&REF_PAPER, PAPER_SAMPLES, u, y, NULL);
     size_t bytes = 0;
     void *ws1 = test_workspace(&cfg, &bytes), *ws2 = test_workspace(&cfg, &bytes);
@@ -243,8 +248,8 @@ static void test_block_push_equals_single_push(void **state)
     }
     assert_int_equal(okid_identify(&id1, &r1), OKID_OK);
     assert_int_equal(okid_identify(&id2, &r2), OKID_OK);
-    assert_memory_equal(r1.A.data, r2.A.data, sizeof(double) * 16);
-    assert_memory_equal(r1.singular_values, r2.singular_values, sizeof(double) * (size_t)r1.num_singular_values);
+    assert_memory_equal(r1.A.data, r2.A.data, sizeof(okid_real) * 16);
+    assert_memory_equal(r1.singular_values, r2.singular_values, sizeof(okid_real) * (size_t)r1.num_singular_values);
     free(ws1);
     free(ws2);
     free(u);
@@ -258,8 +263,8 @@ static void test_record_not_from_rest(void **state)
     okid_config cfg;
     test_config(&REF_PAPER, &cfg);
     cfg.zero_initial_state = 0;
-    double *u = test_white_noise(1, 1500, 4);
-    double *y = malloc(sizeof(double) * 2 * 1500);
+    okid_real *u = test_white_noise(1, 1500, 4);
+    okid_real *y = malloc(sizeof(okid_real) * 2 * 1500);
     test_simulate(&REF_PAPER, 1500, u, y, NULL);
     size_t bytes = 0;
     void *ws = test_workspace(&cfg, &bytes);
@@ -270,7 +275,7 @@ static void test_record_not_from_rest(void **state)
     assert_int_equal(okid_push_block(&id, 1000, u + 500, 1, y + 1000, 2, NULL), OKID_OK);
     assert_int_equal(okid_identify(&id, &res), OKID_OK);
     assert_int_equal(res.rows, 1000 - 20);
-    assert_modes_match(&REF_PAPER, res.modes, res.num_modes, 1e-9, 0.999999);
+    assert_modes_match(&REF_PAPER, res.modes, res.num_modes, IDENTIFY_TOL, IDENTIFY_MAC_MIN);
     free(ws);
     free(u);
     free(y);
@@ -282,14 +287,14 @@ static void test_one_step_prediction(void **state)
     (void)state;
     okid_config cfg;
     test_config(&REF_PAPER, &cfg);
-    double *u = test_white_noise(1, PAPER_SAMPLES, 31);
-    double *y = malloc(sizeof(double) * 2 * PAPER_SAMPLES);
+    okid_real *u = test_white_noise(1, PAPER_SAMPLES, 31);
+    okid_real *y = malloc(sizeof(okid_real) * 2 * PAPER_SAMPLES);
     test_simulate(&REF_PAPER, PAPER_SAMPLES, u, y, NULL);
     size_t bytes = 0;
     void *ws = test_workspace(&cfg, &bytes);
     okid_identifier id;
     okid_result res;
-    double y_hat[2], scale = 0;
+    okid_real y_hat[2], scale = 0;
     assert_int_equal(okid_init(&id, &cfg, ws, bytes, NULL), OKID_OK);
     assert_int_equal(okid_predict(&id, u, y_hat), OKID_E_NOT_AVAILABLE);
     assert_int_equal(okid_push_block(&id, 600, u, 1, y, 2, NULL), OKID_OK);
@@ -297,11 +302,11 @@ static void test_one_step_prediction(void **state)
     for (int k = 0; k < 2 * PAPER_SAMPLES; ++k) scale = fmax(scale, fabs(y[k]));
     for (int k = 600; k < PAPER_SAMPLES; ++k) {
         assert_int_equal(okid_predict(&id, &u[k], y_hat), OKID_OK);
-        assert_true(fabs(y_hat[0] - y[2 * k]) < 1e-9 * scale);
-        assert_true(fabs(y_hat[1] - y[2 * k + 1]) < 1e-9 * scale);
+        assert_true(fabs(y_hat[0] - y[2 * k]) < TOL(1e-9, 5e-6) * scale);
+        assert_true(fabs(y_hat[1] - y[2 * k + 1]) < TOL(1e-9, 5e-6) * scale);
         assert_int_equal(okid_push(&id, &u[k], &y[2 * k]), OKID_OK);
     }
-    const double nan = NAN;
+    const okid_real nan = NAN;
     assert_int_equal(okid_predict(&id, &nan, y_hat), OKID_E_NONFINITE_SAMPLE);
     assert_int_equal(okid_predict(&id, u, NULL), OKID_E_NULL_POINTER);
     assert_int_equal(okid_reset(&id), OKID_OK);
@@ -319,8 +324,8 @@ static void test_determinism_and_independence(void **state)
     okid_config cfg_a, cfg_b;
     test_config(&REF_PAPER, &cfg_a);
     test_config(&REF_CHAIN3, &cfg_b);
-    double *ua = test_white_noise(1, PAPER_SAMPLES, 41), *ub = test_white_noise(1, PAPER_SAMPLES, 42);
-    double *ya = malloc(sizeof(double) * 2 * PAPER_SAMPLES), *yb = malloc(sizeof(double) * 3 * PAPER_SAMPLES);
+    okid_real *ua = test_white_noise(1, PAPER_SAMPLES, 41), *ub = test_white_noise(1, PAPER_SAMPLES, 42);
+    okid_real *ya = malloc(sizeof(okid_real) * 2 * PAPER_SAMPLES), *yb = malloc(sizeof(okid_real) * 3 * PAPER_SAMPLES);
     test_simulate(&REF_PAPER, PAPER_SAMPLES, ua, ya, NULL);
     test_simulate(&REF_CHAIN3, PAPER_SAMPLES, ub, yb, NULL);
     size_t bytes_a = 0, bytes_b = 0;
@@ -340,8 +345,8 @@ static void test_determinism_and_independence(void **state)
     assert_int_equal(okid_push_block(&solo, PAPER_SAMPLES, ua, 1, ya, 2, NULL), OKID_OK);
     assert_int_equal(okid_identify(&a, &ra), OKID_OK);
     assert_int_equal(okid_identify(&solo, &rs), OKID_OK);
-    assert_memory_equal(ra.A.data, rs.A.data, sizeof(double) * 16);
-    assert_memory_equal(ra.singular_values, rs.singular_values, sizeof(double) * (size_t)ra.num_singular_values);
+    assert_memory_equal(ra.A.data, rs.A.data, sizeof(okid_real) * 16);
+    assert_memory_equal(ra.singular_values, rs.singular_values, sizeof(okid_real) * (size_t)ra.num_singular_values);
     for (int i = 0; i < ra.num_modes; ++i) {
         assert_memory_equal(&ra.modes[i].eigenvalue, &rs.modes[i].eigenvalue, sizeof(okid_complex));
         assert_memory_equal(ra.modes[i].shape, rs.modes[i].shape, sizeof(okid_complex) * 4);

@@ -66,7 +66,7 @@ static void test_amplitude_coherence_hand_computed(void **state)
 
 /* Room for the small hand cases. */
 typedef struct hand_scratch {
-    double vr_copy[16], rhs[16], work[OKID__LWORK_GELSY(4, 4)];
+    okid_real vr_copy[16], rhs[16], work[OKID__LWORK_GELSY(4, 4)];
     int jpvt[4];
 } hand_scratch;
 
@@ -86,8 +86,8 @@ static okid_indicator_scratch scratch_of(hand_scratch *h)
 static void test_indicators_real_modes(void **state)
 {
     (void)state;
-    const double b[2] = {1, 2}, c[2] = {3, 4}, obs_last[2] = {0.375, 2.56}, ctrl_last[2] = {0.5, -1.6};
-    const double vr[4] = {2, 0, 0, -3}, wr[2] = {0.5, 0.8}, wi[2] = {0, 0};
+    const okid_real b[2] = {1, 2}, c[2] = {3, 4}, obs_last[2] = {0.375, 2.56}, ctrl_last[2] = {0.5, -1.6};
+    const okid_real vr[4] = {2, 0, 0, -3}, wr[2] = {0.5, 0.8}, wi[2] = {0, 0};
     const okid_indicator_inputs in = {2, 1, 1, 3, 2, b, 2, c, 1, obs_last, 1, ctrl_last, 2};
     okid_mode modes[2] = {{.eigenvalue = {0.8, 0}, .mpc = 1}, {.eigenvalue = {0.5, 0}, .mpc = 1}};
     hand_scratch h;
@@ -115,12 +115,12 @@ static void test_indicators_complex_pair(void **state)
 {
     (void)state;
     const double rho = 0.9, theta = 0.3, a = rho * cos(theta), bb = rho * sin(theta);
-    const double b[2] = {1, 0}, c[2] = {1, 0};
+    const okid_real b[2] = {1, 0}, c[2] = {1, 0};
     const double a2_re = rho * rho * cos(2 * theta), a2_im = rho * rho * sin(2 * theta);
-    const double ctrl_last[2] = {a2_re, a2_im}; /* A^2 [1 0]' = [Re lambda^2, Im lambda^2] */
+    const okid_real ctrl_last[2] = {a2_re, a2_im}; /* A^2 [1 0]' = [Re lambda^2, Im lambda^2] */
     const double o_mag = rho * rho * rho, o_arg = 3 * theta + PI / 8;
-    const double obs_last[2] = {o_mag * cos(o_arg), -o_mag * sin(o_arg)};
-    const double vr[4] = {1, 0, 0, -1}, wr[2] = {a, a}, wi[2] = {bb, -bb};
+    const okid_real obs_last[2] = {o_mag * cos(o_arg), -o_mag * sin(o_arg)};
+    const okid_real vr[4] = {1, 0, 0, -1}, wr[2] = {a, a}, wi[2] = {bb, -bb};
     const okid_indicator_inputs in = {2, 1, 1, 4, 3, b, 2, c, 1, obs_last, 1, ctrl_last, 2};
     okid_mode mode = {.eigenvalue = {a, bb}, .mpc = 1, .is_pair = 1};
     hand_scratch h;
@@ -138,7 +138,7 @@ static void test_modal_analysis_marks_indicators_unavailable(void **state)
 {
     (void)state;
     static _Alignas(16) unsigned char ws[OKID_MODAL_WORKSPACE_BYTES(2, 1)];
-    const double a[4] = {0.5, 0, 0, 0.8}, c[2] = {1, 1};
+    const okid_real a[4] = {0.5, 0, 0, 0.8}, c[2] = {1, 1};
     okid_mode modes[2];
     int count = 0;
     assert_int_equal(okid_modal_analysis(2, 1, a, 2, c, 1, 0.1, OKID_SENSING_DISPLACEMENT, ws, sizeof ws, modes,

@@ -83,7 +83,7 @@ static void test_paper_case_allocates_nothing(void **state)
 enum { SAMPLES = 1001 };
 static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char workspace[OKID_WORKSPACE_BYTES(1, 2, 20, 20, 20, 4, 0, 0)];
 static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char stab_workspace[OKID_STABILIZATION_WORKSPACE_BYTES(1, 2, 20, 20, 8, 2, 0)];
-static double force[SAMPLES], accelerations[2 * SAMPLES];
+static okid_real force[SAMPLES], accelerations[2 * SAMPLES];
 
 static void test_paper_case_allocates_nothing(void **state)
 {

@@ -11,7 +11,12 @@ static void test_uniform_sequence(void **state)
     okid_rng rng;
     assert_int_equal(okid_rng_seed(&rng, 2024), OKID_OK);
     for (int i = 0; i < 8; ++i) {
+#if OKID_REAL_IS_FLOAT
+        /* the top 24 bits (truncated) against the 53-bit reference rounded to float: one step apart at most */
+        assert_true(fabs((double)okid_rng_uniform(&rng) - (double)RNG_SEED2024_UNIFORM[i]) <= 0x1p-24);
+#else
         assert_true(okid_rng_uniform(&rng) == RNG_SEED2024_UNIFORM[i]); /* exact: integer arithmetic */
+#endif
     }
 }
 
@@ -19,11 +24,11 @@ static void test_normal_sequence(void **state)
 {
     (void)state;
     okid_rng rng;
-    double out[18];
+    okid_real out[18];
     assert_int_equal(okid_rng_seed(&rng, 2024), OKID_OK);
     assert_int_equal(okid_rng_normal(&rng, 2.0, 9, out, 2), OKID_OK); /* stride 2 */
     for (int i = 0; i < 9; ++i) {
-        assert_relative(out[2 * i], 2.0 * RNG_SEED2024_NORMAL[i], 1e-15, "normal", i);
+        assert_relative(out[2 * i], 2.0 * RNG_SEED2024_NORMAL[i], TOL(1e-15, 1e-4), "normal", i);
     }
 }
 
@@ -31,7 +36,7 @@ static void test_normal_statistics(void **state)
 {
     (void)state;
     enum { N = 200000 };
-    static double x[N];
+    static okid_real x[N];
     okid_rng rng;
     okid_rng_seed(&rng, 1);
     assert_int_equal(okid_rng_normal(&rng, 1, N, x, 1), OKID_OK);
@@ -48,7 +53,7 @@ static void test_bad_input(void **state)
 {
     (void)state;
     okid_rng rng;
-    double x[2];
+    okid_real x[2];
     assert_int_equal(okid_rng_seed(NULL, 1), OKID_E_NULL_POINTER);
     okid_rng_seed(&rng, 1);
     assert_int_equal(okid_rng_normal(&rng, 1, 2, x, 0), OKID_E_BAD_SIZE);

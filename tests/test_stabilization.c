@@ -148,7 +148,7 @@ static void test_api_contract(void **state)
     assert_int_equal(okid_stabilization_compute(&id, 8, 2, NULL, sws, sizeof sws, &st), OKID_E_NOT_AVAILABLE);
 
     const size_t n = PAPER_SAMPLES;
-    double *u = test_white_noise(1, n, 8), *y = malloc(sizeof(double) * 2 * n);
+    okid_real *u = test_white_noise(1, n, 8), *y = malloc(sizeof(okid_real) * 2 * n);
     assert_non_null(y);
     test_simulate(&REF_PAPER, n, u, y, NULL);
     assert_int_equal(okid_push_block(&id, n, u, 1, y, 2, NULL), OKID_OK);

@@ -11,16 +11,34 @@
 
 #include "okid/okid.h"
 
+/*
+ * The tolerance of a check: the first in double, the second when okid_real is float (the README's
+ * "Accuracy in float" explains the float figures: eps 6e-8 times the conditioning of each step).
+ */
+#if OKID_REAL_IS_FLOAT
+#define TOL(double_tol, float_tol) (float_tol)
+#else
+#define TOL(double_tol, float_tol) (double_tol)
+#endif
+
+/*
+ * Noise-free identification of the reference cases: eigenvalues to this relative error (poles,
+ * damping and shapes to it magnified as assert_modes_match() says), shapes' MAC above the minimum.
+ * Float: eps 6e-8 times the conditioning of the regressor and of the Hankel matrix (README).
+ */
+#define IDENTIFY_TOL TOL(1e-9, 3e-4)
+#define IDENTIFY_MAC_MIN TOL(0.999999, 0.9999)
+
 /* One reference system: matrices, exact modes and Markov parameters from make_reference.py. */
 typedef struct ref_case {
     const char *name;
     int dofs, r, m, num_modes, markov_count;
-    double dt;
+    okid_real dt;
     okid_sensing sensing;
-    const double *mass, *damping, *stiffness, *b2, *ca, *cv, *cd;
-    const double *ac, *bc, *c, *d, *a, *b;
-    const double *eig_re, *eig_im, *pole_re, *pole_im, *freq_hz, *damping_ratio, *shape_re, *shape_im;
-    const double *markov, *hankel_sv;
+    const okid_real *mass, *damping, *stiffness, *b2, *ca, *cv, *cd;
+    const okid_real *ac, *bc, *c, *d, *a, *b;
+    const okid_real *eig_re, *eig_im, *pole_re, *pole_im, *freq_hz, *damping_ratio, *shape_re, *shape_im;
+    const okid_real *markov, *hankel_sv;
 } ref_case;
 
 extern const ref_case REF_PAPER, REF_STIFFER, REF_MIMO, REF_CHAIN3;
@@ -29,10 +47,10 @@ extern const ref_case REF_PAPER, REF_STIFFER, REF_MIMO, REF_CHAIN3;
 enum { TEST_MAX_STATES = 8, TEST_MAX_IO = 4 };
 
 /* y(:,k) = C x + D u(:,k); x = A x + B u(:,k), from x = 0 unless state is given (n values, updated). */
-void test_simulate(const ref_case *rc, size_t count, const double *u, double *y, double *state);
+void test_simulate(const ref_case *rc, size_t count, const okid_real *u, okid_real *y, okid_real *state);
 
 /* Unit-variance white noise for every input, count samples (column-major r x count); caller frees. */
-double *test_white_noise(int r, size_t count, uint64_t seed);
+okid_real *test_white_noise(int r, size_t count, uint64_t seed);
 
 /* A heap workspace of okid_workspace_size() bytes (tests only; lib/ never allocates). */
 void *test_workspace(const okid_config *cfg, size_t *bytes);
@@ -56,6 +74,6 @@ void assert_relative(double got, double want, double tol, const char *what, int 
 void assert_modes_match(const ref_case *rc, const okid_mode *modes, int num_modes, double tol, double mac_min);
 
 /* Largest |a_i - b_i| over max |b_i|. */
-double max_relative_difference(const double *a, const double *b, size_t count);
+double max_relative_difference(const okid_real *a, const okid_real *b, size_t count);
 
 #endif

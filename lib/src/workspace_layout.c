@@ -32,8 +32,8 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims)
     }
     if (!okid_is_finite(cfg->dt) || cfg->dt <= 0 || !okid_is_finite(cfg->forgetting_factor) ||
         cfg->forgetting_factor < 0 || cfg->forgetting_factor > 1 || !okid_is_finite(cfg->rank_tolerance) ||
-        cfg->rank_tolerance < 0 || cfg->rank_tolerance >= 1 || (int)cfg->sensing < 0 || (int)cfg->sensing > 2 ||
-        (int)cfg->realization < 0 || (int)cfg->realization > 1 ||
+        cfg->rank_tolerance < 0 || cfg->rank_tolerance >= 1 || (unsigned)cfg->sensing > 2u ||
+        (unsigned)cfg->realization > 1u ||
         (cfg->zero_initial_state != 0 && cfg->zero_initial_state != 1)) {
         return OKID_E_BAD_PARAMETER;
     }

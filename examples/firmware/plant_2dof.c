@@ -1,0 +1,38 @@
+/* See plant_2dof.h. Every buffer is on the stack and small (about 1 KiB in double). */
+#include "plant_2dof.h"
+
+okid_status plant_2dof_build(plant_2dof *plant, okid_real dt)
+{
+    const okid_real masses[PLANT_DOFS] = {2, 3}, dampers[PLANT_DOFS + 1] = {2, 4, 3};
+    const okid_real springs[PLANT_DOFS + 1] = {20, 40, 30};
+    const okid_real force_on_mass1[PLANT_DOFS] = {1, 0}, accelerometers[PLANT_OUTPUTS * PLANT_DOFS] = {1, 0, 0, 1};
+    okid_real mass[PLANT_DOFS * PLANT_DOFS], damping[PLANT_DOFS * PLANT_DOFS], stiffness[PLANT_DOFS * PLANT_DOFS];
+    okid_real ac[PLANT_STATES * PLANT_STATES], bc[PLANT_STATES * PLANT_INPUTS];
+    okid_real work[OKID_STATE_SPACE_WORK_REALS(PLANT_DOFS, PLANT_INPUTS)];
+    okid_real zoh_work[OKID_ZOH_WORK_REALS(PLANT_STATES, PLANT_INPUTS)];
+    okid_status st = okid_chain_model(PLANT_DOFS, masses, dampers, springs, mass, damping, stiffness);
+    if (st != OKID_OK) {
+        return st;
+    }
+    const okid_mechanical_model mech = {PLANT_DOFS, PLANT_INPUTS, PLANT_OUTPUTS, mass, damping, stiffness,
+                                        force_on_mass1, accelerometers, NULL, NULL};
+    st = okid_model_state_space(&mech, ac, bc, plant->c, plant->d, work, sizeof work / sizeof work[0]);
+    if (st != OKID_OK) {
+        return st;
+    }
+    return okid_discretize_zoh(PLANT_STATES, PLANT_INPUTS, ac, bc, dt, plant->a, plant->b, zoh_work,
+                               sizeof zoh_work / sizeof zoh_work[0]);
+}
+
+void plant_2dof_identifier_config(okid_config *cfg, okid_real dt, int block_rows)
+{
+    okid_config_default(cfg, PLANT_INPUTS, PLANT_OUTPUTS);
+    cfg->dt = dt;
+    cfg->observer_order = PLANT_OBSERVER_ORDER;
+    cfg->hankel_rows = PLANT_HANKEL_ROWS;
+    cfg->hankel_cols = PLANT_HANKEL_COLS;
+    cfg->order = PLANT_STATES;
+    cfg->block_rows = block_rows;
+    cfg->sensing = OKID_SENSING_ACCELERATION;
+    cfg->zero_initial_state = 1; /* the structure is at rest when the controller starts */
+}
