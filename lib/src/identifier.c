@@ -357,6 +357,7 @@ okid_status okid_identify(okid_identifier *id, okid_result *result)
     result->input_condition = diag.input_condition;
     result->realization_condition = realization_condition;
     result->decimation = d->decimation;
+    result->instrument_lags = d->instrument_lags;
     const int scaled = id->at_.scales != NULL && id->scales_known_;
     result->input_scales = scaled ? id->at_.scales : NULL;
     result->output_scales = scaled ? id->at_.scales + r : NULL;

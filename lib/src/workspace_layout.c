@@ -8,6 +8,7 @@
 #include <limits.h>
 
 #include "carve.h"
+#include "decimator.h"
 #include "real_math.h"
 
 #define MIN(a, b) ((a) < (b) ? (a) : (b))
@@ -97,8 +98,8 @@ static void carve_options(const okid_dims_ *d, int scaled, okid_carver *c, okid_
     const size_t channels = (size_t)d->r + (size_t)d->m, nz = (size_t)d->nz;
     v->dec_coef = v->dec_state = v->dec_out = v->scales = v->iv_ring = v->iv_block = v->iv_m = NULL;
     if (d->decimation > 1) {
-        v->dec_coef = okid_carve_reals(c, 20u); /* 4 biquads x (b1, b2, a1, a2, gain) */
-        v->dec_state = okid_carve_reals(c, 8u * channels);
+        v->dec_coef = okid_carve_reals(c, OKID_DECIMATOR_COEFS);
+        v->dec_state = okid_carve_reals(c, OKID_DECIMATOR_STATE * channels);
         v->dec_out = okid_carve_reals(c, channels);
     }
     if (scaled) {

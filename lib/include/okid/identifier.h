@@ -123,9 +123,9 @@ typedef struct okid_config {
     int zero_initial_state;
     /**
      * Decimation factor K, 1..OKID_MAX_DECIMATION (0 is read as 1). K > 1 passes every pushed
-     * input and output through the same anti-alias filter (Chebyshev type I, order 8, 0.05 dB
-     * ripple, cutoff 0.8 of the decimated Nyquist frequency, as scipy.signal.decimate; four
-     * biquads designed at init) and keeps every K-th sample (pushed samples 0, K, 2K, ...). The
+     * input and output through the same anti-alias filter (Butterworth, order 2, -3 dB at half
+     * the decimated Nyquist frequency, one biquad designed at init; docs/quality.md says why so
+     * gentle) and keeps every K-th sample (pushed samples 0, K, 2K, ...) after a gap or reset. The
      * identified model and its modes have the sample interval K dt; p, alpha and beta count
      * decimated samples. One filter for inputs and outputs leaves the input-output dynamics as
      * they are. okid_predict() is not available with K > 1.
@@ -182,6 +182,7 @@ typedef struct okid_result {
     /** sigma_1 / sigma_n of the Hankel matrix H(0) at the realized order n. */
     okid_real realization_condition;
     int decimation;                  /**< K: the model's dt is K times the pushed samples' interval */
+    int instrument_lags;             /**< L of OKID_ESTIMATOR_INSTRUMENTAL (the automatic value resolved); 0 for least squares */
     /** Scale of each input (r values) and output (m values) with OKID_SCALING_AUTO; NULL otherwise. */
     const okid_real *input_scales, *output_scales;
 } okid_result;
@@ -319,7 +320,7 @@ typedef struct okid_identifier {
 
 /* Options (okid_config decimation, scaling, estimator, instrument_lags): persistent memory on top. */
 #define OKID__DEC_BYTES(r, m, decimation) \
-    ((decimation) > 1 ? OKID__RB(20u) + OKID__RB(8u * (OKID__Z(r) + OKID__Z(m))) + OKID__RB(OKID__Z(r) + OKID__Z(m)) : 0u)
+    ((decimation) > 1 ? OKID__RB(5u) + OKID__RB(2u * (OKID__Z(r) + OKID__Z(m))) + OKID__RB(OKID__Z(r) + OKID__Z(m)) : 0u)
 #define OKID__SCALE_BYTES(r, m, scaling) ((scaling) ? OKID__RB(OKID__Z(r) + OKID__Z(m)) : 0u)
 #define OKID__IV_LAGS(r, m, p, lags) \
     ((lags) > 0 ? OKID__Z(lags) : (OKID__Q(r, m, p) + OKID__Z(r) - 1u) / OKID__Z(r) + 2u * OKID__Z(p))
