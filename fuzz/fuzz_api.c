@@ -111,6 +111,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     cfg.dt = fuzz_byte(&in) < 240 ? 0.01 : fuzz_real(&in);
     cfg.forgetting_factor = fuzz_byte(&in) < 200 ? 0 : fuzz_real(&in);
     cfg.rank_tolerance = fuzz_byte(&in) < 200 ? 0 : fuzz_real(&in);
+    /* the quality options: decimation, scaling, instrumental variables (automatic or given lags) */
+    cfg.decimation = fuzz_byte(&in) < 160 ? 1 : fuzz_int(&in, -1, 5);
+    cfg.scaling = (okid_scaling)fuzz_int(&in, 0, 2);
+    cfg.estimator = (okid_estimator)fuzz_int(&in, 0, 2);
+    cfg.instrument_lags = fuzz_byte(&in) < 160 ? 0 : fuzz_int(&in, -1, 60);
 
     okid_status st;
     size_t needed = 0;
