@@ -6,7 +6,7 @@
 
 enum { SAMPLES = 2001 }; /* the benchmark's case: dt 0.05 s, 100 s */
 
-static double frequency_error(okid_estimator estimator, int lags, uint64_t seed, double noise, okid_result *res_out)
+static double frequency_error(okid_estimator estimator, uint64_t seed, double noise, okid_result *res_out)
 {
     okid_config cfg;
     okid_config_default(&cfg, 1, 2);
@@ -16,26 +16,7 @@ static double frequency_error(okid_estimator estimator, int lags, uint64_t seed,
     cfg.order = 4;
     cfg.zero_initial_state = 1;
     cfg.estimator = estimator;
-    cfg.instrument_lags = lags;
-    okid_real *u = NULL, *y = NULL;
-    test_paper_record(0.05, SAMPLES, seed, noise, &u, &y);
-    size_t bytes = 0;
-    void *ws = test_workspace(&cfg, &bytes);
-    okid_identifier id;
-    okid_result res;
-    assert_int_equal(okid_init(&id, &cfg, ws, bytes, NULL), OKID_OK);
-    assert_int_equal(okid_push_block(&id, SAMPLES, u, 1, y, 2, NULL), OKID_OK);
-    const okid_status st = okid_identify(&id, &res);
-    const double err = st == OKID_OK ? test_paper_frequency_error(&res) : 1e9;
-    if (res_out != NULL) {
-        assert_int_equal(st, OKID_OK);
-        *res_out = res;
-        res_out->modes = NULL;
-    }
-    free(ws);
-    free(u);
-    free(y);
-    return err;
+    return test_paper_record_error(&cfg, SAMPLES, seed, noise, res_out);
 }
 
 /* At equal p = 10 (and the same Hankel), 5 % and 20 % output noise, five seeds: the instruments remove
@@ -47,8 +28,8 @@ static void test_instruments_beat_least_squares(void **state)
     for (int i = 0; i < 2; ++i) {
         double sum_ls = 0, sum_iv = 0, worst_ls = 0, worst_iv = 0;
         for (uint64_t seed = 11; seed <= 15; ++seed) {
-            const double ls = frequency_error(OKID_ESTIMATOR_LEAST_SQUARES, 0, seed, noises[i], NULL);
-            const double iv = frequency_error(OKID_ESTIMATOR_INSTRUMENTAL, 0, seed, noises[i], NULL);
+            const double ls = frequency_error(OKID_ESTIMATOR_LEAST_SQUARES, seed, noises[i], NULL);
+            const double iv = frequency_error(OKID_ESTIMATOR_INSTRUMENTAL, seed, noises[i], NULL);
             print_message("noise %.2f seed %d: frequency error least squares %.4f, instrumental %.4f\n", noises[i],
                           (int)seed, ls, iv);
             sum_ls += ls;
@@ -68,7 +49,7 @@ static void test_instruments_exact_without_noise(void **state)
 {
     (void)state;
     okid_result res;
-    const double err = frequency_error(OKID_ESTIMATOR_INSTRUMENTAL, 0, 3, 0, &res);
+    const double err = frequency_error(OKID_ESTIMATOR_INSTRUMENTAL, 3, 0, &res);
     assert_true(err < TOL(1e-8, 1e-3));
     assert_int_equal(res.instrument_lags, 31 + 20); /* automatic: ceil(q / r) + 2 p, q = 31 */
 }

@@ -223,3 +223,27 @@ double test_paper_frequency_error(const okid_result *res)
     }
     return worst;
 }
+
+double test_paper_record_error(const okid_config *cfg, size_t count, uint64_t seed, double noise,
+                               okid_result *res_out)
+{
+    okid_real *u = NULL, *y = NULL;
+    test_paper_record((double)cfg->dt, count, seed, noise, &u, &y);
+    size_t bytes = 0;
+    void *ws = test_workspace(cfg, &bytes);
+    okid_identifier id;
+    okid_result res;
+    assert_int_equal(okid_init(&id, cfg, ws, bytes, NULL), OKID_OK);
+    assert_int_equal(okid_push_block(&id, count, u, 1, y, 2, NULL), OKID_OK);
+    const okid_status st = okid_identify(&id, &res);
+    const double err = st == OKID_OK ? test_paper_frequency_error(&res) : 1e9;
+    if (res_out != NULL) {
+        assert_int_equal(st, OKID_OK);
+        *res_out = res;
+        res_out->modes = NULL; /* every view points into the workspace freed below */
+    }
+    free(ws);
+    free(u);
+    free(y);
+    return err;
+}

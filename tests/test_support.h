@@ -76,6 +76,14 @@ void test_paper_record(double dt, size_t count, uint64_t seed, double noise, oki
 /* Largest relative error of the two identified paper frequencies (sorted); 1e9 with fewer than two pairs. */
 double test_paper_frequency_error(const okid_result *res);
 
+/*
+ * Identify test_paper_record(cfg->dt, count, seed, noise) with cfg (r = 1, m = 2) and return
+ * test_paper_frequency_error (1e9 when okid_identify fails). res_out (may be NULL: then identify
+ * must succeed) gets the result's scalars; its views are gone with the workspace (modes is NULL).
+ */
+double test_paper_record_error(const okid_config *cfg, size_t count, uint64_t seed, double noise,
+                               okid_result *res_out);
+
 /* |got - want| <= tol * |want| (or tol when want = 0), with a message naming what. */
 void assert_relative(double got, double want, double tol, const char *what, int index);
 
