@@ -63,8 +63,8 @@ typedef enum okid_scaling {
     OKID_SCALING_NONE = 0,
     /**
      * Each input and output channel is divided by its RMS over the first block of regressor rows
-     * (block_rows samples after the first p, at the decimated rate; a channel that is zero there
-     * keeps scale 1). The rows are scaled when the block is folded, so the scales must be known
+     * (block_rows samples after the first p, at the decimated rate, or the rows pending at the
+     * first okid_identify() if that comes first; a channel that is zero there keeps scale 1). The rows are scaled when the block is folded, so the scales must be known
      * before the first fold. The ERA Hankel is built from the scaled Markov parameters, and
      * A, B, C, D, G, the Markov parameters and the observer solution are unscaled exactly
      * (diagonal similarity) before they are returned: the modes no longer depend on the units.
@@ -82,6 +82,7 @@ typedef enum okid_estimator {
      * L = instrument_lags, solved in the least-squares sense (extended IV). The inputs are
      * uncorrelated with the output noise, so the bias of eq. 50 under output noise vanishes;
      * the price is more variance. Fixed memory: Z'[Phi y] (r (L+1) x (q+m)) and a ring of L inputs.
+     * The ranks and condition numbers of okid_result then describe Z'Phi, not Phi.
      */
     OKID_ESTIMATOR_INSTRUMENTAL = 1
 } okid_estimator;
