@@ -96,6 +96,22 @@ static void test_units_do_not_change_the_modes(void **state)
         assert_relative(okid_matrix_at(other.res.D, a, 0), 1e6 * okid_matrix_at(base.res.D, a, 0), tol, "D", a);
         assert_relative(other.res.output_scales[a], 1e3 * base.res.output_scales[a], TOL(1e-12, 1e-6), "scale", a);
     }
+
+    /* The stabilization diagram realizes from the same balanced Hankel: its order-4 modes are the identified ones. */
+    size_t stab_bytes = 0;
+    assert_int_equal(okid_stabilization_workspace_size(&other.id, 4, 2, &stab_bytes), OKID_OK);
+    void *stab_ws = aligned_alloc(OKID_WORKSPACE_ALIGN, (stab_bytes + 15u) / 16u * 16u);
+    assert_non_null(stab_ws);
+    okid_stabilization table;
+    assert_int_equal(okid_stabilization_compute(&other.id, 4, 2, NULL, stab_ws, stab_bytes, &table), OKID_OK);
+    const okid_stabilization_order *top = &table.orders[table.num_orders - 1];
+    assert_int_equal(top->order, 4);
+    assert_int_equal(top->num_modes, other.res.num_modes);
+    for (int i = 0; i < top->num_modes; ++i) {
+        assert_relative(table.modes[top->first + i].frequency_hz, other.res.modes[i].frequency_hz, TOL(1e-10, 1e-4),
+                        "stabilization frequency", i);
+    }
+    free(stab_ws);
     free(base.ws);
     free(other.ws);
 }
