@@ -185,12 +185,65 @@ static void test_scales_are_first_block_rms(void **state)
     free(y);
 }
 
+/* Scales given by the caller: used as given (data in other units with scales in the same units give
+   the same modes), refused once rows are folded, checked, and forgotten by okid_reset(). */
+static void test_scales_set_by_the_caller(void **state)
+{
+    (void)state;
+    okid_config cfg;
+    okid_config_default(&cfg, 1, 2);
+    cfg.dt = (okid_real)0.01;
+    cfg.observer_order = 20;
+    cfg.hankel_rows = cfg.hankel_cols = 40;
+    cfg.order = 4;
+    cfg.zero_initial_state = 1;
+    cfg.scaling = OKID_SCALING_AUTO;
+    okid_real *u = NULL, *y = NULL;
+    test_paper_record(0.01, SAMPLES, 5, 0.02, &u, &y);
+    size_t bytes = 0;
+    void *ws = test_workspace(&cfg, &bytes);
+    okid_identifier id;
+    okid_result res;
+    double freq[2][8];
+    const okid_real in_scale[1] = {(okid_real)2.0}, out_scale[2] = {(okid_real)0.5, (okid_real)3.0};
+    for (int pass = 0; pass < 2; ++pass) {
+        /* pass 1: outputs in mm and scales in mm: the scaled data are the same */
+        const okid_real unit = pass ? (okid_real)1000 : (okid_real)1;
+        const okid_real outs[2] = {out_scale[0] * unit, out_scale[1] * unit};
+        for (size_t k = 0; k < 2 * (size_t)SAMPLES; ++k) y[k] *= pass ? unit : 1;
+        assert_int_equal(okid_init(&id, &cfg, ws, bytes, NULL), OKID_OK);
+        assert_int_equal(okid_set_scales(&id, in_scale, outs), OKID_OK);
+        assert_int_equal(okid_push_block(&id, SAMPLES, u, 1, y, 2, NULL), OKID_OK);
+        assert_int_equal(okid_identify(&id, &res), OKID_OK);
+        assert_true(res.input_scales[0] == in_scale[0] && res.output_scales[1] == outs[1]);
+        for (int i = 0; i < res.num_modes; ++i) freq[pass][i] = res.modes[i].frequency_hz;
+    }
+    for (int i = 0; i < res.num_modes; ++i) assert_relative(freq[1][i], freq[0][i], TOL(1e-10, 1e-4), "frequency", i);
+
+    const okid_real bad[2] = {(okid_real)1.0, (okid_real)0.0};
+    assert_int_equal(okid_set_scales(&id, in_scale, out_scale), OKID_E_NOT_AVAILABLE); /* rows folded */
+    assert_int_equal(okid_set_scales(&id, in_scale, bad), OKID_E_BAD_PARAMETER);
+    assert_int_equal(okid_set_scales(&id, NULL, out_scale), OKID_E_NULL_POINTER);
+    assert_int_equal(okid_reset(&id), OKID_OK);
+    assert_int_equal(okid_set_scales(&id, in_scale, bad), OKID_E_BAD_PARAMETER);
+    assert_int_equal(okid_set_scales(&id, in_scale, out_scale), OKID_OK); /* the failed call changed nothing */
+    free(ws);
+    cfg.scaling = OKID_SCALING_NONE;
+    ws = test_workspace(&cfg, &bytes);
+    assert_int_equal(okid_init(&id, &cfg, ws, bytes, NULL), OKID_OK);
+    assert_int_equal(okid_set_scales(&id, in_scale, out_scale), OKID_E_NOT_AVAILABLE);
+    free(ws);
+    free(u);
+    free(y);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_units_do_not_change_the_modes),
         cmocka_unit_test(test_mixed_units_need_scaling),
         cmocka_unit_test(test_scales_are_first_block_rms),
+        cmocka_unit_test(test_scales_set_by_the_caller),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -386,6 +386,31 @@ okid_status okid_predict(const okid_identifier *id, const okid_real *u, okid_rea
     return OKID_OK;
 }
 
+okid_status okid_set_scales(okid_identifier *id, const okid_real *input_scales, const okid_real *output_scales)
+{
+    if (id == NULL || input_scales == NULL || output_scales == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    if (!is_initialized(id)) {
+        return OKID_E_NOT_INITIALIZED;
+    }
+    const int r = id->dims_.r, m = id->dims_.m;
+    for (int i = 0; i < r + m; ++i) {
+        const okid_real s = i < r ? input_scales[i] : output_scales[i - r];
+        if (!okid_is_finite(s) || !(s > 0)) {
+            return OKID_E_BAD_PARAMETER;
+        }
+    }
+    if (id->at_.scales == NULL || id->scales_known_) {
+        return OKID_E_NOT_AVAILABLE;
+    }
+    for (int i = 0; i < r + m; ++i) {
+        id->at_.scales[i] = i < r ? input_scales[i] : output_scales[i - r];
+    }
+    id->scales_known_ = 1;
+    return OKID_OK;
+}
+
 okid_status okid_reset(okid_identifier *id)
 {
     if (id == NULL) {

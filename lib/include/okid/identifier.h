@@ -64,10 +64,12 @@ typedef enum okid_scaling {
     /**
      * Each input and output channel is divided by its RMS over the first block of regressor rows
      * (block_rows samples after the first p, at the decimated rate, or the rows pending at the
-     * first okid_identify() if that comes first; a channel that is zero there keeps scale 1). The rows are scaled when the block is folded, so the scales must be known
-     * before the first fold. The ERA Hankel is built from the scaled Markov parameters, and
-     * A, B, C, D, G, the Markov parameters and the observer solution are unscaled exactly
-     * (diagonal similarity) before they are returned: the modes no longer depend on the units.
+     * first okid_identify() if that comes first; a channel that is zero there keeps scale 1), or
+     * by scales given with okid_set_scales(). The rows are scaled when the block is folded, so the
+     * scales must be known before the first fold. The ERA Hankel is built from the Markov
+     * parameters of the scaled data, and A, B, C, D, G, the Markov parameters and the observer
+     * solution are unscaled exactly before they are returned: the modes no longer depend on the
+     * units.
      */
     OKID_SCALING_AUTO = 1
 } okid_scaling;
@@ -437,6 +439,19 @@ okid_status okid_identify(okid_identifier *id, okid_result *result);
  *         the last gap), OKID_E_NONFINITE_SAMPLE
  */
 okid_status okid_predict(const okid_identifier *id, const okid_real *u, okid_real *y_hat);
+
+/**
+ * Set the channel scales of OKID_SCALING_AUTO yourself (e.g. from the sensors' ranges) instead of
+ * the first block's RMS. Only before the first block of rows is folded (after init or reset, and
+ * before okid_identify()); okid_reset() forgets them.
+ * \param[in,out] id             identifier configured with OKID_SCALING_AUTO
+ * \param[in]     input_scales   r values, finite and > 0
+ * \param[in]     output_scales  m values, finite and > 0
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_BAD_PARAMETER (a scale not
+ *         finite or not > 0: nothing is changed), OKID_E_NOT_AVAILABLE (no scaling configured, or
+ *         rows already folded with other scales)
+ */
+okid_status okid_set_scales(okid_identifier *id, const okid_real *input_scales, const okid_real *output_scales);
 
 /**
  * Forget every sample (configuration and workspace are kept).
