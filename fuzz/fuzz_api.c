@@ -190,6 +190,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (fuzz_byte(&in) < 32) {
                 CALL(okid_reset(&id));
                 CALL(okid_reset(&shadow));
+            } else if (fuzz_byte(&in) < 64) { /* caller's scales: the same answer for both */
+                for (int i = 0; i < r; ++i) u[i] = fuzz_real(&in);
+                for (int i = 0; i < m; ++i) y[i] = fuzz_real(&in);
+                const okid_status a = CALL(okid_set_scales(&id, u, y));
+                if (a != CALL(okid_set_scales(&shadow, u, y))) abort();
             } else {
                 CALL(okid_get_progress(&id, &progress));
             }
