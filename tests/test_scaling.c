@@ -13,19 +13,25 @@ typedef struct run {
     void *ws;
 } run;
 
+/* The paper's dt = 0.01 s, p = 20, alpha = beta = 40, n = 4, from rest, with the given scaling. */
+static void paper_config(okid_config *cfg, okid_scaling scaling)
+{
+    okid_config_default(cfg, 1, 2);
+    cfg->dt = (okid_real)0.01;
+    cfg->observer_order = 20;
+    cfg->hankel_rows = cfg->hankel_cols = 40;
+    cfg->order = 4;
+    cfg->zero_initial_state = 1;
+    cfg->scaling = scaling;
+}
+
 /* Identify the paper record (dt 0.01 s, 2 % output noise) with inputs times in_unit and output a
    times out_unit[a], the combined realization (observer gain G too), p = 20, alpha = beta = 40. */
 static void identify_in_units(okid_scaling scaling, double in_unit, const double out_unit[2], run *out)
 {
     okid_config cfg;
-    okid_config_default(&cfg, 1, 2);
-    cfg.dt = (okid_real)0.01;
-    cfg.observer_order = 20;
-    cfg.hankel_rows = cfg.hankel_cols = 40;
-    cfg.order = 4;
-    cfg.zero_initial_state = 1;
+    paper_config(&cfg, scaling);
     cfg.realization = OKID_REALIZATION_COMBINED;
-    cfg.scaling = scaling;
     okid_real *u = NULL, *y = NULL;
     test_paper_record(0.01, SAMPLES, 4, 0.02, &u, &y);
     for (size_t k = 0; k < SAMPLES; ++k) {
@@ -191,13 +197,7 @@ static void test_scales_set_by_the_caller(void **state)
 {
     (void)state;
     okid_config cfg;
-    okid_config_default(&cfg, 1, 2);
-    cfg.dt = (okid_real)0.01;
-    cfg.observer_order = 20;
-    cfg.hankel_rows = cfg.hankel_cols = 40;
-    cfg.order = 4;
-    cfg.zero_initial_state = 1;
-    cfg.scaling = OKID_SCALING_AUTO;
+    paper_config(&cfg, OKID_SCALING_AUTO);
     okid_real *u = NULL, *y = NULL;
     test_paper_record(0.01, SAMPLES, 5, 0.02, &u, &y);
     size_t bytes = 0;
