@@ -17,7 +17,7 @@ static void test_paper_noise_free(void **state)
     void *ws = NULL;
     assert_int_equal(test_identify_case(&REF_PAPER, &cfg, PAPER_SAMPLES, 2024, &id, &ws, &res), OKID_OK);
     assert_int_equal(res.order, 4);
-    assert_modes_match(&REF_PAPER, res.modes, res.num_modes, IDENTIFY_TOL, IDENTIFY_MAC_MIN);
+    assert_modes_match(&REF_PAPER, res.modes, res.num_modes, identify_tol(&REF_PAPER), IDENTIFY_MAC_MIN);
 
     /* The paper's printed eigenvalues (eq. 87, 94 to four decimals in the text of DESIGN.md/issue). */
     assert_relative(res.modes[1].eigenvalue.re, 0.9767, 0.6e-4, "printed lambda re", 1);
@@ -100,7 +100,7 @@ static void test_mimo_displacement(void **state)
     okid_result res;
     void *ws = NULL;
     assert_int_equal(test_identify_case(&REF_MIMO, &cfg, 1500, 11, &id, &ws, &res), OKID_OK);
-    assert_modes_match(&REF_MIMO, res.modes, res.num_modes, IDENTIFY_TOL, IDENTIFY_MAC_MIN);
+    assert_modes_match(&REF_MIMO, res.modes, res.num_modes, identify_tol(&REF_MIMO), IDENTIFY_MAC_MIN);
     assert_int_equal(res.input_rank, 2 * 21);
     free(ws);
 }
@@ -115,7 +115,7 @@ static void test_chain3_velocity(void **state)
     void *ws = NULL;
     assert_int_equal(test_identify_case(&REF_CHAIN3, &cfg, 2000, 5, &id, &ws, &res), OKID_OK);
     assert_int_equal(res.order, 6);
-    assert_modes_match(&REF_CHAIN3, res.modes, res.num_modes, IDENTIFY_TOL, IDENTIFY_MAC_MIN);
+    assert_modes_match(&REF_CHAIN3, res.modes, res.num_modes, identify_tol(&REF_CHAIN3), IDENTIFY_MAC_MIN);
     free(ws);
 }
 
@@ -133,7 +133,7 @@ static void test_automatic_order(void **state)
         void *ws = NULL;
         assert_int_equal(test_identify_case(cases[c], &cfg, 2000, 3, &id, &ws, &res), OKID_OK);
         assert_int_equal(res.order, 2 * cases[c]->dofs);
-        assert_modes_match(cases[c], res.modes, res.num_modes, IDENTIFY_TOL, IDENTIFY_MAC_MIN);
+        assert_modes_match(cases[c], res.modes, res.num_modes, identify_tol(cases[c]), IDENTIFY_MAC_MIN);
         free(ws);
     }
 }
@@ -151,7 +151,7 @@ static void test_combined_realization(void **state)
     okid_result res;
     void *ws = NULL;
     assert_int_equal(test_identify_case(&REF_PAPER, &cfg, PAPER_SAMPLES, 13, &id, &ws, &res), OKID_OK);
-    assert_modes_match(&REF_PAPER, res.modes, res.num_modes, IDENTIFY_TOL, IDENTIFY_MAC_MIN);
+    assert_modes_match(&REF_PAPER, res.modes, res.num_modes, identify_tol(&REF_PAPER), IDENTIFY_MAC_MIN);
     assert_non_null(res.G.data);
     assert_int_equal(res.G.rows, 4);
     assert_int_equal(res.G.cols, 2);
@@ -275,7 +275,7 @@ static void test_record_not_from_rest(void **state)
     assert_int_equal(okid_push_block(&id, 1000, u + 500, 1, y + 1000, 2, NULL), OKID_OK);
     assert_int_equal(okid_identify(&id, &res), OKID_OK);
     assert_int_equal(res.rows, 1000 - 20);
-    assert_modes_match(&REF_PAPER, res.modes, res.num_modes, IDENTIFY_TOL, IDENTIFY_MAC_MIN);
+    assert_modes_match(&REF_PAPER, res.modes, res.num_modes, identify_tol(&REF_PAPER), IDENTIFY_MAC_MIN);
     free(ws);
     free(u);
     free(y);

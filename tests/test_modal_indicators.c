@@ -2,12 +2,17 @@
    coherence, EMAC and MSV of small realizations, then the paper case with and without noise. */
 #include "test_support.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 
 #include "modal_indicators_internal.h"
 
 static const double PI = 3.14159265358979323846;
+
+/* The hand-computed cases take a handful of roundings each (sums of up to four products, an atan2,
+   a 2 x 2 solve, a square root): float meets them to a few ulps, 8 FLT_EPSILON = 9.5e-7. */
+#define HAND_FLOAT_TOL (8 * FLT_EPSILON)
 
 static void test_mpc_hand_computed(void **state)
 {
@@ -16,9 +21,9 @@ static void test_mpc_hand_computed(void **state)
     const okid_complex quadrature[2] = {{1, 0}, {0, 1}};             /* phases 0 and 90 degrees */
     const double h = sqrt(0.5);
     const okid_complex eighth[2] = {{1, 0}, {h, h}};                 /* phi^T phi = 1 + i, phi^H phi = 2 */
-    assert_relative(okid_mpc(real_shape, 2), 1, 1e-15, "mpc real", 0);
-    assert_true(okid_mpc(quadrature, 2) < 1e-15);
-    assert_relative(okid_mpc(eighth, 2), 0.5, 1e-15, "mpc 45 degrees", 0);
+    assert_relative(okid_mpc(real_shape, 2), 1, TOL(1e-15, HAND_FLOAT_TOL), "mpc real", 0);
+    assert_true(okid_mpc(quadrature, 2) < TOL(1e-15, HAND_FLOAT_TOL));
+    assert_relative(okid_mpc(eighth, 2), 0.5, TOL(1e-15, HAND_FLOAT_TOL), "mpc 45 degrees", 0);
     /* A complex scale (here 3 e^{0.7i}) changes nothing. */
     okid_complex turned[2];
     for (int i = 0; i < 2; ++i) {
@@ -26,7 +31,7 @@ static void test_mpc_hand_computed(void **state)
         turned[i].re = c * eighth[i].re - s * eighth[i].im;
         turned[i].im = s * eighth[i].re + c * eighth[i].im;
     }
-    assert_relative(okid_mpc(turned, 2), 0.5, 1e-14, "mpc scaled", 0);
+    assert_relative(okid_mpc(turned, 2), 0.5, TOL(1e-14, HAND_FLOAT_TOL), "mpc scaled", 0);
     const okid_complex zero[2] = {{0, 0}, {0, 0}};
     assert_true(okid_mpc(zero, 2) == 0 && okid_mpc(NULL, 2) == 0 && okid_mpc(eighth, 0) == 0);
 }
@@ -45,7 +50,7 @@ static void test_mpc_equals_eigenvalue_form(void **state)
     const double mean = (sxx + syy) / 2, radius = sqrt((sxx - syy) * (sxx - syy) / 4 + sxy * sxy);
     const double l1 = mean + radius, l2 = mean - radius;
     const double want = ((l1 - l2) / (l1 + l2)) * ((l1 - l2) / (l1 + l2));
-    assert_relative(okid_mpc(phi, 4), want, 1e-14, "mpc eigenvalue form", 0);
+    assert_relative(okid_mpc(phi, 4), want, TOL(1e-14, HAND_FLOAT_TOL), "mpc eigenvalue form", 0);
 }
 
 static void test_amplitude_coherence_hand_computed(void **state)
@@ -54,12 +59,13 @@ static void test_amplitude_coherence_hand_computed(void **state)
     const okid_complex one = {1, 0}, half = {0.5, 0}, none = {0, 0};
     const okid_complex pi8 = {cos(PI / 8), sin(PI / 8)}, two_pi16 = {2 * cos(PI / 16), 2 * sin(PI / 16)};
     const okid_complex fifty = {cos(50 * PI / 180), sin(50 * PI / 180)};
-    assert_relative(okid_amplitude_coherence(one, one), 1, 1e-15, "equal", 0);
-    assert_relative(okid_amplitude_coherence(one, half), 0.5, 1e-15, "magnitude ratio", 0);
-    assert_relative(okid_amplitude_coherence(half, one), 0.5, 1e-15, "magnitude ratio swapped", 0);
-    assert_relative(okid_amplitude_coherence(one, pi8), 0.5, 1e-14, "22.5 degrees", 0);
-    assert_relative(okid_amplitude_coherence(pi8, one), 0.5, 1e-14, "-22.5 degrees", 0);
-    assert_relative(okid_amplitude_coherence(one, two_pi16), 0.5 * 0.75, 1e-14, "11.25 degrees, ratio 1/2", 0);
+    assert_relative(okid_amplitude_coherence(one, one), 1, TOL(1e-15, HAND_FLOAT_TOL), "equal", 0);
+    assert_relative(okid_amplitude_coherence(one, half), 0.5, TOL(1e-15, HAND_FLOAT_TOL), "magnitude ratio", 0);
+    assert_relative(okid_amplitude_coherence(half, one), 0.5, TOL(1e-15, HAND_FLOAT_TOL), "magnitude ratio swapped", 0);
+    assert_relative(okid_amplitude_coherence(one, pi8), 0.5, TOL(1e-14, HAND_FLOAT_TOL), "22.5 degrees", 0);
+    assert_relative(okid_amplitude_coherence(pi8, one), 0.5, TOL(1e-14, HAND_FLOAT_TOL), "-22.5 degrees", 0);
+    assert_relative(okid_amplitude_coherence(one, two_pi16), 0.5 * 0.75, TOL(1e-14, HAND_FLOAT_TOL),
+                    "11.25 degrees, ratio 1/2", 0);
     assert_true(okid_amplitude_coherence(one, fifty) == 0);
     assert_true(okid_amplitude_coherence(none, none) == 0 && okid_amplitude_coherence(one, none) == 0);
 }
@@ -94,14 +100,14 @@ static void test_indicators_real_modes(void **state)
     const okid_indicator_scratch s = scratch_of(&h);
     assert_int_equal(okid_modal_indicators(&in, vr, wr, wi, &s, modes, 2), OKID_OK);
     /* modes[1] is lambda = 0.5 */
-    assert_relative(modes[1].emac_output, 0.5, 1e-14, "emac_output 0.5", 0);
-    assert_relative(modes[1].emac_input, 1, 1e-14, "emac_input 0.5", 0);
-    assert_relative(modes[1].emac, 0.5, 1e-14, "emac 0.5", 0);
-    assert_relative(modes[1].cmi, 0.5, 1e-14, "cmi 0.5", 0);
-    assert_relative(modes[1].msv, sqrt(3 * 1.875), 1e-14, "msv 0.5", 0);
-    assert_relative(modes[0].emac_output, 1, 1e-14, "emac_output 0.8", 0);
+    assert_relative(modes[1].emac_output, 0.5, TOL(1e-14, HAND_FLOAT_TOL), "emac_output 0.5", 0);
+    assert_relative(modes[1].emac_input, 1, TOL(1e-14, HAND_FLOAT_TOL), "emac_input 0.5", 0);
+    assert_relative(modes[1].emac, 0.5, TOL(1e-14, HAND_FLOAT_TOL), "emac 0.5", 0);
+    assert_relative(modes[1].cmi, 0.5, TOL(1e-14, HAND_FLOAT_TOL), "cmi 0.5", 0);
+    assert_relative(modes[1].msv, sqrt(3 * 1.875), TOL(1e-14, HAND_FLOAT_TOL), "msv 0.5", 0);
+    assert_relative(modes[0].emac_output, 1, TOL(1e-14, HAND_FLOAT_TOL), "emac_output 0.8", 0);
     assert_true(modes[0].emac_input == 0 && modes[0].cmi == 0);
-    assert_relative(modes[0].msv, sqrt(8 * 2.952), 1e-14, "msv 0.8", 0);
+    assert_relative(modes[0].msv, sqrt(8 * 2.952), TOL(1e-14, HAND_FLOAT_TOL), "msv 0.8", 0);
 }
 
 /*
@@ -126,11 +132,11 @@ static void test_indicators_complex_pair(void **state)
     hand_scratch h;
     const okid_indicator_scratch s = scratch_of(&h);
     assert_int_equal(okid_modal_indicators(&in, vr, wr, wi, &s, &mode, 1), OKID_OK);
-    assert_relative(mode.emac_input, 1, 1e-14, "pair emac_input", 0);
-    assert_relative(mode.emac_output, 0.5, 1e-13, "pair emac_output", 0);
+    assert_relative(mode.emac_input, 1, TOL(1e-14, HAND_FLOAT_TOL), "pair emac_input", 0);
+    assert_relative(mode.emac_output, 0.5, TOL(1e-13, HAND_FLOAT_TOL), "pair emac_output", 0);
     double geometric = 0;
     for (int k = 0; k < 6; ++k) geometric += pow(rho, k);
-    assert_relative(mode.msv, sqrt(0.5 * geometric), 1e-14, "pair msv", 0);
+    assert_relative(mode.msv, sqrt(0.5 * geometric), TOL(1e-14, HAND_FLOAT_TOL), "pair msv", 0);
 }
 
 /* okid_modal_analysis() has no realization to judge: MPC only, the rest -1. */
@@ -145,27 +151,39 @@ static void test_modal_analysis_marks_indicators_unavailable(void **state)
                                          &count, NULL),
                      OKID_OK);
     for (int i = 0; i < count; ++i) {
-        assert_relative(modes[i].mpc, 1, 1e-15, "mpc", i);
+        assert_relative(modes[i].mpc, 1, TOL(1e-15, HAND_FLOAT_TOL), "mpc", i);
         assert_true(modes[i].emac == -1 && modes[i].cmi == -1 && modes[i].msv == -1);
     }
 }
 
 enum { PAPER_SAMPLES = 1001 };
 
+/*
+ * Noise-free, the indicators are 1 to round-off in double. In float the realization's eigenvalues
+ * are off by up to delta = identify_tol(&REF_PAPER): the alpha - 1 step prediction c lambda^(alpha-1)
+ * is then off by (alpha - 1) delta in magnitude and in phase, the input side's by (beta - 1) delta,
+ * and EMAC's phase weight falls by 1 per pi / 4, so EMAC = EMAC_output EMAC_input (and CMI) may
+ * lose (alpha + beta - 2)(1 + 4 / pi) delta = 0.046 (measured: 1.6e-3 for the 0.50 Hz mode, nearly
+ * all on the output side). MPC is quadratic in the shape's phase scatter: delta covers it
+ * (measured 2.7e-6).
+ */
 static void test_paper_noise_free_indicators(void **state)
 {
     (void)state;
     okid_config cfg;
     test_config(&REF_PAPER, &cfg);
+    const double emac_tol =
+        TOL(1e-6, (cfg.hankel_rows + cfg.hankel_cols - 2) * (1 + 4 / PI) * identify_tol(&REF_PAPER));
+    const double mpc_tol = TOL(1e-9, identify_tol(&REF_PAPER));
     okid_identifier id;
     okid_result res;
     void *ws = NULL;
     assert_int_equal(test_identify_case(&REF_PAPER, &cfg, PAPER_SAMPLES, 2024, &id, &ws, &res), OKID_OK);
     assert_int_equal(res.num_modes, 2);
     for (int i = 0; i < res.num_modes; ++i) {
-        assert_relative(res.modes[i].emac, 1, 1e-6, "noise-free emac", i);
-        assert_relative(res.modes[i].mpc, 1, 1e-9, "noise-free mpc (proportional damping: real modes)", i);
-        assert_relative(res.modes[i].cmi, 1, 1e-6, "noise-free cmi", i);
+        assert_relative(res.modes[i].emac, 1, emac_tol, "noise-free emac", i);
+        assert_relative(res.modes[i].mpc, 1, mpc_tol, "noise-free mpc (proportional damping: real modes)", i);
+        assert_relative(res.modes[i].cmi, 1, emac_tol, "noise-free cmi", i);
         assert_true(res.modes[i].msv > 0 && isfinite(res.modes[i].msv)); /* value: test_quality.py against numpy */
     }
     free(ws);

@@ -32,18 +32,26 @@ static double nearest(const okid_stabilization *st, int o, double re, double im,
     return best;
 }
 
-/* Near noise-free data (1e-8; the pole error grows with the noise, 1.7e-6 at 1e-7): every order from 4 to 16 holds both exact eigenvalues (numpy) to
-   1e-6, marked stable from order 6 on, with CMI near 1. */
+/*
+ * Low-noise data, p = 60 and a 100 x 100 Hankel (the 2 s span the CLI recommends): every order
+ * from 4 to 16 holds both exact eigenvalues (numpy) to 0.2 times the noise level (measured: 0.03
+ * times, in both precisions), marked stable from order 6 on, with CMI near 1. The orders above 4
+ * exist only where noise lifts the Hankel's singular values above its round-off floor
+ * eps k sigma_1 (rank_limit): 1e-8 noise does in double, but is below float's round-off (the table
+ * would stop at order 4, as in test_rank_limit), so float takes 1e-4.
+ */
 static void test_true_poles_at_every_order(void **state)
 {
     (void)state;
     okid_config cfg;
     test_config(&REF_PAPER, &cfg);
-    cfg.rank_tolerance = 1e-6;
+    cfg.observer_order = 60;
+    cfg.hankel_rows = cfg.hankel_cols = 100;
+    const double noise = TOL(1e-8, 1e-4);
     okid_identifier id;
     okid_result res;
     void *ws = NULL;
-    assert_int_equal(test_identify_noisy(&REF_PAPER, &cfg, PAPER_SAMPLES, 3, 1e-8, &id, &ws, &res), OKID_OK);
+    assert_int_equal(test_identify_noisy(&REF_PAPER, &cfg, PAPER_SAMPLES, 3, noise, &id, &ws, &res), OKID_OK);
     size_t bytes = 0;
     void *sws = stab_workspace(&id, MAX_ORDER, 2, &bytes);
     okid_stabilization st;
@@ -56,7 +64,9 @@ static void test_true_poles_at_every_order(void **state)
         for (int i = 0; i < REF_PAPER.num_modes; ++i) {
             const okid_mode *md = NULL;
             const double err = nearest(&st, o, REF_PAPER.eig_re[i], fabs(REF_PAPER.eig_im[i]), &md);
-            if (!(err < 1e-6)) fail_msg("order %d, mode %d: eigenvalue error %.3g", st.orders[o].order, i, err);
+            if (!(err < 0.2 * noise)) {
+                fail_msg("order %d, mode %d: eigenvalue error %.3g", st.orders[o].order, i, err);
+            }
             assert_true(md->cmi > 0.99);
             if (st.orders[o].order >= 6) {
                 assert_int_equal(st.stability[md - st.modes], OKID_STABLE_ALL);
@@ -65,6 +75,16 @@ static void test_true_poles_at_every_order(void **state)
     }
     free(sws);
     free(ws);
+}
+
+/* Field by field: a byte compare would read okid_mode's padding, which nobody writes (valgrind). */
+static int same_mode(const okid_mode *a, const okid_mode *b)
+{
+    return a->eigenvalue.re == b->eigenvalue.re && a->eigenvalue.im == b->eigenvalue.im &&
+           a->pole.re == b->pole.re && a->pole.im == b->pole.im && a->frequency_hz == b->frequency_hz &&
+           a->damping_ratio == b->damping_ratio && a->is_pair == b->is_pair && a->sensor_shape == b->sensor_shape &&
+           a->shape == b->shape && a->emac_output == b->emac_output && a->emac_input == b->emac_input &&
+           a->emac == b->emac && a->mpc == b->mpc && a->msv == b->msv && a->cmi == b->cmi;
 }
 
 /* Nested truncation is exact: the order-4 entry equals okid_identify() at order 4 on the same data. */
@@ -168,7 +188,7 @@ static void test_api_contract(void **state)
     assert_int_equal(okid_stabilization_compute(&id, 8, 2, NULL, sws, sizeof sws, NULL), OKID_E_NULL_POINTER);
     assert_int_equal(okid_stabilization_compute(&id, 8, 2, NULL, sws, sizeof sws, &st), OKID_OK);
     /* The identifier's last result is intact, and identifying again gives the same modes. */
-    assert_memory_equal(&res.modes[0], &first, sizeof first);
+    assert_true(same_mode(&res.modes[0], &first));
     okid_result again;
     assert_int_equal(okid_identify(&id, &again), OKID_OK);
     assert_true(again.modes[0].eigenvalue.re == first.eigenvalue.re && again.modes[0].cmi == first.cmi);

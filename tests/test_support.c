@@ -1,6 +1,7 @@
 /* See test_support.h. */
 #include "test_support.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -113,6 +114,17 @@ okid_status test_identify_noisy(const ref_case *rc, const okid_config *cfg, size
     free(u);
     free(y);
     return okid_identify(id, result);
+}
+
+double identify_tol(const ref_case *rc)
+{
+#if OKID_REAL_IS_FLOAT
+    const int n = 2 * rc->dofs;
+    return FLT_EPSILON * rc->hankel_sv[0] / rc->hankel_sv[n - 1];
+#else
+    (void)rc;
+    return 1e-9;
+#endif
 }
 
 void assert_relative(double got, double want, double tol, const char *what, int index)
