@@ -111,6 +111,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     cfg.dt = fuzz_byte(&in) < 240 ? 0.01 : fuzz_real(&in);
     cfg.forgetting_factor = fuzz_byte(&in) < 200 ? 0 : fuzz_real(&in);
     cfg.rank_tolerance = fuzz_byte(&in) < 200 ? 0 : fuzz_real(&in);
+    /* the quality options: decimation, scaling, instrumental variables (automatic or given lags) */
+    cfg.decimation = fuzz_byte(&in) < 160 ? 1 : fuzz_int(&in, -1, 5);
+    cfg.scaling = (okid_scaling)fuzz_int(&in, 0, 2);
+    cfg.estimator = (okid_estimator)fuzz_int(&in, 0, 2);
+    cfg.instrument_lags = fuzz_byte(&in) < 160 ? 0 : fuzz_int(&in, -1, 60);
 
     okid_status st;
     size_t needed = 0;
@@ -185,6 +190,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (fuzz_byte(&in) < 32) {
                 CALL(okid_reset(&id));
                 CALL(okid_reset(&shadow));
+            } else if (fuzz_byte(&in) < 64) { /* caller's scales: the same answer for both */
+                for (int i = 0; i < r; ++i) u[i] = fuzz_real(&in);
+                for (int i = 0; i < m; ++i) y[i] = fuzz_real(&in);
+                const okid_status a = CALL(okid_set_scales(&id, u, y));
+                if (a != CALL(okid_set_scales(&shadow, u, y))) abort();
             } else {
                 CALL(okid_get_progress(&id, &progress));
             }

@@ -79,6 +79,12 @@ static void test_paper_case_allocates_nothing(void **state)
     (void)state;
     skip();
 }
+
+static void test_quality_options_allocate_nothing(void **state)
+{
+    (void)state;
+    skip();
+}
 #else
 enum { SAMPLES = 1001 };
 static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char workspace[OKID_WORKSPACE_BYTES(1, 2, 20, 20, 20, 4, 0, 0)];
@@ -122,10 +128,46 @@ static void test_paper_case_allocates_nothing(void **state)
     assert_int_equal(heap_calls, 0);
     assert_int_equal(res.num_modes, 2);
 }
+
+/* Decimation, scaling and instrumental variables: the filter design at init, the filtering and
+   scaling on push, the instruments' cross-product and its factorisation on identify. */
+static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char options_workspace[OKID_WORKSPACE_BYTES_OPTIONS(
+    1, 2, 10, 10, 10, 4, 0, 0, 2, OKID_SCALING_AUTO, OKID_ESTIMATOR_INSTRUMENTAL, 0)];
+
+static void test_quality_options_allocate_nothing(void **state)
+{
+    (void)state;
+    okid_config cfg;
+    test_config(&REF_PAPER, &cfg);
+    cfg.observer_order = 10;
+    cfg.hankel_rows = cfg.hankel_cols = 10;
+    cfg.decimation = 2;
+    cfg.scaling = OKID_SCALING_AUTO;
+    cfg.estimator = OKID_ESTIMATOR_INSTRUMENTAL;
+    okid_rng rng;
+    okid_rng_seed(&rng, 7);
+    okid_rng_normal(&rng, 1, SAMPLES, force, 1);
+    test_simulate(&REF_PAPER, SAMPLES, force, accelerations, NULL);
+    heap_calls = 0;
+    okid_identifier id;
+    okid_result res;
+    counting = 1;
+    const okid_status init = okid_init(&id, &cfg, options_workspace, sizeof options_workspace, NULL);
+    const okid_status push = okid_push_block(&id, SAMPLES, force, 1, accelerations, 2, NULL);
+    const okid_status identify = okid_identify(&id, &res);
+    counting = 0;
+    assert_int_equal(init, OKID_OK);
+    assert_int_equal(push, OKID_OK);
+    assert_int_equal(identify, OKID_OK);
+    assert_int_equal(heap_calls, 0);
+    assert_int_equal(res.decimation, 2);
+    assert_non_null(res.output_scales);
+}
 #endif
 
 int main(void)
 {
-    const struct CMUnitTest tests[] = {cmocka_unit_test(test_paper_case_allocates_nothing)};
+    const struct CMUnitTest tests[] = {cmocka_unit_test(test_paper_case_allocates_nothing),
+                                       cmocka_unit_test(test_quality_options_allocate_nothing)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -61,6 +61,24 @@ okid_status test_identify_case(const ref_case *rc, const okid_config *cfg, size_
 okid_status test_identify_noisy(const ref_case *rc, const okid_config *cfg, size_t samples, uint64_t seed,
                                 double noise, okid_identifier *id, void **workspace, okid_result *result);
 
+/*
+ * The paper's 2-DOF plant at sample interval dt through the library's own simulator (exact ZOH of
+ * REF_PAPER's continuous model), from rest, unit white-noise force (seed), output noise as in
+ * test_identify_noisy; *u (count) and *y (2 x count) are the caller's to free.
+ */
+void test_paper_record(double dt, size_t count, uint64_t seed, double noise, okid_real **u, okid_real **y);
+
+/* Largest relative error of the two identified paper frequencies (sorted); 1e9 with fewer than two pairs. */
+double test_paper_frequency_error(const okid_result *res);
+
+/*
+ * Identify test_paper_record(cfg->dt, count, seed, noise) with cfg (r = 1, m = 2) and return
+ * test_paper_frequency_error (1e9 when okid_identify fails). res_out (may be NULL: then identify
+ * must succeed) gets the result's scalars; its views are gone with the workspace (modes is NULL).
+ */
+double test_paper_record_error(const okid_config *cfg, size_t count, uint64_t seed, double noise,
+                               okid_result *res_out);
+
 /* |got - want| <= tol * |want| (or tol when want = 0), with a message naming what. */
 void assert_relative(double got, double want, double tol, const char *what, int index);
 

@@ -28,13 +28,17 @@
 #ifndef OKID_FMU_MAX_HANKEL
 #define OKID_FMU_MAX_HANKEL 100
 #endif
+#ifndef OKID_FMU_MAX_DECIMATION
+#define OKID_FMU_MAX_DECIMATION 16
+#endif
 #define R OKID_FMU_R
 #define M OKID_FMU_M
 #define MAX_MODES OKID_FMU_MAX_MODES
 #define NUM_SV 8
-#define WORKSPACE_BYTES                                                                                     \
-    OKID_WORKSPACE_BYTES(R, M, OKID_FMU_MAX_OBSERVER_ORDER, OKID_FMU_MAX_HANKEL, OKID_FMU_MAX_HANKEL,      \
-                         2 * MAX_MODES, 0, 1)
+/* the largest settings: combined realization, decimation, scaling and instruments (automatic lags) */
+#define WORKSPACE_BYTES                                                                                        \
+    OKID_WORKSPACE_BYTES_OPTIONS(R, M, OKID_FMU_MAX_OBSERVER_ORDER, OKID_FMU_MAX_HANKEL, OKID_FMU_MAX_HANKEL, \
+                                 2 * MAX_MODES, 0, 1, 2, 1, 1, 0)
 
 enum { STATUS_COLLECTING = 0, STATUS_IDENTIFIED = 1, STATUS_ERROR = 2 };
 
@@ -42,6 +46,7 @@ typedef struct identifier_data {
     /* parameters */
     double dt, forgetting_factor;
     int observer_order, order, hankel_rows, hankel_cols, sensing, realization, identify_every, zero_initial_state;
+    int decimation, scaling, estimator;
     /* inputs */
     double u[R], y[M];
     /* outputs */
@@ -75,6 +80,11 @@ static const fmu_variable_group GROUPS[] = {
     PARAM_INT("realization", realization, 0, "0 system Markov parameters, 1 combined with observer gain"),
     PARAM_INT("identify_every", identify_every, 100, "re-identify every N samples"),
     PARAM_INT("zero_initial_state", zero_initial_state, 1, "1 when the record starts at rest"),
+    PARAM_INT("decimation", decimation, 1,
+              "K: anti-alias filter and keep every K-th sample (1..OKID_FMU_MAX_DECIMATION); p, alpha, beta count "
+              "kept samples; no prediction (y_hat) when K > 1"),
+    PARAM_INT("scaling", scaling, 0, "0 data as given, 1 each channel divided by its RMS (results independent of units)"),
+    PARAM_INT("estimator", estimator, 0, "0 least squares, 1 instrumental variables (no output-noise bias)"),
     {"u%d", R, 0, FMU_REAL, FMU_INPUT, FMU_CONTINUOUS, OFF(u), sizeof(double), 0, 0, NULL, "input (force)"},
     {"y%d", M, 0, FMU_REAL, FMU_INPUT, FMU_CONTINUOUS, OFF(y), sizeof(double), 0, 0, NULL, "output (sensor)"},
     OUT_INT("status", status, "0 collecting, 1 identified, 2 error (see last_error)"),
@@ -144,6 +154,11 @@ static fmu_status exit_initialization(void *data, fmu_logger *logger)
         return refuse(logger, "forgetting_factor must be in (0, 1]");
     }
     if (d->identify_every < 1) return refuse(logger, "identify_every must be >= 1");
+    if (d->decimation < 1 || d->decimation > OKID_FMU_MAX_DECIMATION) {
+        return refuse(logger, "decimation must be in 1..OKID_FMU_MAX_DECIMATION of this build");
+    }
+    if (d->scaling < 0 || d->scaling > 1) return refuse(logger, "scaling must be 0 or 1");
+    if (d->estimator < 0 || d->estimator > 1) return refuse(logger, "estimator must be 0 or 1");
     okid_config cfg;
     okid_config_default(&cfg, R, M);
     cfg.dt = d->dt;
@@ -155,6 +170,9 @@ static fmu_status exit_initialization(void *data, fmu_logger *logger)
     cfg.realization = (okid_realization)d->realization;
     cfg.forgetting_factor = d->forgetting_factor;
     cfg.zero_initial_state = d->zero_initial_state != 0;
+    cfg.decimation = d->decimation;
+    cfg.scaling = (okid_scaling)d->scaling;
+    cfg.estimator = (okid_estimator)d->estimator;
     size_t needed = 0;
     const okid_status st = okid_init(&d->id, &cfg, d->workspace, sizeof d->workspace, &needed);
     if (st != OKID_OK) {

@@ -34,6 +34,16 @@ static const char identify_usage[] =
     "  --forgetting L           exponential forgetting factor in (0, 1] (default 1)\n"
     "  --rank-tolerance T       relative tolerance of the rank-revealing least squares (default 1e-10)\n"
     "  --zero-initial-state     the record starts at rest (use its first samples with zero history)\n"
+    "  --decimate K             anti-alias filter (Butterworth, order 2) and keep every K-th sample, 1..64\n"
+    "                           (default 1); p, alpha, beta then count decimated samples, dt of the\n"
+    "                           results is K dt\n"
+    "  --observer-seconds S     observer order p = round(S / (K dt)) (after --dt, --decimate)\n"
+    "  --hankel-seconds S       Hankel block rows and columns alpha = beta = round(S / (K dt))\n"
+    "  --scale KIND             auto|none (default none): auto divides each input and output by its RMS\n"
+    "                           over the first block of rows, so the units of the channels do not matter\n"
+    "  --estimator KIND         least-squares|instrumental (default least-squares); instrumental removes\n"
+    "                           the bias of output noise with delayed inputs as instruments\n"
+    "  --instrument-lags L      instrument lags (default 0: ceil(q/r) + 2p)\n"
     "  --stabilization NMAX     stabilization diagram data for the even orders 2..NMAX (at most the\n"
     "                           Hankel size) from one SVD; \"stabilization\" in the JSON, plot it with\n"
     "                           okid-stabilization (docs/quality.md)\n"
@@ -45,7 +55,7 @@ static const char identify_usage[] =
 
 typedef struct identify_options {
     const char *file, *inputs, *outputs;
-    double dt;
+    double dt, observer_seconds, hankel_seconds;
     int have_dt, json, timing, repeat, stabilization;
     okid_config cfg;
 } identify_options;
@@ -55,7 +65,9 @@ static int takes_value(const char *opt)
 {
     static const char *const names[] = {"--inputs", "--outputs", "--repeat", "--dt", "--observer-order", "--order",
                                          "--hankel-rows", "--hankel-cols", "--sensing", "--realization",
-                                         "--forgetting", "--rank-tolerance", "--stabilization"};
+                                         "--forgetting", "--rank-tolerance", "--stabilization", "--decimate",
+                                         "--observer-seconds", "--hankel-seconds", "--scale", "--estimator",
+                                         "--instrument-lags"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
         if (strcmp(opt, names[i]) == 0) {
             return 1;
@@ -132,6 +144,22 @@ static int parse_options(int argc, char **argv, identify_options *o)
             o->cfg.forgetting_factor = real;
         } else if (strcmp(opt, "--stabilization") == 0) {
             bad = cli_parse_int(val, &o->stabilization) != 0 || o->stabilization < 2;
+        } else if (strcmp(opt, "--decimate") == 0) {
+            bad = cli_parse_int(val, &o->cfg.decimation) != 0 || o->cfg.decimation < 1 ||
+                  o->cfg.decimation > OKID_MAX_DECIMATION;
+        } else if (strcmp(opt, "--observer-seconds") == 0) {
+            bad = cli_parse_real(val, &o->observer_seconds) != 0 || !(o->observer_seconds > 0);
+        } else if (strcmp(opt, "--hankel-seconds") == 0) {
+            bad = cli_parse_real(val, &o->hankel_seconds) != 0 || !(o->hankel_seconds > 0);
+        } else if (strcmp(opt, "--scale") == 0) {
+            bad = strcmp(val, "auto") != 0 && strcmp(val, "none") != 0;
+            o->cfg.scaling = strcmp(val, "auto") == 0 ? OKID_SCALING_AUTO : OKID_SCALING_NONE;
+        } else if (strcmp(opt, "--estimator") == 0) {
+            bad = strcmp(val, "least-squares") != 0 && strcmp(val, "instrumental") != 0;
+            o->cfg.estimator =
+                strcmp(val, "instrumental") == 0 ? OKID_ESTIMATOR_INSTRUMENTAL : OKID_ESTIMATOR_LEAST_SQUARES;
+        } else if (strcmp(opt, "--instrument-lags") == 0) {
+            bad = cli_parse_int(val, &o->cfg.instrument_lags) != 0 || o->cfg.instrument_lags < 0;
         } else if (strcmp(opt, "--rank-tolerance") == 0) {
             bad = cli_parse_real(val, &real) != 0;
             o->cfg.rank_tolerance = real;
@@ -257,6 +285,9 @@ static void print_table(const okid_config *cfg, const okid_result *res, const co
     printf("r = %d inputs, m = %d outputs, p = %d, Hankel %d x %d, %s realization, %s sensing\n", cfg->num_inputs,
            cfg->num_outputs, cfg->observer_order, cfg->hankel_rows, cfg->hankel_cols,
            cfg->realization == OKID_REALIZATION_COMBINED ? "combined" : "system", cli_sensing_name(cfg->sensing));
+    printf("decimation %d (model dt = %g s), scaling %s, %s estimator\n", res->decimation, (double)res->dt,
+           cfg->scaling == OKID_SCALING_AUTO ? "auto" : "none",
+           cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL ? "instrumental-variable" : "least-squares");
     printf("order n = %d, regressor rank %d of %d (an n-state system gives %d), input rank %d\n", res->order,
            res->regressor_rank, res->regressor_columns, res->regressor_rank_expected, res->input_rank);
     printf("condition numbers: least squares %.3g, input %.3g, realization %.3g\n", (double)res->lsq_condition,
@@ -344,6 +375,8 @@ static int settings_error(const okid_config *cfg, okid_status st)
         hint = "; n must be at most m*p and at most the Hankel size";
     } else if (st == OKID_E_BAD_PARAMETER) {
         hint = "; the forgetting factor must be in (0, 1], the rank tolerance >= 0, dt > 0";
+    } else if (cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL && st == OKID_E_BAD_SIZE) {
+        hint = "; instrumental variables need r (L + 1) >= q, L >= p and L <= 8000 instrument lags";
     }
     return cli_error(EXIT_USAGE, "invalid settings (r = %d, m = %d, p = %d, n = %d, Hankel %d x %d): %s%s",
                      cfg->num_inputs, cfg->num_outputs, cfg->observer_order, cfg->order, cfg->hankel_rows,
@@ -435,8 +468,21 @@ static int run(identify_options *o, const csv_table *t)
     cfg.num_inputs = r;
     cfg.num_outputs = m;
     cfg.dt = (okid_real)dt;
+    okid_status st = OKID_OK;
+    if (o->observer_seconds > 0 || o->hankel_seconds > 0) {
+        /* horizons in seconds: the ones not given keep their counts (count * K dt round-trips) */
+        const double step = dt * cfg.decimation;
+        st = okid_config_horizons(&cfg, (okid_real)(o->observer_seconds > 0 ? o->observer_seconds : cfg.observer_order * step),
+                                  (okid_real)(o->hankel_seconds > 0 ? o->hankel_seconds : cfg.hankel_rows * step),
+                                  (okid_real)(o->hankel_seconds > 0 ? o->hankel_seconds : cfg.hankel_cols * step));
+        if (st != OKID_OK) {
+            free(cc);
+            return cli_error(EXIT_USAGE, "--observer-seconds/--hankel-seconds: %s (at most %d blocks of K dt = %g s)",
+                             okid_status_str(st), OKID_MAX_HORIZON, step);
+        }
+    }
     size_t bytes = 0;
-    okid_status st = okid_workspace_size(&cfg, &bytes);
+    st = okid_workspace_size(&cfg, &bytes);
     if (st != OKID_OK) {
         free(cc);
         return settings_error(&cfg, st);

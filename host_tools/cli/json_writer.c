@@ -141,6 +141,15 @@ void json_result(FILE *out, const okid_config *cfg, const okid_result *res, cons
     fprintf(out, "  \"hankel_rows\": %d,\n  \"hankel_cols\": %d,\n", cfg->hankel_rows, cfg->hankel_cols);
     fprintf(out, "  \"realization\": \"%s\",\n",
             cfg->realization == OKID_REALIZATION_COMBINED ? "combined" : "system");
+    /* the options of docs/quality.md; "dt" below is the model's, decimation times "sample_dt" */
+    fprintf(out, "  \"decimation\": %d,\n  \"sample_dt\": ", res->decimation);
+    json_number(out, (double)cfg->dt);
+    fprintf(out, ",\n  \"scale\": \"%s\",\n  \"estimator\": \"%s\",\n",
+            cfg->scaling == OKID_SCALING_AUTO ? "auto" : "none",
+            cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL ? "instrumental" : "least-squares");
+    if (cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL) {
+        fprintf(out, "  \"instrument_lags\": %d,\n", res->instrument_lags);
+    }
     fprintf(out, "  \"samples\": %llu,\n  \"rows\": %llu,\n  \"dt\": ", (unsigned long long)res->samples,
             (unsigned long long)res->rows);
     json_number(out, (double)res->dt);

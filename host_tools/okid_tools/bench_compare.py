@@ -75,8 +75,9 @@ def era_A(Y, alpha, beta, n):
     return Sr @ U[:, :n].T @ H1 @ Vt[:n].T @ Sr
 
 
-def numpy_okid_era(u, y, dt, p, h, n=4):
-    """OKID (eq. 49-51) by numpy least squares, then ERA: written here from the paper's equations."""
+def numpy_okid_markov(u, y, p, count):
+    """OKID (eq. 49-51) by numpy least squares: Markov parameters Y_0 .. Y_count, written here from the
+    paper's equations."""
     N, r = u.shape
     m = y.shape[1]
     v = np.hstack([u, y])
@@ -86,12 +87,17 @@ def numpy_okid_era(u, y, dt, p, h, n=4):
     Y1 = [X[:, r + (i - 1) * (r + m): r + (i - 1) * (r + m) + r] for i in range(1, p + 1)]
     G = [X[:, r + (i - 1) * (r + m) + r: r + i * (r + m)] for i in range(1, p + 1)]
     Y = [D]
-    for k in range(1, 2 * h + 2):
+    for k in range(1, count + 1):
         Yk = Y1[k - 1].copy() if k <= p else np.zeros((m, r))
         for i in range(1, min(k, p) + 1):
             Yk += G[i - 1] @ Y[k - i]
         Y.append(Yk)
-    return modal(era_A(Y, h, h, n), dt)
+    return Y
+
+
+def numpy_okid_era(u, y, dt, p, h, n=4):
+    """numpy OKID, then ERA."""
+    return modal(era_A(numpy_okid_markov(u, y, p, 2 * h + 1), h, h, n), dt)
 
 
 def mdof_okid_era(u, y, dt, m, h, n=4):

@@ -4,28 +4,32 @@
  * Hankel blocks are Gamma_k = [Y_k, Y°_k] (m x (r + m), eq. 54 side by side, as E_(r+m) in eq. 61
  * requires) or Y_k alone. In the combined case each column of Gamma is scaled to unit norm over
  * the Hankel window first, so forces and sensors in any units weigh alike in the SVD; B and G
- * are unscaled exactly afterwards. H(1) is never formed: H(1) V_n is summed block by block.
+ * are unscaled exactly afterwards. With OKID_SCALING_AUTO the blocks are first balanced by the
+ * channel scales, Gamma~_k = S_y^-1 [Y_k S_u, Y°_k S_y] (the Markov parameters of the scaled
+ * data), and C = S_y C~ afterwards: the realization no longer depends on the channels' units.
+ * H(1) is never formed: H(1) V_n is summed block by block.
  */
 #include "era.h"
 
+#include "channel_scaling.h"
 #include "dense.h"
 #include "linalg.h"
 #include "real_math.h"
 
-/* Gamma_k(a, l), k = 1..L, scaled by the column factor. */
+/* Gamma_k(a, l), k = 1..L, scaled by the column factor and by the scale of output a. */
 static okid_real gamma_at(const okid_identifier *id, int k, int a, int l)
 {
     const int r = id->dims_.r, m = id->dims_.m;
     const okid_real raw = (l < r) ? OKID_AT(id->at_.markov, m, a, k * r + l)
                                   : OKID_AT(id->at_.markov_obs, m, a, (k - 1) * m + (l - r));
-    return raw * id->at_.era_scale[l];
+    return raw * id->at_.era_scale[l] / okid_channel_scale(id, r + a);
 }
 
 static void column_scales(okid_identifier *id)
 {
     const int m = id->dims_.m, nc = id->dims_.ncols, L = id->dims_.markov_count;
     for (int l = 0; l < nc; ++l) {
-        id->at_.era_scale[l] = 1;
+        id->at_.era_scale[l] = okid_channel_scale(id, l); /* input l, then the outputs of the observer block */
     }
     if (id->at_.markov_obs == NULL) {
         return;
@@ -38,7 +42,7 @@ static void column_scales(okid_identifier *id)
                 s += g * g;
             }
         }
-        id->at_.era_scale[l] = (s > 0) ? 1 / okid_sqrt(s) : 1;
+        id->at_.era_scale[l] *= (s > 0) ? 1 / okid_sqrt(s) : 1;
     }
 }
 
@@ -121,7 +125,7 @@ okid_status okid_era_realize(okid_identifier *id, int *order, unsigned *warnings
     for (int t = 0; t < n; ++t) {
         const okid_real root = okid_sqrt(sv[t]);
         for (int a = 0; a < m; ++a) {
-            OKID_AT(v->c, m, a, t) = OKID_AT(u, hr, a, t) * root;
+            OKID_AT(v->c, m, a, t) = OKID_AT(u, hr, a, t) * root * okid_channel_scale(id, r + a);
         }
         for (int l = 0; l < nc; ++l) {
             const okid_real value = root * OKID_AT(v->era_vt, k, t, l) / v->era_scale[l];

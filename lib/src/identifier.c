@@ -1,9 +1,12 @@
 /* The public identifier API: argument checks, state, and the identify pipeline (DESIGN.md data flow). */
 #include "okid/identifier.h"
 
+#include "channel_scaling.h"
+#include "decimator.h"
 #include "dense.h"
 #include "diagnostics.h"
 #include "era.h"
+#include "instrumental.h"
 #include "least_squares.h"
 #include "markov.h"
 #include "modal_indicators_internal.h"
@@ -43,6 +46,47 @@ okid_status okid_config_default(okid_config *cfg, int num_inputs, int num_output
     cfg->sensing = OKID_SENSING_ACCELERATION;
     cfg->realization = OKID_REALIZATION_SYSTEM;
     cfg->zero_initial_state = 0;
+    cfg->decimation = 1;
+    cfg->scaling = OKID_SCALING_NONE;
+    cfg->estimator = OKID_ESTIMATOR_LEAST_SQUARES;
+    cfg->instrument_lags = 0;
+    return OKID_OK;
+}
+
+/* seconds / step rounded to the nearest count (halves up), at least 1; -1 when out of range. */
+static int blocks_of(okid_real seconds, okid_real step)
+{
+    const okid_real count = seconds / step + OKID_R(0.5);
+    if (!(count < (okid_real)OKID_MAX_HORIZON + 1)) {
+        return -1;
+    }
+    return count < 1 ? 1 : (int)count;
+}
+
+okid_status okid_config_horizons(okid_config *cfg, okid_real observer_seconds, okid_real hankel_rows_seconds,
+                                 okid_real hankel_cols_seconds)
+{
+    if (cfg == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    if (cfg->decimation < 0 || cfg->decimation > OKID_MAX_DECIMATION) {
+        return OKID_E_BAD_SIZE;
+    }
+    const okid_real step = cfg->dt * (okid_real)(cfg->decimation > 1 ? cfg->decimation : 1);
+    const okid_real seconds[3] = {observer_seconds, hankel_rows_seconds, hankel_cols_seconds};
+    int counts[3];
+    for (int i = 0; i < 3; ++i) {
+        if (!okid_is_finite(seconds[i]) || !(seconds[i] > 0) || !okid_is_finite(cfg->dt) || !(cfg->dt > 0)) {
+            return OKID_E_BAD_PARAMETER;
+        }
+        counts[i] = blocks_of(seconds[i], step);
+        if (counts[i] < 0) {
+            return OKID_E_BAD_SIZE;
+        }
+    }
+    cfg->observer_order = counts[0];
+    cfg->hankel_rows = counts[1];
+    cfg->hankel_cols = counts[2];
     return OKID_OK;
 }
 
@@ -56,15 +100,31 @@ okid_status okid_workspace_size(const okid_config *cfg, size_t *bytes)
     if (st != OKID_OK) {
         return st;
     }
-    *bytes = okid_layout_carve(&dims, cfg->realization == OKID_REALIZATION_COMBINED, NULL, NULL);
+    *bytes = okid_layout_carve(&dims, cfg->realization == OKID_REALIZATION_COMBINED,
+                               cfg->scaling == OKID_SCALING_AUTO, NULL, NULL);
     return OKID_OK;
+}
+
+/* Start the sample history again (at init, reset, and after a rejected sample: a gap). */
+static void restart_history(okid_identifier *id, int zero_history)
+{
+    okid_buffer_restart(id, zero_history);
+    okid_iv_restart(id, zero_history);
+    if (id->at_.dec_state != NULL) {
+        okid_decimator_reset(id->at_.dec_state, id->dims_.r + id->dims_.m);
+    }
+    id->dec_phase_ = 0;
 }
 
 static void clear_samples(okid_identifier *id)
 {
     const int w = id->dims_.w;
     okid_zero_matrix(w, w, id->at_.r, w);
-    okid_buffer_restart(id, id->cfg_.zero_initial_state);
+    if (id->at_.iv_m != NULL) {
+        okid_zero_matrix(id->dims_.nz, w, id->at_.iv_m, id->dims_.nz);
+    }
+    restart_history(id, id->cfg_.zero_initial_state);
+    id->scales_known_ = 0;
     id->block_fill_ = 0;
     id->samples_ = 0;
     id->rejected_ = 0;
@@ -84,8 +144,8 @@ okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspa
     if (st != OKID_OK) {
         return st;
     }
-    const int combined = cfg->realization == OKID_REALIZATION_COMBINED;
-    const size_t needed = okid_layout_carve(&dims, combined, NULL, NULL);
+    const int combined = cfg->realization == OKID_REALIZATION_COMBINED, scaled = cfg->scaling == OKID_SCALING_AUTO;
+    const size_t needed = okid_layout_carve(&dims, combined, scaled, NULL, NULL);
     if (bytes_needed != NULL) {
         *bytes_needed = needed;
     }
@@ -99,21 +159,30 @@ okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspa
         return OKID_E_WORKSPACE_TOO_SMALL;
     }
     id->cfg_ = *cfg;
+    id->cfg_.decimation = dims.decimation;
+    id->cfg_.dt = cfg->dt * (okid_real)dims.decimation; /* the model's sample interval */
+    id->cfg_.instrument_lags = dims.instrument_lags;
     id->dims_ = dims;
     id->forgetting_ = (cfg->forgetting_factor > 0) ? cfg->forgetting_factor : 1;
     id->rank_tolerance_ = (cfg->rank_tolerance > 0) ? cfg->rank_tolerance : DEFAULT_RANK_TOLERANCE;
-    (void)okid_layout_carve(&dims, combined, (unsigned char *)workspace, &id->at_);
+    (void)okid_layout_carve(&dims, combined, scaled, (unsigned char *)workspace, &id->at_);
+    if (id->at_.dec_coef != NULL) {
+        okid_decimator_design(dims.decimation, id->at_.dec_coef);
+    }
     clear_samples(id);
     id->magic_ = OKID_MAGIC;
     return OKID_OK;
 }
 
-/* One finite sample into the window and, once the window is full, one regressor row into the block. */
+/* One kept sample into the window and, once the window is full, one regressor row into the block. */
 static okid_status accept_sample(okid_identifier *id, const okid_real *u, const okid_real *y)
 {
     okid_status st = OKID_OK;
-    if (okid_buffer_window_full(id)) {
+    if (okid_buffer_window_full(id) && okid_iv_ready(id)) {
         okid_buffer_write_row(id, u, y, id->block_fill_);
+        if (id->dims_.nz > 0) {
+            okid_iv_write_row(id, u, id->block_fill_);
+        }
         ++id->block_fill_;
         ++id->rows_;
         if (id->block_fill_ == id->dims_.block_rows) {
@@ -121,18 +190,36 @@ static okid_status accept_sample(okid_identifier *id, const okid_real *u, const 
         }
     }
     okid_buffer_append(id, u, y);
-    ++id->samples_;
+    okid_iv_append(id, u);
     return st;
+}
+
+/* Decimation: filter every pushed sample, keep pushed samples 0, K, 2K, ... of each stretch. */
+static okid_status decimate_sample(okid_identifier *id, const okid_real *u, const okid_real *y)
+{
+    const int r = id->dims_.r, m = id->dims_.m;
+    okid_real *v = id->at_.dec_out;
+    for (int i = 0; i < r; ++i) {
+        v[i] = u[i];
+    }
+    for (int i = 0; i < m; ++i) {
+        v[r + i] = y[i];
+    }
+    okid_decimator_filter(id->at_.dec_coef, id->at_.dec_state, r + m, v);
+    const int keep = id->dec_phase_ == 0;
+    id->dec_phase_ = (id->dec_phase_ + 1) % id->dims_.decimation;
+    return keep ? accept_sample(id, v, v + r) : OKID_OK;
 }
 
 static okid_status push_one(okid_identifier *id, const okid_real *u, const okid_real *y)
 {
     if (!okid_all_finite(id->dims_.r, 1, u, id->dims_.r) || !okid_all_finite(id->dims_.m, 1, y, id->dims_.m)) {
         ++id->rejected_;
-        okid_buffer_restart(id, 0); /* a gap: the next rows must not span it */
+        restart_history(id, 0); /* a gap: the next rows must not span it */
         return OKID_E_NONFINITE_SAMPLE;
     }
-    return accept_sample(id, u, y);
+    ++id->samples_;
+    return (id->dims_.decimation > 1) ? decimate_sample(id, u, y) : accept_sample(id, u, y);
 }
 
 okid_status okid_push(okid_identifier *id, const okid_real *u, const okid_real *y)
@@ -199,6 +286,9 @@ okid_status okid_identify(okid_identifier *id, okid_result *result)
         return OKID_E_NOT_ENOUGH_DATA;
     }
     okid_status st = okid_lsq_fold_pending(id);
+    if (st == OKID_OK && d->nz > 0) {
+        st = okid_iv_factor(id); /* the factor R is rebuilt from the instruments' cross-product */
+    }
     if (st != OKID_OK) {
         return st;
     }
@@ -208,6 +298,7 @@ okid_status okid_identify(okid_identifier *id, okid_result *result)
     if (st != OKID_OK) {
         return st;
     }
+    okid_scaling_unscale_solution(id);
     okid_markov_recover(id);
 
     unsigned warnings = (regressor_rank < d->q) ? OKID_W_REGRESSOR_RANK_DEFICIENT : 0u;
@@ -265,6 +356,11 @@ okid_status okid_identify(okid_identifier *id, okid_result *result)
     result->lsq_condition = diag.lsq_condition;
     result->input_condition = diag.input_condition;
     result->realization_condition = realization_condition;
+    result->decimation = d->decimation;
+    result->instrument_lags = d->instrument_lags;
+    const int scaled = id->at_.scales != NULL && id->scales_known_;
+    result->input_scales = scaled ? id->at_.scales : NULL;
+    result->output_scales = scaled ? id->at_.scales + r : NULL;
     id->has_model_ = 1;
     return OKID_OK;
 }
@@ -277,8 +373,8 @@ okid_status okid_predict(const okid_identifier *id, const okid_real *u, okid_rea
     if (!is_initialized(id)) {
         return OKID_E_NOT_INITIALIZED;
     }
-    if (!id->has_model_) {
-        return OKID_E_NOT_AVAILABLE;
+    if (!id->has_model_ || id->dims_.decimation > 1) {
+        return OKID_E_NOT_AVAILABLE; /* with decimation the window holds filtered samples, not the pushed ones */
     }
     if (!okid_buffer_window_full(id)) {
         return OKID_E_NOT_ENOUGH_DATA;
@@ -287,6 +383,31 @@ okid_status okid_predict(const okid_identifier *id, const okid_real *u, okid_rea
         return OKID_E_NONFINITE_SAMPLE;
     }
     okid_buffer_predict(id, u, id->at_.x, y_hat);
+    return OKID_OK;
+}
+
+okid_status okid_set_scales(okid_identifier *id, const okid_real *input_scales, const okid_real *output_scales)
+{
+    if (id == NULL || input_scales == NULL || output_scales == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    if (!is_initialized(id)) {
+        return OKID_E_NOT_INITIALIZED;
+    }
+    const int r = id->dims_.r, m = id->dims_.m;
+    for (int i = 0; i < r + m; ++i) {
+        const okid_real s = i < r ? input_scales[i] : output_scales[i - r];
+        if (!okid_is_finite(s) || !(s > 0)) {
+            return OKID_E_BAD_PARAMETER;
+        }
+    }
+    if (id->at_.scales == NULL || id->scales_known_) {
+        return OKID_E_NOT_AVAILABLE;
+    }
+    for (int i = 0; i < r + m; ++i) {
+        id->at_.scales[i] = i < r ? input_scales[i] : output_scales[i - r];
+    }
+    id->scales_known_ = 1;
     return OKID_OK;
 }
 

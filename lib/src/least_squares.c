@@ -1,25 +1,33 @@
 /* Block QR accumulation and rank-revealing solve: see least_squares.h. */
 #include "least_squares.h"
 
+#include "channel_scaling.h"
 #include "dense.h"
+#include "instrumental.h"
 #include "linalg.h"
 #include "real_math.h"
 
 okid_status okid_lsq_fold_pending(okid_identifier *id)
 {
-    const int rows = id->block_fill_, w = id->dims_.w, ld = id->dims_.block_rows;
+    const int rows = id->block_fill_, w = id->dims_.w, ld = id->dims_.block_rows, nz = id->dims_.nz;
     if (rows == 0) {
         return OKID_OK;
     }
+    okid_scaling_apply_pending(id);
     const okid_real lambda = id->forgetting_;
+    okid_real decay = 1; /* of what is already accumulated: `rows` samples older than the newest row */
     if (lambda < 1) {
-        /* Row i of the block (0 = oldest) is rows-1-i samples older than the newest one; the
-           factor already folded is `rows` samples older than the newest row. */
+        /* Row i of the block (0 = oldest) is rows-1-i samples older than the newest one. The factor
+           R weighs rows by root^age (its square by lambda^age); the instruments' cross-product
+           takes root^age from each side. */
         const okid_real root = okid_sqrt(lambda);
         const okid_real rscale = okid_pow(root, (okid_real)rows);
-        for (int j = 0; j < w; ++j) {
-            for (int i = 0; i <= j; ++i) {
-                OKID_AT(id->at_.r, w, i, j) *= rscale;
+        decay = rscale * rscale;
+        if (nz == 0) {
+            for (int j = 0; j < w; ++j) {
+                for (int i = 0; i <= j; ++i) {
+                    OKID_AT(id->at_.r, w, i, j) *= rscale;
+                }
             }
         }
         okid_real weight = 1;
@@ -27,11 +35,19 @@ okid_status okid_lsq_fold_pending(okid_identifier *id)
             for (int j = 0; j < w; ++j) {
                 OKID_AT(id->at_.block, ld, i, j) *= weight;
             }
+            for (int j = 0; j < nz; ++j) {
+                OKID_AT(id->at_.iv_block, ld, i, j) *= weight;
+            }
             weight *= root;
         }
     }
-    const okid_status st = okid_la_fold_rows(w, id->at_.r, w, rows, id->at_.block, ld,
-                                             id->dims_.block_tile, id->at_.fold_t, id->at_.fold_work);
+    okid_status st = OKID_OK;
+    if (nz > 0) {
+        okid_iv_accumulate(id, decay);
+    } else {
+        st = okid_la_fold_rows(w, id->at_.r, w, rows, id->at_.block, ld, id->dims_.block_tile, id->at_.fold_t,
+                               id->at_.fold_work);
+    }
     id->block_fill_ = 0;
     return st;
 }

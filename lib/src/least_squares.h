@@ -9,7 +9,8 @@
 
 #include "okid/identifier.h"
 
-/* Fold the pending rows of the block into R (with the forgetting weights) and empty the block. */
+/* Fold the pending rows of the block into R (with the channel scales and the forgetting weights),
+   or into the instruments' cross-product (OKID_ESTIMATOR_INSTRUMENTAL), and empty the block. */
 okid_status okid_lsq_fold_pending(okid_identifier *id);
 
 /*

@@ -6,6 +6,7 @@
  */
 #include "modal_indicators_internal.h"
 
+#include "channel_scaling.h"
 #include "dense.h"
 #include "linalg.h"
 #include "real_math.h"
@@ -159,7 +160,7 @@ void okid_indicators_capture(const okid_identifier *id, int n, okid_real *obs_la
     for (int t = 0; t < n; ++t) {
         const okid_real root = okid_sqrt(v->sv[t]);
         for (int a = 0; a < m; ++a) {
-            OKID_AT(obs_last, m, a, t) = OKID_AT(v->era_h, hr, last_row + a, t) * root;
+            OKID_AT(obs_last, m, a, t) = OKID_AT(v->era_h, hr, last_row + a, t) * root * okid_channel_scale(id, r + a);
         }
         for (int l = 0; l < r; ++l) {
             OKID_AT(ctrl_last, n, t, l) = root * OKID_AT(v->era_vt, k, t, last_col + l) / v->era_scale[l];

@@ -8,6 +8,7 @@
 #include <limits.h>
 
 #include "carve.h"
+#include "decimator.h"
 #include "real_math.h"
 
 #define MIN(a, b) ((a) < (b) ? (a) : (b))
@@ -33,9 +34,13 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims)
     if (!okid_is_finite(cfg->dt) || cfg->dt <= 0 || !okid_is_finite(cfg->forgetting_factor) ||
         cfg->forgetting_factor < 0 || cfg->forgetting_factor > 1 || !okid_is_finite(cfg->rank_tolerance) ||
         cfg->rank_tolerance < 0 || cfg->rank_tolerance >= 1 || (unsigned)cfg->sensing > 2u ||
-        (unsigned)cfg->realization > 1u ||
-        (cfg->zero_initial_state != 0 && cfg->zero_initial_state != 1)) {
+        (unsigned)cfg->realization > 1u || (cfg->zero_initial_state != 0 && cfg->zero_initial_state != 1) ||
+        (unsigned)cfg->scaling > 1u || (unsigned)cfg->estimator > 1u) {
         return OKID_E_BAD_PARAMETER;
+    }
+    if (cfg->decimation < 0 || cfg->decimation > OKID_MAX_DECIMATION || cfg->instrument_lags < 0 ||
+        cfg->instrument_lags > OKID_MAX_INSTRUMENT_LAGS) {
+        return OKID_E_BAD_SIZE;
     }
     const int combined = cfg->realization == OKID_REALIZATION_COMBINED;
     dims->r = r;
@@ -53,8 +58,21 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims)
        small and hands the rest to level-3 BLAS; 8 up to w = 128, 16 above, was fastest with both
        the reference BLAS and OpenBLAS (2.2x at r = 1, m = 2, p = 20; docs/benchmarks.md). */
     dims->block_tile = MIN(MIN(dims->block_rows, dims->w), dims->w <= 128 ? 8 : 16);
+    dims->decimation = cfg->decimation > 1 ? cfg->decimation : 1;
+    dims->instrument_lags = 0;
+    dims->nz = 0;
+    if (cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL) {
+        /* the same rule as OKID__IV_LAGS; at least q instruments, and at least the p lags of the window */
+        const long long lags = cfg->instrument_lags > 0 ? cfg->instrument_lags : (dims->q + r - 1) / r + 2LL * p;
+        if (lags > OKID_MAX_INSTRUMENT_LAGS || lags < p || (long long)r * (lags + 1) < dims->q ||
+            !fits_int((long long)r * (lags + 1), dims->w)) {
+            return OKID_E_BAD_SIZE;
+        }
+        dims->instrument_lags = (int)lags;
+        dims->nz = r * (dims->instrument_lags + 1);
+    }
     if (!fits_int(dims->w, dims->w) || !fits_int(dims->hankel_rows, dims->hankel_cols) ||
-        !fits_int(dims->block_rows, dims->w)) {
+        !fits_int(dims->block_rows, dims->w) || !fits_int(dims->block_rows, dims->nz)) {
         return OKID_E_BAD_SIZE;
     }
     if (cfg->order < 0 || cfg->order > OKID_MAX_ORDER) {
@@ -74,7 +92,27 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims)
     return OKID_OK;
 }
 
-size_t okid_layout_carve(const okid_dims_ *d, int combined, unsigned char *base, okid_views_ *v)
+/* The persistent regions of the options (decimation, scaling, instrumental variables); NULL when off. */
+static void carve_options(const okid_dims_ *d, int scaled, okid_carver *c, okid_views_ *v)
+{
+    const size_t channels = (size_t)d->r + (size_t)d->m, nz = (size_t)d->nz;
+    v->dec_coef = v->dec_state = v->dec_out = v->scales = v->iv_ring = v->iv_block = v->iv_m = NULL;
+    if (d->decimation > 1) {
+        v->dec_coef = okid_carve_reals(c, OKID_DECIMATOR_COEFS);
+        v->dec_state = okid_carve_reals(c, OKID_DECIMATOR_STATE * channels);
+        v->dec_out = okid_carve_reals(c, channels);
+    }
+    if (scaled) {
+        v->scales = okid_carve_reals(c, channels);
+    }
+    if (nz > 0) {
+        v->iv_ring = okid_carve_reals(c, (size_t)d->r * (size_t)d->instrument_lags);
+        v->iv_block = okid_carve_reals(c, (size_t)d->block_rows * nz);
+        v->iv_m = okid_carve_reals(c, nz * (size_t)d->w);
+    }
+}
+
+size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned char *base, okid_views_ *v)
 {
     okid_views_ dry;
     if (v == NULL) {
@@ -88,6 +126,7 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, unsigned char *base,
     v->ring = okid_carve_reals(&c, p * (r + m));
     v->block = okid_carve_reals(&c, (size_t)d->block_rows * w);
     v->r = okid_carve_reals(&c, w * w);
+    carve_options(d, scaled, &c, v);
 
     v->markov = okid_carve_reals(&c, m * r * (L + 1));
     v->markov_obs = combined ? okid_carve_reals(&c, m * m * L) : NULL;

@@ -40,6 +40,10 @@ extern "C" {
 #define OKID_MAX_HORIZON 1000
 /** Largest model order n. */
 #define OKID_MAX_ORDER 512
+/** Largest decimation factor K. */
+#define OKID_MAX_DECIMATION 64
+/** Largest number of instrument lags (OKID_ESTIMATOR_INSTRUMENTAL). */
+#define OKID_MAX_INSTRUMENT_LAGS 8000
 
 /** Which Markov parameters the ERA Hankel matrices are built from. */
 typedef enum okid_realization {
@@ -52,6 +56,38 @@ typedef enum okid_realization {
      */
     OKID_REALIZATION_COMBINED = 1
 } okid_realization;
+
+/** Per-channel scaling of the data before the least squares (docs/quality.md, "Scaling"). */
+typedef enum okid_scaling {
+    /** The data as pushed: results depend on the relative units of the channels. */
+    OKID_SCALING_NONE = 0,
+    /**
+     * Each input and output channel is divided by its RMS over the first block of regressor rows
+     * (block_rows samples after the first p, at the decimated rate, or the rows pending at the
+     * first okid_identify() if that comes first; a channel that is zero there keeps scale 1), or
+     * by scales given with okid_set_scales(). The rows are scaled when the block is folded, so the
+     * scales must be known before the first fold. The ERA Hankel is built from the Markov
+     * parameters of the scaled data, and A, B, C, D, G, the Markov parameters and the observer
+     * solution are unscaled exactly before they are returned: the modes no longer depend on the
+     * units.
+     */
+    OKID_SCALING_AUTO = 1
+} okid_scaling;
+
+/** How the observer Markov parameters (eq. 50) are estimated from the regressor. */
+typedef enum okid_estimator {
+    /** Least squares (eq. 50): biased when the outputs carry measurement noise. */
+    OKID_ESTIMATOR_LEAST_SQUARES = 0,
+    /**
+     * Instrumental variables with delayed inputs (Soederstroem and Stoica, 1989, ch. 8): the
+     * normal equations Phi'Phi X = Phi'y become Z'Phi X = Z'y with z(k) = [u(k); ...; u(k-L)],
+     * L = instrument_lags, solved in the least-squares sense (extended IV). The inputs are
+     * uncorrelated with the output noise, so the bias of eq. 50 under output noise vanishes;
+     * the price is more variance. Fixed memory: Z'[Phi y] (r (L+1) x (q+m)) and a ring of L inputs.
+     * The ranks and condition numbers of okid_result then describe Z'Phi, not Phi.
+     */
+    OKID_ESTIMATOR_INSTRUMENTAL = 1
+} okid_estimator;
 
 /** Configuration of an identifier. okid_config_default() fills every field with a usable value. */
 typedef struct okid_config {
@@ -88,6 +124,23 @@ typedef struct okid_config {
      * give regressor rows with zero history, as in eq. 49. 0 (default) waits for p samples.
      */
     int zero_initial_state;
+    /**
+     * Decimation factor K, 1..OKID_MAX_DECIMATION (0 is read as 1). K > 1 passes every pushed
+     * input and output through the same anti-alias filter (Butterworth, order 2, -3 dB at half
+     * the decimated Nyquist frequency, one biquad designed at init; docs/quality.md says why so
+     * gentle) and keeps every K-th sample (pushed samples 0, K, 2K, ...) after a gap or reset. The
+     * identified model and its modes have the sample interval K dt; p, alpha and beta count
+     * decimated samples. One filter for inputs and outputs leaves the input-output dynamics as
+     * they are. okid_predict() is not available with K > 1.
+     */
+    int decimation;
+    okid_scaling scaling;      /**< per-channel scaling (default OKID_SCALING_NONE) */
+    okid_estimator estimator;  /**< least squares (default) or instrumental variables */
+    /**
+     * Instrument lags L of OKID_ESTIMATOR_INSTRUMENTAL: r (L + 1) >= q and L >= p, at most
+     * OKID_MAX_INSTRUMENT_LAGS. 0 selects ceil(q / r) + 2 p. Ignored by least squares.
+     */
+    int instrument_lags;
 } okid_config;
 
 /** Counters of an identifier, for progress displays. */
@@ -131,6 +184,10 @@ typedef struct okid_result {
     okid_real input_condition;
     /** sigma_1 / sigma_n of the Hankel matrix H(0) at the realized order n. */
     okid_real realization_condition;
+    int decimation;                  /**< K: the model's dt is K times the pushed samples' interval */
+    int instrument_lags;             /**< L of OKID_ESTIMATOR_INSTRUMENTAL (the automatic value resolved); 0 for least squares */
+    /** Scale of each input (r values) and output (m values) with OKID_SCALING_AUTO; NULL otherwise. */
+    const okid_real *input_scales, *output_scales;
 } okid_result;
 
 /** Views into the workspace (internal: use the functions below). */
@@ -153,6 +210,10 @@ typedef struct okid_views_ {
     int *ind_jpvt;
     okid_real *diag_scale, *diag_a, *diag_b, *diag_work;
     int *diag_jpvt;
+    /* options: NULL when not configured */
+    okid_real *dec_coef, *dec_state, *dec_out; /* anti-alias biquads, their state per channel, the kept sample */
+    okid_real *scales;                         /* r input then m output scales */
+    okid_real *iv_ring, *iv_block, *iv_m;      /* past inputs, pending instrument rows, Z'[Phi y] */
 } okid_views_;
 
 /** Sizes derived from the configuration (internal). */
@@ -161,16 +222,20 @@ typedef struct okid_dims_ {
     int ncols;                /* columns of one Hankel block: r, or r + m when combined */
     int hankel_rows, hankel_cols, svd_size, max_order, markov_count;
     int block_rows, block_tile;
+    int decimation, instrument_lags, nz; /* K; L and nz = r (L + 1) (0 for least squares) */
 } okid_dims_;
 
 /** The identifier. Caller-owned; every field is internal (read it through the functions below). */
 typedef struct okid_identifier {
     uint32_t magic_;
-    okid_config cfg_;
+    okid_config cfg_;            /* as given, except dt: the model's interval, K times the pushed one */
     okid_dims_ dims_;
     okid_real forgetting_, rank_tolerance_;
     int block_fill_, window_fill_, ring_head_;
     int has_model_;              /* 1 after a successful okid_identify(), until init/reset */
+    int dec_phase_;              /* pushed samples since the last kept one (decimation) */
+    int scales_known_;           /* 1 once the scales are set (OKID_SCALING_AUTO: at the first fold) */
+    int iv_fill_, iv_head_;      /* inputs in the instrument ring, slot of u(k-1) */
     uint64_t samples_, rejected_, rows_;
     okid_views_ at_;
 } okid_identifier;
@@ -246,7 +311,8 @@ typedef struct okid_identifier {
  *   static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char ws[OKID_WORKSPACE_BYTES(1, 2, 20, 20, 20, 4, 32, 0)];
  * \endcode
  * Arguments: r, m, p, alpha, beta, order (0 = automatic), block_rows (0 = default),
- * combined (1 for OKID_REALIZATION_COMBINED). Equals okid_workspace_size() for a valid configuration.
+ * combined (1 for OKID_REALIZATION_COMBINED). Equals okid_workspace_size() for a valid configuration
+ * without the quality options (see OKID_WORKSPACE_BYTES_OPTIONS).
  */
 #define OKID_WORKSPACE_BYTES(r, m, p, alpha, beta, order, block_rows, combined)                            \
     (OKID__PERSISTENT_BYTES(r, m, p, block_rows)                                                         \
@@ -255,12 +321,34 @@ typedef struct okid_identifier {
      + OKID__SCRATCH_BYTES(r, m, p, alpha, beta, OKID__N(r, m, p, alpha, beta, order, combined),              \
                            OKID__K(r, m, alpha, beta, combined), block_rows, combined))
 
+/* Options (okid_config decimation, scaling, estimator, instrument_lags): persistent memory on top. */
+#define OKID__DEC_BYTES(r, m, decimation) \
+    ((decimation) > 1 ? OKID__RB(5u) + OKID__RB(2u * (OKID__Z(r) + OKID__Z(m))) + OKID__RB(OKID__Z(r) + OKID__Z(m)) : 0u)
+#define OKID__SCALE_BYTES(r, m, scaling) ((scaling) ? OKID__RB(OKID__Z(r) + OKID__Z(m)) : 0u)
+#define OKID__IV_LAGS(r, m, p, lags) \
+    ((lags) > 0 ? OKID__Z(lags) : (OKID__Q(r, m, p) + OKID__Z(r) - 1u) / OKID__Z(r) + 2u * OKID__Z(p))
+#define OKID__IV_BYTES(r, m, p, block_rows, estimator, lags)                                                  \
+    ((estimator) ? OKID__RB(OKID__Z(r) * OKID__IV_LAGS(r, m, p, lags))                                        \
+                       + OKID__RB(OKID__NB(block_rows) * OKID__Z(r) * (OKID__IV_LAGS(r, m, p, lags) + 1u))    \
+                       + OKID__RB(OKID__Z(r) * (OKID__IV_LAGS(r, m, p, lags) + 1u) * OKID__W(r, m, p))        \
+                 : 0u)
+
+/**
+ * OKID_WORKSPACE_BYTES with the quality options: decimation (K, 0 or 1 = none), scaling
+ * (okid_scaling), estimator (okid_estimator) and instrument_lags (0 = automatic). Equals
+ * okid_workspace_size() for a valid configuration.
+ */
+#define OKID_WORKSPACE_BYTES_OPTIONS(r, m, p, alpha, beta, order, block_rows, combined, decimation, scaling,   \
+                                     estimator, lags)                                                          \
+    (OKID_WORKSPACE_BYTES(r, m, p, alpha, beta, order, block_rows, combined) + OKID__DEC_BYTES(r, m, decimation) \
+     + OKID__SCALE_BYTES(r, m, scaling) + OKID__IV_BYTES(r, m, p, block_rows, estimator, lags))
+
 /* ---- API ---- */
 
 /**
  * Fill a configuration with defaults for r inputs and m outputs: p = 10, automatic order,
  * alpha = beta = 20, dt = 1, no forgetting, default tolerance, acceleration sensing, system
- * realization, records not assumed to start at rest.
+ * realization, records not assumed to start at rest, no decimation, no scaling, least squares.
  * \param[out] cfg  configuration to fill
  * \param[in]  num_inputs  r
  * \param[in]  num_outputs m
@@ -269,9 +357,24 @@ typedef struct okid_identifier {
 okid_status okid_config_default(okid_config *cfg, int num_inputs, int num_outputs);
 
 /**
+ * Set the observer order and the Hankel block rows and columns from horizons in seconds, for the
+ * model's sample interval K dt (cfg->dt and cfg->decimation must be set first): each count is
+ * seconds / (K dt) rounded to the nearest integer (halves up), at least 1. Example: dt = 0.01 s,
+ * K = 5, 1 s gives 20 blocks. The configuration is left as it was on error.
+ * \param[in,out] cfg                  configuration
+ * \param[in]     observer_seconds     p K dt, the observer's memory
+ * \param[in]     hankel_rows_seconds  alpha K dt
+ * \param[in]     hankel_cols_seconds  beta K dt
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_PARAMETER (a horizon or dt not finite or <= 0),
+ *         OKID_E_BAD_SIZE (decimation out of range, or a count above OKID_MAX_HORIZON)
+ */
+okid_status okid_config_horizons(okid_config *cfg, okid_real observer_seconds, okid_real hankel_rows_seconds,
+                                 okid_real hankel_cols_seconds);
+
+/**
  * Check a configuration and compute the workspace it needs.
  * \param[in]  cfg   configuration
- * \param[out] bytes workspace bytes (the same as OKID_WORKSPACE_BYTES for these values)
+ * \param[out] bytes workspace bytes (the same as OKID_WORKSPACE_BYTES_OPTIONS for these values)
  * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE, OKID_E_BAD_ORDER, OKID_E_BAD_PARAMETER
  */
 okid_status okid_workspace_size(const okid_config *cfg, size_t *bytes);
@@ -332,10 +435,23 @@ okid_status okid_identify(okid_identifier *id, okid_result *result);
  * \param[in]  u      u(k), r values
  * \param[out] y_hat  m values
  * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_NOT_AVAILABLE (no
- *         identification yet), OKID_E_NOT_ENOUGH_DATA (fewer than p samples since the start or
+ *         identification yet, or decimation > 1), OKID_E_NOT_ENOUGH_DATA (fewer than p samples since the start or
  *         the last gap), OKID_E_NONFINITE_SAMPLE
  */
 okid_status okid_predict(const okid_identifier *id, const okid_real *u, okid_real *y_hat);
+
+/**
+ * Set the channel scales of OKID_SCALING_AUTO yourself (e.g. from the sensors' ranges) instead of
+ * the first block's RMS. Only before the first block of rows is folded (after init or reset, and
+ * before okid_identify()); okid_reset() forgets them.
+ * \param[in,out] id             identifier configured with OKID_SCALING_AUTO
+ * \param[in]     input_scales   r values, finite and > 0
+ * \param[in]     output_scales  m values, finite and > 0
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_BAD_PARAMETER (a scale not
+ *         finite or not > 0: nothing is changed), OKID_E_NOT_AVAILABLE (no scaling configured, or
+ *         rows already folded with other scales)
+ */
+okid_status okid_set_scales(okid_identifier *id, const okid_real *input_scales, const okid_real *output_scales);
 
 /**
  * Forget every sample (configuration and workspace are kept).
