@@ -17,7 +17,9 @@ static void check_exact(const ref_case *rc)
                                          sizeof workspace, modes, &count, &warnings),
                      OKID_OK);
     assert_int_equal(warnings, 0);
-    assert_modes_match(rc, modes, count, TOL(1e-12, 2e-6), 1 - TOL(1e-14, 1e-6));
+    /* 2e-12: Re(s) = ln|lambda| / dt of the chain's lightest mode (|lambda| = 0.99965) turns one
+       rounding of lambda (2e-16) into 6e-13 relative; either backend may round either way. */
+    assert_modes_match(rc, modes, count, TOL(2e-12, 2e-6), 1 - TOL(1e-14, 1e-6));
     for (int i = 0; i < count; ++i) { /* C psi at the sensors has unit norm and a real largest component */
         okid_real norm = 0;
         for (int a = 0; a < rc->m; ++a) {
