@@ -44,6 +44,7 @@ extern "C" {
 
 #include "dense.h"
 }
+#include "okid/identifier.h"
 #include "okid/modal.h"
 #include "real_math.h"
 
@@ -369,19 +370,22 @@ namespace {
 
 /*
  * One-sided Jacobi (Hestenes): rotate pairs of columns of x until they are mutually orthogonal,
- * applying the same rotations to the columns of y. Then x = U S, and y accumulates V.
+ * applying the same rotations to the columns of y. Then x = U S, and y accumulates V. norms holds
+ * x's squared column norms (k reals): refreshed every sweep, updated by each rotation in between.
  */
 template <typename X, typename Y>
-bool orthogonalize_columns(X &&x, Y &&y)
+bool orthogonalize_columns(X &&x, Y &&y, Real *norms)
 {
     const Eigen::Index k = x.cols();
     const Real tol = std::numeric_limits<Real>::epsilon() * std::sqrt(static_cast<Real>(x.rows()));
     for (int sweep = 0; sweep < 60; ++sweep) {
+        for (Eigen::Index j = 0; j < k; ++j) {
+            norms[j] = x.col(j).squaredNorm();
+        }
         bool rotated = false;
         for (Eigen::Index p = 0; p + 1 < k; ++p) {
             for (Eigen::Index q = p + 1; q < k; ++q) {
-                const Real alpha = x.col(p).squaredNorm(), beta = x.col(q).squaredNorm();
-                const Real gamma = x.col(p).dot(x.col(q));
+                const Real alpha = norms[p], beta = norms[q], gamma = x.col(p).dot(x.col(q));
                 if (alpha == 0 || beta == 0 || std::abs(gamma) <= tol * std::sqrt(alpha) * std::sqrt(beta)) {
                     continue;
                 }
@@ -389,6 +393,12 @@ bool orthogonalize_columns(X &&x, Y &&y)
                 rot.makeJacobi(alpha, gamma, beta);
                 x.applyOnTheRight(p, q, rot);
                 y.applyOnTheRight(p, q, rot);
+                Eigen::Matrix<Real, 2, 2> gram; /* J' [alpha gamma; gamma beta] J: the new squared norms */
+                gram << alpha, gamma, gamma, beta;
+                gram.applyOnTheRight(0, 1, rot);
+                gram.applyOnTheLeft(0, 1, rot.adjoint());
+                norms[p] = std::max(Real(0), gram(0, 0));
+                norms[q] = std::max(Real(0), gram(1, 1));
                 rotated = true;
             }
         }
@@ -430,7 +440,6 @@ void sort_and_normalize(X &&x, Y &&y, Real *s)
 extern "C" okid_status okid_la_svd(int m, int n, okid_real *a, int lda, okid_real *s, okid_real *vt, int ldvt,
                                    okid_real *work)
 {
-    (void)work; /* one-sided Jacobi works in a and vt alone */
     const int k = m < n ? m : n;
     if (bad_matrix(m, n, lda) || bad_matrix(k, n, ldvt)) {
         return OKID_E_BACKEND_ARGUMENT;
@@ -439,9 +448,42 @@ extern "C" okid_status okid_la_svd(int m, int n, okid_real *a, int lda, okid_rea
         return OKID_OK;
     }
     MatrixMap am = map(a, m, n, lda), vtm = map(vt, k, n, ldvt);
-    if (m >= n) { /* columns of a become U S; vt = V' collects the rotations by rows */
+    if (m >= n && static_cast<std::size_t>(n) * static_cast<std::size_t>(n + 3) <= OKID__LWORK_GESVD(m, n)) {
+        /* a = Q R first (as xGEJSV): Jacobi then rotates the n x n R instead of the m x n a, and
+           U = Q U_R. work: tau, R (n x n), one row, the column norms. */
+        Real *tau = work, *row = work + n + n * n, *norms = row + n;
+        MatrixMap r = map(work + n, n, n, n);
+        for (int j = 0; j < n; ++j) {
+            auto v = am.col(j).tail(m - j - 1);
+            tau[j] = make_reflector(am(j, j), v);
+            for (int c = j + 1; c < n; ++c) {
+                apply_reflector(tau[j], v, am(j, c), am.col(c).tail(m - j - 1));
+            }
+        }
+        r = am.topRows(n).triangularView<Eigen::Upper>();
         vtm.setIdentity();
-        if (!orthogonalize_columns(am, vtm.transpose())) {
+        if (!orthogonalize_columns(r, vtm.transpose(), norms)) {
+            return OKID_E_DECOMPOSITION_FAILED;
+        }
+        sort_and_normalize(r, vtm.transpose(), s);
+        for (int j = n - 1; j >= 0; --j) { /* the first n columns of Q, in place (xORG2R) */
+            auto v = am.col(j).tail(m - j - 1);
+            for (int c = j + 1; c < n; ++c) {
+                apply_reflector(tau[j], v, am(j, c), am.col(c).tail(m - j - 1));
+            }
+            v *= -tau[j];
+            am(j, j) = 1 - tau[j];
+            am.col(j).head(j).setZero();
+        }
+        for (int i = 0; i < m; ++i) { /* U = Q U_R, row by row */
+            for (int c = 0; c < n; ++c) {
+                row[c] = am.row(i).dot(r.col(c));
+            }
+            am.row(i) = VectorMap(row, n).transpose();
+        }
+    } else if (m >= n) { /* columns of a become U S; vt = V' collects the rotations by rows */
+        vtm.setIdentity();
+        if (!orthogonalize_columns(am, vtm.transpose(), work)) {
             return OKID_E_DECOMPOSITION_FAILED;
         }
         sort_and_normalize(am, vtm.transpose(), s);
@@ -449,7 +491,7 @@ extern "C" okid_status okid_la_svd(int m, int n, okid_real *a, int lda, okid_rea
         vtm = am;
         auto u = am.leftCols(m);
         u.setIdentity();
-        if (!orthogonalize_columns(vtm.transpose(), u)) {
+        if (!orthogonalize_columns(vtm.transpose(), u, work)) {
             return OKID_E_DECOMPOSITION_FAILED;
         }
         sort_and_normalize(vtm.transpose(), u, s);
