@@ -197,74 +197,77 @@ IceStep ice_smallest(Real sest, Real alpha, Real gamma)
 
 /* ---- the pieces of the rank-revealing solve (xGEQP3, xLAIC1 loop, xTZRZF, xORMQR, xORMRZ) ---- */
 
-/* Householder QR with column pivoting of the n x n a (xLAQP2): tau, perm (0-based) out. */
-void qr_column_pivoting(MatrixMap &a, Real *tau, int *perm, Real *vn1, Real *vn2)
+/*
+ * Householder QR with column pivoting of the n x n a (xLAQP2) and its numerical rank by incremental
+ * condition estimation (xGELSY: the largest leading block whose estimated condition stays below
+ * 1 / rcond), column by column: the factorisation stops at the first column the estimate rejects.
+ * Rows 0..rank-1 of R, the first rank reflectors and the first rank pivots are then final and
+ * the same as from the whole factorisation, which is all the solve uses. Returns the rank.
+ */
+struct PivotedQr {
+    Real *tau, *vn1, *vn2, *xmin, *xmax; /* n reals each */
+    int *perm;                           /* 0-based column permutation */
+};
+
+int qr_rank(MatrixMap &a, Real rcond, const PivotedQr &w)
 {
     const int n = static_cast<int>(a.cols());
     const Real tol3z = std::sqrt(kEps);
     for (int j = 0; j < n; ++j) {
-        perm[j] = j;
-        vn1[j] = vn2[j] = a.col(j).norm();
+        w.perm[j] = j;
+        w.vn1[j] = w.vn2[j] = a.col(j).norm();
     }
+    Real smin = 0, smax = 0;
     for (int i = 0; i < n; ++i) {
         int pvt = i;
         for (int j = i + 1; j < n; ++j) {
-            if (vn1[j] > vn1[pvt]) {
+            if (w.vn1[j] > w.vn1[pvt]) {
                 pvt = j;
             }
         }
         if (pvt != i) {
             a.col(pvt).swap(a.col(i));
-            std::swap(perm[pvt], perm[i]);
-            vn1[pvt] = vn1[i];
-            vn2[pvt] = vn2[i];
+            std::swap(w.perm[pvt], w.perm[i]);
+            w.vn1[pvt] = w.vn1[i];
+            w.vn2[pvt] = w.vn2[i];
         }
         auto v = a.col(i).tail(n - i - 1);
-        tau[i] = make_reflector(a(i, i), v);
+        w.tau[i] = make_reflector(a(i, i), v);
+        if (i == 0) { /* the estimate starts from |r00| */
+            smax = smin = std::abs(a(0, 0));
+            if (smax == 0) {
+                return 0;
+            }
+            w.xmin[0] = w.xmax[0] = 1;
+        } else { /* does column i keep the condition below 1 / rcond? */
+            const auto col = a.col(i).head(i);
+            const IceStep lo = ice_smallest(smin, VectorMap(w.xmin, i).dot(col), a(i, i));
+            const IceStep hi = ice_largest(smax, VectorMap(w.xmax, i).dot(col), a(i, i));
+            if (hi.sest * rcond > lo.sest) {
+                return i;
+            }
+            VectorMap(w.xmin, i) *= lo.s;
+            VectorMap(w.xmax, i) *= hi.s;
+            w.xmin[i] = lo.c;
+            w.xmax[i] = hi.c;
+            smin = lo.sest;
+            smax = hi.sest;
+        }
         for (int j = i + 1; j < n; ++j) {
-            apply_reflector(tau[i], v, a(i, j), a.col(j).tail(n - i - 1));
-            if (vn1[j] != 0) { /* downdate the norm of the rest of column j, recompute when it cancels */
-                const Real ratio = std::abs(a(i, j)) / vn1[j];
+            apply_reflector(w.tau[i], v, a(i, j), a.col(j).tail(n - i - 1));
+            if (w.vn1[j] != 0) { /* downdate the norm of the rest of column j, recompute when it cancels */
+                const Real ratio = std::abs(a(i, j)) / w.vn1[j];
                 const Real temp = std::max(Real(0), 1 - ratio * ratio);
-                const Real temp2 = temp * (vn1[j] / vn2[j]) * (vn1[j] / vn2[j]);
+                const Real temp2 = temp * (w.vn1[j] / w.vn2[j]) * (w.vn1[j] / w.vn2[j]);
                 if (temp2 <= tol3z) {
-                    vn1[j] = vn2[j] = a.col(j).tail(n - i - 1).norm();
+                    w.vn1[j] = w.vn2[j] = a.col(j).tail(n - i - 1).norm();
                 } else {
-                    vn1[j] *= std::sqrt(temp);
+                    w.vn1[j] *= std::sqrt(temp);
                 }
             }
         }
     }
-}
-
-/* The numerical rank of the triangular factor: the largest leading block whose estimated
-   condition stays below 1 / rcond (xGELSY). */
-int ice_rank(const MatrixMap &a, Real rcond, Real *xmin, Real *xmax)
-{
-    const int n = static_cast<int>(a.cols());
-    Real smax = std::abs(a(0, 0)), smin = smax;
-    if (smax == 0) {
-        return 0;
-    }
-    xmin[0] = xmax[0] = 1;
-    int rank = 1;
-    while (rank < n) {
-        const auto w = a.col(rank).head(rank);
-        const Real gamma = a(rank, rank);
-        const IceStep lo = ice_smallest(smin, VectorMap(xmin, rank).dot(w), gamma);
-        const IceStep hi = ice_largest(smax, VectorMap(xmax, rank).dot(w), gamma);
-        if (hi.sest * rcond > lo.sest) {
-            break;
-        }
-        VectorMap(xmin, rank) *= lo.s;
-        VectorMap(xmax, rank) *= hi.s;
-        xmin[rank] = lo.c;
-        xmax[rank] = hi.c;
-        smin = lo.sest;
-        smax = hi.sest;
-        ++rank;
-    }
-    return rank;
+    return n;
 }
 
 /* [R11 R12] (rank x n) = [T 0] Z with Z = Z(0) ... Z(rank-1) (xTZRZF): z vectors into R12's rows. */
@@ -323,15 +326,10 @@ extern "C" okid_status okid_la_lstsq_rank(int n, int nrhs, okid_real *a, int lda
         return OKID_OK;
     }
     /* work: tau, vn1, vn2, xmin, xmax, ztau (n each) and one column of the permutation (n) */
-    Real *tau = work, *vn1 = work + n, *vn2 = work + 2 * n, *xmin = work + 3 * n, *xmax = work + 4 * n;
+    const PivotedQr w = {work, work + n, work + 2 * n, work + 3 * n, work + 4 * n, jpvt};
     Real *ztau = work + 5 * n, *column = work + 6 * n;
     MatrixMap am = map(a, n, n, lda), bm = map(b, n, nrhs, ldb);
-    if (am.cwiseAbs().maxCoeff() == 0) {
-        bm.setZero();
-        return OKID_OK;
-    }
-    qr_column_pivoting(am, tau, jpvt, vn1, vn2);
-    const int k = ice_rank(am, rcond, xmin, xmax);
+    const int k = am.cwiseAbs().maxCoeff() == 0 ? 0 : qr_rank(am, rcond, w);
     *rank = k;
     if (k == 0) {
         bm.setZero();
@@ -341,8 +339,8 @@ extern "C" okid_status okid_la_lstsq_rank(int n, int nrhs, okid_real *a, int lda
         }
         for (int c = 0; c < nrhs; ++c) {
             auto x = bm.col(c);
-            for (int i = 0; i < n; ++i) { /* Q' b */
-                apply_reflector(tau[i], am.col(i).tail(n - i - 1), x(i), x.tail(n - i - 1));
+            for (int i = 0; i < k; ++i) { /* (Q' b)(0:k): the later reflectors leave these rows alone */
+                apply_reflector(w.tau[i], am.col(i).tail(n - i - 1), x(i), x.tail(n - i - 1));
             }
             for (int i = k - 1; i >= 0; --i) { /* T y = (Q' b)(0:k), column-oriented as xTRSM */
                 if (x(i) != 0) {
