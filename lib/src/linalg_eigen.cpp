@@ -446,9 +446,9 @@ extern "C" okid_status okid_la_svd(int m, int n, okid_real *a, int lda, okid_rea
         return OKID_OK;
     }
     MatrixMap am = map(a, m, n, lda), vtm = map(vt, k, n, ldvt);
-    if (m >= n && static_cast<std::size_t>(n) * static_cast<std::size_t>(n + 3) <= OKID__LWORK_GESVD(m, n)) {
+    if (m >= n) {
         /* a = Q R first (as xGEJSV): Jacobi then rotates the n x n R instead of the m x n a, and
-           U = Q U_R. work: tau, R (n x n), one row, the column norms. */
+           U = Q U_R. work (OKID__LWORK_GESVD): tau, R (n x n), one row, the column norms. */
         Real *tau = work, *row = work + n + n * n, *norms = row + n;
         MatrixMap r = map(work + n, n, n, n);
         for (int j = 0; j < n; ++j) {
@@ -479,12 +479,6 @@ extern "C" okid_status okid_la_svd(int m, int n, okid_real *a, int lda, okid_rea
             }
             am.row(i) = VectorMap(row, n).transpose();
         }
-    } else if (m >= n) { /* columns of a become U S; vt = V' collects the rotations by rows */
-        vtm.setIdentity();
-        if (!orthogonalize_columns(am, vtm.transpose(), work)) {
-            return OKID_E_DECOMPOSITION_FAILED;
-        }
-        sort_and_normalize(am, vtm.transpose(), s);
     } else { /* the rows of a (copied into vt) become S V'; a = U collects the rotations */
         vtm = am;
         auto u = am.leftCols(m);
