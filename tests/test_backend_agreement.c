@@ -1,8 +1,8 @@
 /*
  * Both linear-algebra backends on the paper, MIMO and 3-DOF cases: this program links the Eigen
  * build of the core (okid_eigen) and compares its modal parameters with those the LAPACK build
- * wrote (backend_values_lapacke, run first as a ctest fixture): to 1e-9 relative in double,
- * in float to twice the tolerances the accuracy tests hold each backend to.
+ * wrote to BACKEND_VALUES_FILE (backend_values_lapacke, run first as a ctest fixture): to 1e-9
+ * relative in double, in float to twice the tolerances the accuracy tests hold each backend to.
  * The two builds cannot share one process (they define the same okid_* symbols).
  */
 #include <math.h>
@@ -49,11 +49,7 @@ static void test_backends_agree(void **state)
 
 int main(int argc, char **argv)
 {
-    if (argc != 2) {
-        fprintf(stderr, "usage: %s LAPACK_VALUES\n", argv[0]);
-        return 2;
-    }
-    lapacke_path = argv[1];
+    lapacke_path = argc > 1 ? argv[1] : BACKEND_VALUES_FILE; /* the file of this build, or another one */
     const struct CMUnitTest tests[] = {cmocka_unit_test(test_backends_agree)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
