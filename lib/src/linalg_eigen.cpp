@@ -1,15 +1,16 @@
 /*
  * The Eigen backend of linalg.h, for targets without LAPACK (bare-metal Cortex-M). Heap-free and
- * re-entrant: every matrix is an Eigen::Map over the caller's memory (the identifier's workspace),
+ * re-entrant: every matrix is an Eigen::Map over the caller's memory (the identifier's workspace);
  * the QR update, the rank-revealing least squares and the SVD run in place in it, and the one
- * decomposition object (the EigenSolver, of fixed maximum order OKID_EIGEN_MAX_ORDER) is built
- * in the caller's work array. No statics, no exceptions, no RTTI; EIGEN_NO_MALLOC makes any
- * allocation an assertion failure in builds with assertions.
+ * decomposition object, Eigen's RealSchur of fixed maximum order OKID_EIGEN_MAX_ORDER, is built in
+ * the caller's work array. No statics, no exceptions, no RTTI; EIGEN_NO_MALLOC makes any
+ * allocation an assertion failure in builds with assertions. Work sizes: OKID__LWORK_* in the
+ * public headers, under OKID_LINALG_EIGEN.
  *
- * The algorithms follow the LAPACK routines of linalg_lapacke.c (same Householder convention,
- * same column pivoting and incremental condition estimate as xGELSY), so that both backends take
- * the same rank decisions; the SVD is a one-sided Jacobi SVD, which needs no memory beyond its
- * input and output.
+ * The least squares follows LAPACK's xGELSY step by step (xLARFG reflectors, xLAQP2 pivoting and
+ * norm downdating, xLAIC1 condition estimation, xTZRZF), so that both backends take the same rank
+ * decisions; the SVD is a one-sided Jacobi SVD after a QR (as xGEJSV), the eigenproblem Eigen's
+ * real Schur form after a Hessenberg reduction, with eigenvectors in xGEEV's layout.
  */
 #define EIGEN_NO_MALLOC
 #define EIGEN_MPL2_ONLY
@@ -104,7 +105,8 @@ void apply_reflector(Real tau, const Vec &v, Real &head, Tail &&tail)
     tail -= w * v;
 }
 
-/* ---- incremental condition estimation (Bischof), the xLAIC1 step xGELSY takes its rank with ---- */
+/* ---- incremental condition estimation (Bischof 1990): the cases and formulas of LAPACK's xLAIC1
+   (modified BSD licence), the step xGELSY takes its rank with ---- */
 
 struct IceStep {
     Real sest, s, c;
