@@ -168,7 +168,14 @@ static void test_api_contract(void **state)
     assert_int_equal(okid_stabilization_compute(&id, 8, 2, NULL, sws, sizeof sws, NULL), OKID_E_NULL_POINTER);
     assert_int_equal(okid_stabilization_compute(&id, 8, 2, NULL, sws, sizeof sws, &st), OKID_OK);
     /* The identifier's last result is intact, and identifying again gives the same modes. */
-    assert_memory_equal(&res.modes[0], &first, sizeof first);
+    /* field by field: okid_mode has padding, which a struct copy need not copy (valgrind) */
+    const okid_mode *kept = &res.modes[0];
+    assert_true(kept->eigenvalue.re == first.eigenvalue.re && kept->eigenvalue.im == first.eigenvalue.im &&
+                kept->pole.re == first.pole.re && kept->pole.im == first.pole.im &&
+                kept->frequency_hz == first.frequency_hz && kept->damping_ratio == first.damping_ratio &&
+                kept->is_pair == first.is_pair && kept->sensor_shape == first.sensor_shape &&
+                kept->shape == first.shape && kept->emac == first.emac && kept->mpc == first.mpc &&
+                kept->msv == first.msv && kept->cmi == first.cmi);
     okid_result again;
     assert_int_equal(okid_identify(&id, &again), OKID_OK);
     assert_true(again.modes[0].eigenvalue.re == first.eigenvalue.re && again.modes[0].cmi == first.cmi);
