@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Every test: the default build (-Werror) with ctest (C, CLI, FMUs, install), the float build, the
-# Cortex-M cross-builds with their tests under QEMU and the footprint report, the whole suite again
-# under ASan + UBSan, valgrind memcheck, and bounded fuzzing. Stops at the first failure.
+# Every test: the default build (-Werror) with ctest (C, CLI, FMUs, install, both linear-algebra
+# backends compared), the float build, the Eigen-backend build, the Cortex-M cross-builds with
+# their tests under QEMU and the footprint report, the whole suite again under ASan + UBSan,
+# valgrind memcheck, and bounded fuzzing. Stops at the first failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc)
@@ -26,6 +27,11 @@ step "float build (okid_real = float): the C tests with the float tolerances"
 cmake --preset float
 cmake --build --preset float -j "$jobs"
 ctest --preset float -j "$jobs"
+
+step "eigen build (the firmware's heap-free Eigen backend on the host): the C tests"
+cmake --preset eigen
+cmake --build --preset eigen -j "$jobs"
+ctest --preset eigen -j "$jobs"
 
 for target in cortex-m4f cortex-m7; do
     step "$target cross-build, target tests under qemu-system-arm"

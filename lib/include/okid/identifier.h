@@ -246,11 +246,19 @@ typedef struct okid_identifier {
 #define OKID__MAX(a, b) ((a) > (b) ? (a) : (b))
 #define OKID__MIN(a, b) ((a) < (b) ? (a) : (b))
 #define OKID__RB(count) OKID__ALIGN16(sizeof(okid_real) * (size_t)(count))
+#if OKID_LINALG_EIGEN
+/* The Eigen backend works in place: 7 vectors for the rank-revealing solve, the n x n factor of
+   the QR-preconditioned Jacobi SVD and three vectors (linalg_eigen.cpp). */
+#define OKID__LWORK_GELSY(n, nrhs) (OKID__Z(n) * 7u + OKID__Z(nrhs) * 0u + 1u)
+#define OKID__LWORK_GESVD(m, n) \
+    (OKID__MIN(OKID__Z(m), OKID__Z(n)) * (OKID__MIN(OKID__Z(m), OKID__Z(n)) + 3u) + 1u)
+#else
 #define OKID__LWORK_GELSY(n, nrhs) (OKID__Z(n) * 37u + OKID__Z(nrhs) * 33u + 33u)
 #define OKID__LWORK_GESVD(m, n)                                                                \
     (OKID__MAX(3u * OKID__MIN(OKID__Z(m), OKID__Z(n)) + OKID__MAX(OKID__Z(m), OKID__Z(n)),     \
                5u * OKID__MIN(OKID__Z(m), OKID__Z(n)))                                          \
      + 32u * (OKID__Z(m) + OKID__Z(n)))
+#endif
 #define OKID__Q(r, m, p) (OKID__Z(r) + (OKID__Z(r) + OKID__Z(m)) * OKID__Z(p))
 #define OKID__W(r, m, p) (OKID__Q(r, m, p) + OKID__Z(m))
 #define OKID__NCOLS(r, m, combined) ((combined) ? OKID__Z(r) + OKID__Z(m) : OKID__Z(r))

@@ -58,7 +58,15 @@ typedef struct okid_mode {
      + OKID__ALIGN16(sizeof(okid_real) * OKID__LWORK_GEEV(n)))
 
 /** Work array of the general eigenproblem with right eigenvectors, in reals (internal). */
+#if OKID_LINALG_EIGEN
+/* Eigen backend: its RealSchur for OKID_EIGEN_MAX_ORDER = N states (3 N^2 + 3 N reals and the
+   object's bookkeeping) and one complex N-vector are built in the work array, whatever n. */
+#define OKID__LWORK_GEEV(n)                                                                        \
+    ((size_t)(n) * 0u + 3u * (size_t)OKID_EIGEN_MAX_ORDER * (size_t)OKID_EIGEN_MAX_ORDER           \
+     + 5u * (size_t)OKID_EIGEN_MAX_ORDER + 32u)
+#else
 #define OKID__LWORK_GEEV(n) ((size_t)(n) * 36u + 16u)
+#endif
 
 /**
  * Modal analysis of the discrete model x(k+1) = A x(k), y(k) = C x(k) sampled every dt.

@@ -18,7 +18,10 @@ typedef enum okid_status {
     OKID_E_NULL_POINTER = -1,
     /** A size is zero, negative, above OKID_MAX_DIMENSION, or an array's leading dimension is too small. */
     OKID_E_BAD_SIZE = -2,
-    /** The model order does not fit: m*p < n, the Hankel matrix is smaller than the order, or n < 1. */
+    /**
+     * The model order does not fit: m*p < n, the Hankel matrix is smaller than the order, n < 1, or
+     * (Eigen backend) n exceeds the OKID_EIGEN_MAX_ORDER the library was built with.
+     */
     OKID_E_BAD_ORDER = -3,
     /** A real parameter is out of range or not finite (dt <= 0, forgetting factor outside (0, 1], tolerance < 0...). */
     OKID_E_BAD_PARAMETER = -4,
