@@ -144,24 +144,3 @@ okid_complex okid_clog(okid_complex a)
     okid_complex c = {okid_log(okid_cabs(a)), okid_atan2(a.im, a.re)};
     return c;
 }
-
-void okid_givens_fold_row(int n, okid_real *r, int ldr, okid_real *row, int inc)
-{
-    for (int j = 0; j < n; ++j) {
-        const okid_real x = row[(size_t)j * (size_t)inc];
-        if (x == 0) {
-            continue;
-        }
-        okid_real *rjj = &OKID_AT(r, ldr, j, j);
-        const okid_real h = okid_hypot(*rjj, x);
-        const okid_real c = *rjj / h, s = x / h;
-        *rjj = h;
-        for (int k = j + 1; k < n; ++k) {
-            okid_real *rjk = &OKID_AT(r, ldr, j, k);
-            okid_real *xk = &row[(size_t)k * (size_t)inc];
-            const okid_real a = *rjk, b = *xk;
-            *rjk = c * a + s * b;
-            *xk = c * b - s * a;
-        }
-    }
-}

@@ -35,11 +35,4 @@ okid_complex okid_cdiv(okid_complex a, okid_complex b);
 okid_complex okid_clog(okid_complex a);
 okid_real okid_cabs(okid_complex a);
 
-/*
- * Fold one row (n values, stride inc) into the n x n upper-triangular r with Givens rotations:
- * afterwards r' r = r' r + row row'. The row is overwritten. About 3 n^2 flops, no workspace:
- * for a single row much cheaper than a blocked Householder update.
- */
-void okid_givens_fold_row(int n, okid_real *r, int ldr, okid_real *row, int inc);
-
 #endif

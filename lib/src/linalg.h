@@ -14,7 +14,8 @@
 /*
  * Fold nrows rows (nrows x n, leading dimension ldb) into the n x n upper-triangular factor r:
  * afterwards r' r' = r' r + rows' rows (Householder, so numerically the QR of [r; rows]).
- * rows is overwritten. t and work each hold nbt * n reals, 1 <= nbt <= n.
+ * rows is overwritten. t and work each hold nbt * n reals, 1 <= nbt <= n (a single row is folded
+ * by Givens rotations, whose c and s take n of each: see givens_fold.h).
  */
 okid_status okid_la_fold_rows(int n, okid_real *r, int ldr, int nrows, okid_real *rows, int ldb, int nbt,
                               okid_real *t, okid_real *work);

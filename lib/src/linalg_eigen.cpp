@@ -43,7 +43,7 @@
 extern "C" {
 #include "linalg.h"
 
-#include "dense.h"
+#include "givens_fold.h"
 }
 #include "okid/identifier.h"
 #include "okid/modal.h"
@@ -290,9 +290,7 @@ void rz_factor(MatrixMap &a, int rank, Real *ztau)
 extern "C" okid_status okid_la_fold_rows(int n, okid_real *r, int ldr, int nrows, okid_real *rows, int ldb,
                                          int nbt, okid_real *t, okid_real *work)
 {
-    (void)nbt; /* column-by-column Householder: no block reflector, t and work stay unused */
-    (void)t;
-    (void)work;
+    (void)nbt; /* column-by-column Householder: no block reflector; t and work serve the Givens fold */
     if (n < 0 || nrows < 0 || ldr < (n > 1 ? n : 1) || ldb < (nrows > 1 ? nrows : 1)) {
         return OKID_E_BACKEND_ARGUMENT;
     }
@@ -300,7 +298,7 @@ extern "C" okid_status okid_la_fold_rows(int n, okid_real *r, int ldr, int nrows
         return OKID_OK;
     }
     if (nrows == 1) { /* one row: the Givens fold the LAPACK backend uses too */
-        okid_givens_fold_row(n, r, ldr, rows, ldb);
+        okid_givens_fold_row(n, r, ldr, rows, ldb, t, work);
         return OKID_OK;
     }
     MatrixMap rf = map(r, n, n, ldr), b = map(rows, nrows, n, ldb);

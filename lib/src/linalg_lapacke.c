@@ -9,7 +9,7 @@
 #include <stddef.h>
 
 #include "okid/identifier.h"
-#include "dense.h"
+#include "givens_fold.h"
 
 _Static_assert(sizeof(lapack_int) == sizeof(int), "okid passes int arrays as lapack_int (LP64 LAPACK)");
 
@@ -34,7 +34,7 @@ okid_status okid_la_fold_rows(int n, okid_real *r, int ldr, int nrows, okid_real
         return OKID_OK;
     }
     if (nrows == 1) { /* one row: Givens rotations beat a blocked Householder update by far */
-        okid_givens_fold_row(n, r, ldr, rows, ldb);
+        okid_givens_fold_row(n, r, ldr, rows, ldb, t, work);
         return OKID_OK;
     }
     return from_info(LA(tpqrt)(LAPACK_COL_MAJOR, nrows, n, 0, nbt, r, ldr, rows, ldb, t, nbt, work));

@@ -24,28 +24,33 @@ int okid_buffer_window_full(const okid_identifier *id)
     return id->window_fill_ >= id->dims_.p;
 }
 
+/* Channel ch of the window, newest first (v(k-1) .. v(k-p)), to dst with stride step. Called for
+   every pushed sample: two plain strided copies, slots head down to 0, then p - 1 down to head + 1. */
+static void copy_channel_history(const okid_identifier *id, int ch, okid_real *dst, size_t step)
+{
+    const int p = id->dims_.p, width = id->dims_.r + id->dims_.m, head = id->ring_head_;
+    const okid_real *ring = id->at_.ring + ch;
+    for (int slot = head; slot >= 0; --slot, dst += step) {
+        *dst = ring[(size_t)slot * (size_t)width];
+    }
+    for (int slot = p - 1; slot > head; --slot, dst += step) {
+        *dst = ring[(size_t)slot * (size_t)width];
+    }
+}
+
 void okid_buffer_write_row(const okid_identifier *id, const okid_real *u, const okid_real *y, int row)
 {
-    const int r = id->dims_.r, m = id->dims_.m, p = id->dims_.p, ld = id->dims_.block_rows;
+    const int r = id->dims_.r, m = id->dims_.m, p = id->dims_.p;
+    const size_t ld = (size_t)id->dims_.block_rows;
     okid_real *out = id->at_.block + row;
-    int col = 0;
+    okid_real *past_y = out + (size_t)r * (size_t)(p + 1) * ld;
     for (int i = 0; i < r; ++i) {
-        out[(size_t)(col++) * (size_t)ld] = u[i];
+        out[(size_t)i * ld] = u[i];
+        copy_channel_history(id, i, out + (size_t)(r + i) * ld, (size_t)r * ld);
     }
-    for (int j = 1; j <= p; ++j) {
-        const okid_real *v = past(id, j);
-        for (int i = 0; i < r; ++i) {
-            out[(size_t)(col++) * (size_t)ld] = v[i];
-        }
-    }
-    for (int j = 1; j <= p; ++j) {
-        const okid_real *v = past(id, j) + r;
-        for (int i = 0; i < m; ++i) {
-            out[(size_t)(col++) * (size_t)ld] = v[i];
-        }
-    }
-    for (int i = 0; i < m; ++i) {
-        out[(size_t)(col++) * (size_t)ld] = y[i];
+    for (int a = 0; a < m; ++a) {
+        copy_channel_history(id, r + a, past_y + (size_t)a * ld, (size_t)m * ld);
+        past_y[(size_t)(p * m + a) * ld] = y[a];
     }
 }
 

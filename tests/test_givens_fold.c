@@ -1,0 +1,133 @@
+/*
+ * The Givens fold of one row (okid_push's kernel, lib/src/givens_fold.c): R'R gains the row's
+ * outer product, and its numbers are those of the textbook loop (rotation j sweeps row j of R,
+ * the rotation of an exactly zero element skipped), written out here as the reference, for every
+ * size the kernel's two-column, four-rotation loop and its remainders can meet.
+ */
+#include "test_support.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "givens_fold.h"
+#include "real_math.h"
+
+enum { MAX_N = 64, LDR = MAX_N + 3 };
+
+/* The textbook loop the kernel reorders. */
+static void textbook_fold(int n, okid_real *r, int ldr, okid_real *row, int inc)
+{
+    for (int j = 0; j < n; ++j) {
+        const okid_real x = row[j * inc];
+        if (x == 0) {
+            continue;
+        }
+        okid_real *rjj = &r[j + j * ldr];
+        const okid_real h = okid_hypot(*rjj, x);
+        const okid_real c = *rjj / h, s = x / h;
+        *rjj = h;
+        for (int k = j + 1; k < n; ++k) {
+            const okid_real a = r[j + k * ldr], b = row[k * inc];
+            r[j + k * ldr] = c * a + s * b;
+            row[k * inc] = c * b - s * a;
+        }
+    }
+}
+
+/* A triangular factor with a recognisable (never touched) lower part, and a row with zeros where asked. */
+static void make_case(okid_rng *rng, int n, int inc, int leading_zeros, okid_real *r, okid_real *row)
+{
+    static okid_real v[LDR * MAX_N + MAX_N];
+    assert_int_equal(okid_rng_normal(rng, 1, LDR * n + n, v, 1), OKID_OK);
+    for (int k = 0; k < n; ++k) {
+        for (int i = 0; i < LDR; ++i) {
+            r[i + k * LDR] = (i <= k) ? v[i + k * LDR] : (okid_real)(1000 + i); /* i >= n: past the matrix */
+        }
+        row[k * inc] = (k < leading_zeros || k % 7 == 3) ? 0 : v[LDR * n + k];
+    }
+}
+
+static void check_fold(okid_rng *rng, int n, int inc, int leading_zeros)
+{
+    static okid_real r[LDR * MAX_N], expected[LDR * MAX_N], before[LDR * MAX_N];
+    okid_real row[3 * MAX_N] = {0}, scratch_row[3 * MAX_N], c[MAX_N], s[MAX_N];
+    make_case(rng, n, inc, leading_zeros, r, row);
+    memcpy(expected, r, sizeof r);
+    memcpy(before, r, sizeof r);
+    memcpy(scratch_row, row, sizeof row);
+    textbook_fold(n, expected, LDR, scratch_row, inc);
+    okid_givens_fold_row(n, r, LDR, row, inc, c, s);
+
+    double gram_scale = 0;
+    for (int k = 0; k < n; ++k) {
+        for (int i = 0; i < LDR; ++i) {
+            if (i <= k) { /* the same numbers as the textbook loop (== : a zero may change sign) */
+                assert_true(r[i + k * LDR] == expected[i + k * LDR]);
+            } else { /* below the diagonal and past n: untouched */
+                assert_true(r[i + k * LDR] == before[i + k * LDR]);
+            }
+        }
+        gram_scale = fmax(gram_scale, (double)row[k * inc] * (double)row[k * inc]);
+    }
+    /* and what the fold means: R'R + row row' = R_new' R_new */
+    for (int a = 0; a < n; ++a) {
+        for (int b = 0; b <= a; ++b) {
+            double old = (double)row[a * inc] * (double)row[b * inc], now = 0;
+            for (int i = 0; i <= b; ++i) {
+                old += (double)before[i + a * LDR] * (double)before[i + b * LDR];
+                now += (double)r[i + a * LDR] * (double)r[i + b * LDR];
+            }
+            gram_scale = fmax(gram_scale, fabs(old));
+            assert_true(fabs(now - old) <= TOL(1e-13, 1e-5) * (double)n * (gram_scale + 1));
+        }
+    }
+}
+
+static void test_every_size_and_remainder(void **state)
+{
+    (void)state;
+    okid_rng rng;
+    assert_int_equal(okid_rng_seed(&rng, 7), OKID_OK);
+    for (int n = 0; n <= 20; ++n) {
+        check_fold(&rng, n, 1, 0);
+    }
+    check_fold(&rng, 63, 1, 0); /* the paper configuration's regressor width */
+    check_fold(&rng, 64, 1, 0);
+}
+
+static void test_strided_row_and_zeros(void **state)
+{
+    (void)state;
+    okid_rng rng;
+    assert_int_equal(okid_rng_seed(&rng, 11), OKID_OK);
+    check_fold(&rng, 13, 3, 0);   /* a row of a pending block, leading dimension 3 */
+    check_fold(&rng, 22, 1, 21);  /* zeros but the last: start-up with zero history */
+    check_fold(&rng, 9, 2, 9);    /* an all-zero row changes nothing */
+}
+
+/* Folding into a zero factor, as the first row after okid_init: R becomes that row, made positive. */
+static void test_first_row_into_zero_factor(void **state)
+{
+    (void)state;
+    enum { N = 6 };
+    okid_real r[N * N] = {0}, c[N], s[N];
+    const okid_real row[N] = {OKID_R(-3.0), OKID_R(4.0), 0, OKID_R(1.5), OKID_R(-2.0), OKID_R(0.25)};
+    okid_givens_fold_row(N, r, N, row, 1, c, s);
+    assert_true(r[0] == OKID_R(3.0)); /* hypot(0, -3): rotation 0 carries the whole row into row 0 */
+    for (int k = 1; k < N; ++k) {
+        assert_true(r[k * N] == -row[k]); /* c = 0, s = -1 */
+        for (int i = 1; i <= k; ++i) {
+            assert_true(r[i + k * N] == 0);
+        }
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_every_size_and_remainder),
+        cmocka_unit_test(test_strided_row_and_zeros),
+        cmocka_unit_test(test_first_row_into_zero_factor),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
