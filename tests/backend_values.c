@@ -39,7 +39,7 @@ int backend_case_values(backend_value *values, int max)
         for (int i = 0; i < res.num_modes; ++i) {
             const okid_mode *md = &res.modes[i];
             const double lambda = hypot(md->eigenvalue.re, md->eigenvalue.im);
-            const double tol = TOL(1e-9, 2 * IDENTIFY_TOL);
+            const double tol = TOL(1e-9, 2 * identify_tol(rc));
 #if OKID_REAL_IS_FLOAT /* the magnifications of assert_modes_match: s = ln(lambda) / dt, zeta = -Re s / |s| */
             const double s_tol = tol / (hypot(md->pole.re, md->pole.im) * rc->dt);
             const double zeta_tol = 2 * s_tol / md->damping_ratio;
