@@ -10,6 +10,7 @@
 #include "carve.h"
 #include "decimator.h"
 #include "real_math.h"
+#include "triangular_lstsq.h"
 
 #define MIN(a, b) ((a) < (b) ? (a) : (b))
 #define MAX(a, b) ((a) > (b) ? (a) : (b))
@@ -150,10 +151,10 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned
     end = MAX(end, c.used);
 
     c.used = scratch;
-    v->lsq_s = okid_carve_reals(&c, q * q);
     v->lsq_scale = okid_carve_reals(&c, q);
-    v->lsq_jpvt = (int *)okid_carve_bytes(&c, sizeof(int) * q);
-    v->lsq_work = okid_carve_reals(&c, OKID__LWORK_GELSY(q, m));
+    v->lsq_column = okid_carve_reals(&c, q);
+    v->lsq_perm = (int *)okid_carve_bytes(&c, sizeof(int) * q);
+    v->lsq_work = okid_carve_reals(&c, OKID__TRIANGULAR_LSTSQ_WORK(q));
     end = MAX(end, c.used);
 
     c.used = scratch;
@@ -173,14 +174,6 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned
     v->ind_rhs = okid_carve_reals(&c, n * 2u * r);
     v->ind_work = okid_carve_reals(&c, OKID__LWORK_GELSY(n, 2u * r));
     v->ind_jpvt = (int *)okid_carve_bytes(&c, sizeof(int) * n);
-    end = MAX(end, c.used);
-
-    c.used = scratch;
-    v->diag_scale = okid_carve_reals(&c, q);
-    v->diag_b = okid_carve_reals(&c, q);
-    v->diag_a = okid_carve_reals(&c, q * q);
-    v->diag_jpvt = (int *)okid_carve_bytes(&c, sizeof(int) * q);
-    v->diag_work = okid_carve_reals(&c, OKID__LWORK_GELSY(q, 1u));
     end = MAX(end, c.used);
 
     return end;

@@ -202,14 +202,12 @@ typedef struct okid_views_ {
     /* scratch shared by the phases of okid_push() and okid_identify() */
     okid_real *x;
     okid_real *fold_t, *fold_work;
-    okid_real *lsq_s, *lsq_scale, *lsq_work;
-    int *lsq_jpvt;
+    okid_real *lsq_scale, *lsq_column, *lsq_work; /* the solves of okid_lsq_solve() and the diagnostics */
+    int *lsq_perm;
     okid_real *era_h, *era_vt, *era_t, *era_scale, *era_work;
     okid_real *modal_a, *modal_vr, *modal_wr, *modal_wi, *modal_work;
     okid_real *ind_rhs, *ind_work;
     int *ind_jpvt;
-    okid_real *diag_scale, *diag_a, *diag_b, *diag_work;
-    int *diag_jpvt;
     /* options: NULL when not configured */
     okid_real *dec_coef, *dec_state, *dec_out; /* anti-alias biquads, their state per channel, the kept sample */
     okid_real *scales;                         /* r input then m output scales */
@@ -287,9 +285,11 @@ typedef struct okid_identifier {
 
 #define OKID__PHASE_FOLD_BYTES(r, m, p, block_rows) \
     (2u * OKID__RB(OKID__NBT(r, m, p, block_rows) * OKID__W(r, m, p)))
-#define OKID__PHASE_LSQ_BYTES(r, m, p)                                                             \
-    (OKID__RB(OKID__Q(r, m, p) * OKID__Q(r, m, p)) + OKID__RB(OKID__Q(r, m, p))                      \
-     + OKID__ALIGN16(sizeof(int) * OKID__Q(r, m, p)) + OKID__RB(OKID__LWORK_GELSY(OKID__Q(r, m, p), m)))
+/* The rank-revealing solves (least squares, the diagnostics' noise-free test) run in R's unused
+   lower triangle: column scales, a column, the permutation and 5 vectors (triangular_lstsq.h). */
+#define OKID__PHASE_SOLVE_BYTES(r, m, p)                                                           \
+    (2u * OKID__RB(OKID__Q(r, m, p)) + OKID__ALIGN16(sizeof(int) * OKID__Q(r, m, p))                \
+     + OKID__RB(5u * OKID__Q(r, m, p)))
 #define OKID__PHASE_ERA_BYTES(r, m, alpha, beta, n, k, combined)                                   \
     (OKID__RB(OKID__HR(m, alpha) * OKID__HC(r, m, beta, combined))                                   \
      + OKID__RB(OKID__Z(k) * OKID__HC(r, m, beta, combined)) + OKID__RB(OKID__HR(m, alpha) * OKID__Z(n)) \
@@ -301,15 +301,9 @@ typedef struct okid_identifier {
 #define OKID__PHASE_INDICATOR_BYTES(n, r)                                                          \
     (OKID__RB(OKID__Z(n) * 2u * OKID__Z(r)) + OKID__RB(OKID__LWORK_GELSY(n, 2u * OKID__Z(r)))        \
      + OKID__ALIGN16(sizeof(int) * OKID__Z(n)))
-/* Conditioning of the equilibrated regressor factor: its rank at a looser tolerance (noise-free test). */
-#define OKID__PHASE_DIAG_BYTES(r, m, p)                                                            \
-    (2u * OKID__RB(OKID__Q(r, m, p)) + OKID__RB(OKID__Q(r, m, p) * OKID__Q(r, m, p))                 \
-     + OKID__ALIGN16(sizeof(int) * OKID__Q(r, m, p)) + OKID__RB(OKID__LWORK_GELSY(OKID__Q(r, m, p), 1u)))
-
 #define OKID__SCRATCH_BYTES(r, m, p, alpha, beta, n, k, block_rows, combined)                        \
     (OKID__RB(OKID__Q(r, m, p) * OKID__Z(m))                                                        \
-     + OKID__MAX(OKID__MAX(OKID__MAX(OKID__PHASE_FOLD_BYTES(r, m, p, block_rows), OKID__PHASE_LSQ_BYTES(r, m, p)), \
-                           OKID__PHASE_DIAG_BYTES(r, m, p)),                                                \
+     + OKID__MAX(OKID__MAX(OKID__PHASE_FOLD_BYTES(r, m, p, block_rows), OKID__PHASE_SOLVE_BYTES(r, m, p)),   \
                  OKID__MAX(OKID__PHASE_ERA_BYTES(r, m, alpha, beta, n, k, combined),                         \
                            OKID__PHASE_MODAL_BYTES(n) + OKID__PHASE_INDICATOR_BYTES(n, r))))
 
