@@ -220,6 +220,8 @@ typedef struct okid_dims_ {
     int ncols;                /* columns of one Hankel block: r, or r + m when combined */
     int hankel_rows, hankel_cols, svd_size, max_order, markov_count;
     int block_rows, block_tile;
+    int era_in_r;             /* the Hankel matrix and V' in R's unused triangle (OKID__ERA_IN_R) */
+    int era_ldh, era_ldvt;    /* their leading dimensions: w + 1 there, else hankel_rows and svd_size */
     int decimation, instrument_lags, nz; /* K; L and nz = r (L + 1) (0 for least squares) */
 } okid_dims_;
 
@@ -290,10 +292,17 @@ typedef struct okid_identifier {
 #define OKID__PHASE_SOLVE_BYTES(r, m, p)                                                           \
     (2u * OKID__RB(OKID__Q(r, m, p)) + OKID__ALIGN16(sizeof(int) * OKID__Q(r, m, p))                \
      + OKID__RB(5u * OKID__Q(r, m, p)))
-#define OKID__PHASE_ERA_BYTES(r, m, alpha, beta, n, k, combined)                                   \
-    (OKID__RB(OKID__HR(m, alpha) * OKID__HC(r, m, beta, combined))                                   \
-     + OKID__RB(OKID__Z(k) * OKID__HC(r, m, beta, combined)) + OKID__RB(OKID__HR(m, alpha) * OKID__Z(n)) \
-     + OKID__RB(OKID__NCOLS(r, m, combined))                                                        \
+/* The Hankel matrix (hr x hc) and V' (k x hc) go into R's unused strict lower triangle when they
+   fit (columns stepping down the diagonal, leading dimension w + 1): hr + hc <= w, 2 hc + k <= w. */
+#define OKID__ERA_IN_R(r, m, p, alpha, beta, k, combined)                                           \
+    (OKID__HR(m, alpha) + OKID__HC(r, m, beta, combined) <= OKID__W(r, m, p)                          \
+     && 2u * OKID__HC(r, m, beta, combined) + OKID__Z(k) <= OKID__W(r, m, p))
+#define OKID__PHASE_ERA_BYTES(r, m, p, alpha, beta, n, k, combined)                                \
+    ((OKID__ERA_IN_R(r, m, p, alpha, beta, k, combined)                                              \
+          ? 0u                                                                                      \
+          : OKID__RB(OKID__HR(m, alpha) * OKID__HC(r, m, beta, combined))                            \
+                + OKID__RB(OKID__Z(k) * OKID__HC(r, m, beta, combined)))                             \
+     + OKID__RB(OKID__HR(m, alpha) * OKID__Z(n)) + OKID__RB(OKID__NCOLS(r, m, combined))             \
      + OKID__RB(OKID__LWORK_GESVD(OKID__HR(m, alpha), OKID__HC(r, m, beta, combined))))
 #define OKID__PHASE_MODAL_BYTES(n) \
     (2u * OKID__RB(OKID__Z(n) * OKID__Z(n)) + 2u * OKID__RB(n) + OKID__RB(OKID__LWORK_GEEV(n)))
@@ -304,7 +313,7 @@ typedef struct okid_identifier {
 #define OKID__SCRATCH_BYTES(r, m, p, alpha, beta, n, k, block_rows, combined)                        \
     (OKID__RB(OKID__Q(r, m, p) * OKID__Z(m))                                                        \
      + OKID__MAX(OKID__MAX(OKID__PHASE_FOLD_BYTES(r, m, p, block_rows), OKID__PHASE_SOLVE_BYTES(r, m, p)),   \
-                 OKID__MAX(OKID__PHASE_ERA_BYTES(r, m, alpha, beta, n, k, combined),                         \
+                 OKID__MAX(OKID__PHASE_ERA_BYTES(r, m, p, alpha, beta, n, k, combined),                         \
                            OKID__PHASE_MODAL_BYTES(n) + OKID__PHASE_INDICATOR_BYTES(n, r))))
 
 /**
