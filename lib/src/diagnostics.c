@@ -3,7 +3,6 @@
 
 #include "dense.h"
 #include "least_squares.h"
-#include "linalg.h"
 #include "real_math.h"
 #include "triangular_lstsq.h"
 

@@ -87,7 +87,7 @@ okid_status okid_lsq_solve(okid_identifier *id, int *regressor_rank, int *input_
 
     /* Persistence of excitation: rank of the input-only regressor (leading nu columns). */
     okid_real *s = okid_lsq_equilibrated_copy(id, nu, v->lsq_scale);
-    *input_rank = okid_triangular_lstsq(nu, 0, s, w, v->x, q, tol, v->lsq_perm, v->lsq_work);
+    *input_rank = okid_triangular_lstsq(nu, 0, s, w, NULL, q, tol, v->lsq_perm, v->lsq_work);
     if (*input_rank < nu) {
         return OKID_E_RANK_DEFICIENT;
     }

@@ -43,6 +43,7 @@
 extern "C" {
 #include "linalg.h"
 
+#include "condition_estimate.h"
 #include "dense.h"
 }
 #include "okid/identifier.h"
@@ -113,98 +114,6 @@ void apply_reflector(Real tau, const Vec &v, Real &head, Tail &&tail)
     tail -= w * v;
 }
 
-/* ---- incremental condition estimation (Bischof 1990): the cases and formulas of LAPACK's xLAIC1
-   (modified BSD licence), the step xGELSY takes its rank with ---- */
-
-struct IceStep {
-    Real sest, s, c;
-};
-
-/*
- * x (unit norm) approximates a singular vector of the j x j upper-triangular R with |R' x| = sest.
- * Returns the estimate for R extended by the column [w; gamma] and the sine/cosine that extend x.
- */
-IceStep ice_largest(Real sest, Real alpha, Real gamma)
-{
-    const Real absalp = std::abs(alpha), absgam = std::abs(gamma), absest = std::abs(sest);
-    if (sest == 0) {
-        const Real s1 = std::max(absgam, absalp);
-        if (s1 == 0) {
-            return {0, 0, 1};
-        }
-        const Real s = alpha / s1, c = gamma / s1, tmp = std::sqrt(s * s + c * c);
-        return {s1 * tmp, s / tmp, c / tmp};
-    }
-    if (absgam <= kEps * absest) {
-        const Real tmp = std::max(absest, absalp), s1 = absest / tmp, s2 = absalp / tmp;
-        return {tmp * std::sqrt(s1 * s1 + s2 * s2), 1, 0};
-    }
-    if (absalp <= kEps * absest) {
-        return absgam <= absest ? IceStep{absest, 1, 0} : IceStep{absgam, 0, 1};
-    }
-    if (absest <= kEps * absalp || absest <= kEps * absgam) {
-        if (absgam <= absalp) {
-            const Real tmp = absgam / absalp, s = std::sqrt(1 + tmp * tmp);
-            return {absalp * s, std::copysign(Real(1), alpha) / s, (gamma / absalp) / s};
-        }
-        const Real tmp = absalp / absgam, c = std::sqrt(1 + tmp * tmp);
-        return {absgam * c, (alpha / absgam) / c, std::copysign(Real(1), gamma) / c};
-    }
-    const Real zeta1 = alpha / absest, zeta2 = gamma / absest;
-    const Real b = (1 - zeta1 * zeta1 - zeta2 * zeta2) / 2, c = zeta1 * zeta1;
-    const Real t = b > 0 ? c / (b + std::sqrt(b * b + c)) : std::sqrt(b * b + c) - b;
-    const Real sine = -zeta1 / t, cosine = -zeta2 / (1 + t), tmp = std::sqrt(sine * sine + cosine * cosine);
-    return {std::sqrt(t + 1) * absest, sine / tmp, cosine / tmp};
-}
-
-IceStep ice_smallest(Real sest, Real alpha, Real gamma)
-{
-    const Real absalp = std::abs(alpha), absgam = std::abs(gamma), absest = std::abs(sest);
-    if (sest == 0) {
-        Real sine = 1, cosine = 0;
-        if (std::max(absgam, absalp) != 0) {
-            sine = -gamma;
-            cosine = alpha;
-        }
-        const Real s1 = std::max(std::abs(sine), std::abs(cosine)), s = sine / s1, c = cosine / s1;
-        const Real tmp = std::sqrt(s * s + c * c);
-        return {0, s / tmp, c / tmp};
-    }
-    if (absgam <= kEps * absest) {
-        return {absgam, 0, 1};
-    }
-    if (absalp <= kEps * absest) {
-        return absgam <= absest ? IceStep{absgam, 0, 1} : IceStep{absest, 1, 0};
-    }
-    if (absest <= kEps * absalp || absest <= kEps * absgam) {
-        if (absgam <= absalp) {
-            const Real tmp = absgam / absalp, c = std::sqrt(1 + tmp * tmp);
-            return {absest * (tmp / c), -(gamma / absalp) / c, std::copysign(Real(1), alpha) / c};
-        }
-        const Real tmp = absalp / absgam, s = std::sqrt(1 + tmp * tmp);
-        return {absest / s, -std::copysign(Real(1), gamma) / s, (alpha / absgam) / s};
-    }
-    const Real zeta1 = alpha / absest, zeta2 = gamma / absest;
-    const Real norma = std::max(1 + zeta1 * zeta1 + std::abs(zeta1 * zeta2), std::abs(zeta1 * zeta2) + zeta2 * zeta2);
-    const Real floor = 4 * kEps * kEps * norma;
-    Real sine, cosine, sestpr;
-    if (1 + 2 * (zeta1 - zeta2) * (zeta1 + zeta2) >= 0) { /* root close to zero */
-        const Real b = (zeta1 * zeta1 + zeta2 * zeta2 + 1) / 2, c = zeta2 * zeta2;
-        const Real t = c / (b + std::sqrt(std::abs(b * b - c)));
-        sine = zeta1 / (1 - t);
-        cosine = -zeta2 / t;
-        sestpr = std::sqrt(t + floor) * absest;
-    } else { /* root closer to one: shift by it */
-        const Real b = (zeta2 * zeta2 + zeta1 * zeta1 - 1) / 2, c = zeta1 * zeta1;
-        const Real t = b >= 0 ? -c / (b + std::sqrt(b * b + c)) : b - std::sqrt(b * b + c);
-        sine = -zeta1 / t;
-        cosine = -zeta2 / (1 + t);
-        sestpr = std::sqrt(1 + t + floor) * absest;
-    }
-    const Real tmp = std::sqrt(sine * sine + cosine * cosine);
-    return {sestpr, sine / tmp, cosine / tmp};
-}
-
 /* ---- the pieces of the rank-revealing solve (xGEQP3, xLAIC1 loop, xTZRZF, xORMQR, xORMRZ) ---- */
 
 /*
@@ -251,8 +160,8 @@ int qr_rank(MatrixMap &a, Real rcond, const PivotedQr &w)
             w.xmin[0] = w.xmax[0] = 1;
         } else { /* does column i keep the condition below 1 / rcond? */
             const auto col = a.col(i).head(i);
-            const IceStep lo = ice_smallest(smin, VectorMap(w.xmin, i).dot(col), a(i, i));
-            const IceStep hi = ice_largest(smax, VectorMap(w.xmax, i).dot(col), a(i, i));
+            const okid_ice_step lo = okid_ice_smallest(smin, VectorMap(w.xmin, i).dot(col), a(i, i));
+            const okid_ice_step hi = okid_ice_largest(smax, VectorMap(w.xmax, i).dot(col), a(i, i));
             if (hi.sest * rcond > lo.sest) {
                 return i;
             }

@@ -9,10 +9,7 @@
 #ifndef OKID_TRIANGULAR_LSTSQ_H
 #define OKID_TRIANGULAR_LSTSQ_H
 
-#include "okid/types.h"
-
-/* Reals of work okid_triangular_lstsq needs for n columns. */
-#define OKID__TRIANGULAR_LSTSQ_WORK(n) (5u * (size_t)(n))
+#include "okid/identifier.h" /* OKID__LWORK_TRIANGULAR_LSTSQ */
 
 /*
  * The n x n upper-triangular a is stored by rows: a(i, j) = a[i lda + j], j >= i; the solve reads
@@ -20,7 +17,7 @@
  * b (n x nrhs, column-major, leading dimension ldb) becomes the minimum-norm solution of
  * min |a x - b| in which columns whose reciprocal condition estimate falls below rcond count as
  * dependent. Returns the numerical rank. a is overwritten; perm holds n ints, work
- * OKID__TRIANGULAR_LSTSQ_WORK(n) reals.
+ * OKID__LWORK_TRIANGULAR_LSTSQ(n) reals.
  */
 int okid_triangular_lstsq(int n, int nrhs, okid_real *a, int lda, okid_real *b, int ldb, okid_real rcond, int *perm,
                           okid_real *work);

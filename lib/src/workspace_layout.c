@@ -2,6 +2,8 @@
  * Configuration checks and workspace layout. Regions, in order: the persistent accumulation
  * (sample ring, pending regressor rows, triangular factor R), the results of the last
  * identification, then one scratch area that the push and identify phases take turns to use.
+ * R's strict lower triangle is scratch too: identify's large matrices live there (the solves'
+ * equilibrated copy, and ERA's Hankel matrix and V' when they fit), only the upper triangle persists.
  */
 #include "workspace_layout.h"
 
@@ -159,7 +161,7 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned
     v->lsq_scale = okid_carve_reals(&c, q);
     v->lsq_column = okid_carve_reals(&c, q);
     v->lsq_perm = (int *)okid_carve_bytes(&c, sizeof(int) * q);
-    v->lsq_work = okid_carve_reals(&c, OKID__TRIANGULAR_LSTSQ_WORK(q));
+    v->lsq_work = okid_carve_reals(&c, OKID__LWORK_TRIANGULAR_LSTSQ(q));
     end = MAX(end, c.used);
 
     c.used = scratch;

@@ -287,11 +287,13 @@ typedef struct okid_identifier {
 
 #define OKID__PHASE_FOLD_BYTES(r, m, p, block_rows) \
     (2u * OKID__RB(OKID__NBT(r, m, p, block_rows) * OKID__W(r, m, p)))
+/* Work of the core's rank-revealing solve on a triangle (triangular_lstsq.h), in reals. */
+#define OKID__LWORK_TRIANGULAR_LSTSQ(n) (4u * OKID__Z(n))
 /* The rank-revealing solves (least squares, the diagnostics' noise-free test) run in R's unused
-   lower triangle: column scales, a column, the permutation and 5 vectors (triangular_lstsq.h). */
+   lower triangle: column scales, a column, the permutation and the solve's work. */
 #define OKID__PHASE_SOLVE_BYTES(r, m, p)                                                           \
     (2u * OKID__RB(OKID__Q(r, m, p)) + OKID__ALIGN16(sizeof(int) * OKID__Q(r, m, p))                \
-     + OKID__RB(5u * OKID__Q(r, m, p)))
+     + OKID__RB(OKID__LWORK_TRIANGULAR_LSTSQ(OKID__Q(r, m, p))))
 /* The Hankel matrix (hr x hc) and V' (k x hc) go into R's unused strict lower triangle when they
    fit (columns stepping down the diagonal, leading dimension w + 1): hr + hc <= w, 2 hc + k <= w. */
 #define OKID__ERA_IN_R(r, m, p, alpha, beta, k, combined)                                           \
