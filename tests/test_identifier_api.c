@@ -209,6 +209,34 @@ static void test_rejected_calls_leave_state_intact(void **state)
     free(ws);
 }
 
+/* okid_identify and okid_stabilization_compute use R's unused lower triangle as scratch (the
+   solves' copy, ERA's Hankel matrix and V'): identifying in the middle of a record loses nothing. */
+static void test_identify_midway_leaves_accumulation_intact(void **state)
+{
+    fixture *f = *state;
+    okid_result res, ref;
+    f->cfg.block_rows = 1; /* identify folds a partly filled block: with 1 row per fold both runs fold alike */
+    assert_int_equal(okid_init(&f->id, &f->cfg, f->ws, f->bytes, NULL), OKID_OK);
+    assert_int_equal(f->id.dims_.era_in_r, 1); /* the paper configuration: the Hankel matrix in R's triangle */
+    assert_int_equal(okid_push_block(&f->id, 500, f->u, 1, f->y, 2, NULL), OKID_OK);
+    assert_int_equal(okid_identify(&f->id, &res), OKID_OK);
+    size_t bytes = 0;
+    assert_int_equal(okid_stabilization_workspace_size(&f->id, 8, 2, &bytes), OKID_OK);
+    void *stab_ws = aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15u) / 16u * 16u);
+    assert_non_null(stab_ws);
+    okid_stabilization stab;
+    assert_int_equal(okid_stabilization_compute(&f->id, 8, 2, NULL, stab_ws, bytes, &stab), OKID_OK);
+    assert_int_equal(okid_push_block(&f->id, SAMPLES - 500, f->u + 500, 1, f->y + 1000, 2, NULL), OKID_OK);
+    assert_int_equal(okid_identify(&f->id, &res), OKID_OK);
+
+    okid_identifier other;
+    void *ws = NULL;
+    reference_result(f, &ws, &other, &ref);
+    assert_same_result(&res, &ref);
+    free(ws);
+    free(stab_ws);
+}
+
 static void test_identify_before_enough_samples(void **state)
 {
     fixture *f = *state;
@@ -329,6 +357,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_null_pointers, setup, teardown),
         cmocka_unit_test_setup_teardown(test_uninitialised_identifier, setup, teardown),
         cmocka_unit_test_setup_teardown(test_rejected_calls_leave_state_intact, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_identify_midway_leaves_accumulation_intact, setup, teardown),
         cmocka_unit_test_setup_teardown(test_identify_before_enough_samples, setup, teardown),
         cmocka_unit_test_setup_teardown(test_nonfinite_sample, setup, teardown),
         cmocka_unit_test_setup_teardown(test_not_persistently_exciting, setup, teardown),

@@ -3,8 +3,8 @@
 
 #include "dense.h"
 #include "least_squares.h"
-#include "linalg.h"
 #include "real_math.h"
+#include "triangular_lstsq.h"
 
 /* Only modes this consistent count as identified for the Hankel-span rule. */
 #define SPAN_MIN_CMI OKID_R(0.5)
@@ -60,13 +60,13 @@ okid_status okid_diagnose_regressor(okid_identifier *id, int n, int regressor_ra
     okid_views_ *v = &id->at_;
     const int q = d->q, w = d->w, nu = d->r * (d->p + 1);
     const okid_real gap = okid_sqrt(id->rank_tolerance_);
-    okid_lsq_column_norms(v->r, w, q, v->diag_scale);
+    okid_lsq_column_norms(v->r, w, q, v->lsq_scale);
 
-    out->input_condition = triangular_condition(v->r, w, nu, v->diag_scale, v->diag_b);
+    out->input_condition = triangular_condition(v->r, w, nu, v->lsq_scale, v->lsq_column);
     if (out->input_condition * gap > 1) {
         *warnings |= OKID_W_WEAK_EXCITATION;
     }
-    out->lsq_condition = triangular_condition(v->r, w, q, v->diag_scale, v->diag_b);
+    out->lsq_condition = triangular_condition(v->r, w, q, v->lsq_scale, v->lsq_column);
 
     const int model_rank = nu + n;
     out->expected_rank = model_rank < q ? model_rank : q;
@@ -78,14 +78,8 @@ okid_status okid_diagnose_regressor(okid_identifier *id, int n, int regressor_ra
     }
     /* Noise lifts the regressor's rank past the model's r (p + 1) + n at any tolerance; (near)
        noise-free data keeps it there even at the looser tolerance sqrt(tol). */
-    okid_lsq_equilibrated_copy(v->r, w, q, v->diag_scale, v->diag_a);
-    okid_zero_matrix(q, 1, v->diag_b, q); /* a dummy right-hand side: xGELSY returns at once without one */
-    int loose_rank = 0;
-    const okid_status st =
-        okid_la_lstsq_rank(q, 1, v->diag_a, q, v->diag_b, q, gap, &loose_rank, v->diag_jpvt, v->diag_work);
-    if (st != OKID_OK) {
-        return st;
-    }
+    okid_real *s = okid_lsq_equilibrated_copy(id, q, v->lsq_scale);
+    const int loose_rank = okid_triangular_lstsq(q, 0, s, w, NULL, q, gap, v->lsq_perm, v->lsq_work);
     if (loose_rank <= model_rank) {
         *warnings |= OKID_W_OBSERVER_ORDER_ABOVE_MINIMUM;
     }

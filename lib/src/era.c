@@ -69,6 +69,7 @@ okid_status okid_era_realize(okid_identifier *id, int *order, unsigned *warnings
     const okid_dims_ *d = &id->dims_;
     okid_views_ *v = &id->at_;
     const int m = d->m, r = d->r, nc = d->ncols, hr = d->hankel_rows, hc = d->hankel_cols, k = d->svd_size;
+    const int ldh = d->era_ldh, ldvt = d->era_ldvt;
     const int alpha = id->cfg_.hankel_rows, beta = id->cfg_.hankel_cols;
     column_scales(id);
 
@@ -76,12 +77,12 @@ okid_status okid_era_realize(okid_identifier *id, int *order, unsigned *warnings
         for (int l = 0; l < nc; ++l) {
             for (int i = 0; i < alpha; ++i) {
                 for (int a = 0; a < m; ++a) {
-                    OKID_AT(v->era_h, hr, i * m + a, j * nc + l) = gamma_at(id, i + j + 1, a, l);
+                    OKID_AT(v->era_h, ldh, i * m + a, j * nc + l) = gamma_at(id, i + j + 1, a, l);
                 }
             }
         }
     }
-    const okid_status st = okid_la_svd(hr, hc, v->era_h, hr, v->sv, v->era_vt, k, v->era_work);
+    const okid_status st = okid_la_svd(hr, hc, v->era_h, ldh, v->sv, v->era_vt, ldvt, v->era_work);
     if (st != OKID_OK) {
         return st;
     }
@@ -106,7 +107,7 @@ okid_status okid_era_realize(okid_identifier *id, int *order, unsigned *warnings
                 okid_real s = 0;
                 for (int j = 0; j < beta; ++j) {
                     for (int l = 0; l < nc; ++l) {
-                        s += gamma_at(id, i + j + 2, a, l) * OKID_AT(v->era_vt, k, t, j * nc + l);
+                        s += gamma_at(id, i + j + 2, a, l) * OKID_AT(v->era_vt, ldvt, t, j * nc + l);
                     }
                 }
                 OKID_AT(v->era_t, hr, i * m + a, t) = s;
@@ -117,7 +118,7 @@ okid_status okid_era_realize(okid_identifier *id, int *order, unsigned *warnings
         for (int s = 0; s < n; ++s) {
             okid_real acc = 0;
             for (int row = 0; row < hr; ++row) {
-                acc += OKID_AT(u, hr, row, s) * OKID_AT(v->era_t, hr, row, t);
+                acc += OKID_AT(u, ldh, row, s) * OKID_AT(v->era_t, hr, row, t);
             }
             OKID_AT(v->a, n, s, t) = acc / okid_sqrt(sv[s] * sv[t]);
         }
@@ -125,10 +126,10 @@ okid_status okid_era_realize(okid_identifier *id, int *order, unsigned *warnings
     for (int t = 0; t < n; ++t) {
         const okid_real root = okid_sqrt(sv[t]);
         for (int a = 0; a < m; ++a) {
-            OKID_AT(v->c, m, a, t) = OKID_AT(u, hr, a, t) * root * okid_channel_scale(id, r + a);
+            OKID_AT(v->c, m, a, t) = OKID_AT(u, ldh, a, t) * root * okid_channel_scale(id, r + a);
         }
         for (int l = 0; l < nc; ++l) {
-            const okid_real value = root * OKID_AT(v->era_vt, k, t, l) / v->era_scale[l];
+            const okid_real value = root * OKID_AT(v->era_vt, ldvt, t, l) / v->era_scale[l];
             if (l < r) {
                 OKID_AT(v->b, n, t, l) = value;
             } else {

@@ -6,6 +6,7 @@
 #include "instrumental.h"
 #include "linalg.h"
 #include "real_math.h"
+#include "triangular_lstsq.h"
 
 okid_status okid_lsq_fold_pending(okid_identifier *id)
 {
@@ -64,13 +65,16 @@ void okid_lsq_column_norms(const okid_real *r, int ldr, int n, okid_real *scale)
     }
 }
 
-void okid_lsq_equilibrated_copy(const okid_real *r, int ldr, int n, const okid_real *scale, okid_real *s)
+okid_real *okid_lsq_equilibrated_copy(okid_identifier *id, int n, const okid_real *scale)
 {
+    const int w = id->dims_.w;
+    okid_real *s = id->at_.r + 1; /* s(i, j) = s[i w + j] is R(j + 1, i): below R's diagonal, as j + 1 <= q < w */
     for (int j = 0; j < n; ++j) {
-        for (int i = 0; i < n; ++i) {
-            OKID_AT(s, n, i, j) = (i <= j) ? OKID_AT(r, ldr, i, j) / scale[j] : 0;
+        for (int i = 0; i <= j; ++i) {
+            s[(size_t)i * (size_t)w + (size_t)j] = OKID_AT(id->at_.r, w, i, j) / scale[j];
         }
     }
+    return s;
 }
 
 okid_status okid_lsq_solve(okid_identifier *id, int *regressor_rank, int *input_rank)
@@ -82,24 +86,16 @@ okid_status okid_lsq_solve(okid_identifier *id, int *regressor_rank, int *input_
     okid_lsq_column_norms(v->r, w, q, v->lsq_scale);
 
     /* Persistence of excitation: rank of the input-only regressor (leading nu columns). */
-    /* One dummy right-hand side: xGELSY returns rank 0 at once when NRHS = 0. */
-    okid_lsq_equilibrated_copy(v->r, w, nu, v->lsq_scale, v->lsq_s);
-    okid_zero_matrix(q, 1, v->x, q);
-    okid_status st = okid_la_lstsq_rank(nu, 1, v->lsq_s, nu, v->x, q, tol, input_rank, v->lsq_jpvt, v->lsq_work);
-    if (st != OKID_OK) {
-        return st;
-    }
+    okid_real *s = okid_lsq_equilibrated_copy(id, nu, v->lsq_scale);
+    *input_rank = okid_triangular_lstsq(nu, 0, s, w, NULL, q, tol, v->lsq_perm, v->lsq_work);
     if (*input_rank < nu) {
         return OKID_E_RANK_DEFICIENT;
     }
 
     /* Minimum-norm solution of the equilibrated R11 x~ = R12, then x = diag(1/scale) x~. */
-    okid_lsq_equilibrated_copy(v->r, w, q, v->lsq_scale, v->lsq_s);
     okid_copy_matrix(q, m, v->r + (size_t)q * (size_t)w, w, v->x, q);
-    st = okid_la_lstsq_rank(q, m, v->lsq_s, q, v->x, q, tol, regressor_rank, v->lsq_jpvt, v->lsq_work);
-    if (st != OKID_OK) {
-        return st;
-    }
+    s = okid_lsq_equilibrated_copy(id, q, v->lsq_scale);
+    *regressor_rank = okid_triangular_lstsq(q, m, s, w, v->x, q, tol, v->lsq_perm, v->lsq_work);
     for (int j = 0; j < m; ++j) {
         for (int i = 0; i < q; ++i) {
             OKID_AT(v->x, q, i, j) /= v->lsq_scale[i];

@@ -24,7 +24,12 @@ okid_status okid_lsq_solve(okid_identifier *id, int *regressor_rank, int *input_
 /* Column norms of the leading n columns of the triangular factor r (the regressor's); 1 for a zero column. */
 void okid_lsq_column_norms(const okid_real *r, int ldr, int n, okid_real *scale);
 
-/* s (n x n) = R(0:n, 0:n) diag(1 / scale): equilibrated, so that units do not decide rank or condition. */
-void okid_lsq_equilibrated_copy(const okid_real *r, int ldr, int n, const okid_real *scale, okid_real *s);
+/*
+ * s = R(0:n, 0:n) diag(1 / scale), equilibrated so that units do not decide rank or condition,
+ * written transposed into R's unused strict lower triangle (s(i, j) = s[i w + j], the layout of
+ * okid_triangular_lstsq with lda = w): the solves need no copy beside R and leave R intact.
+ * Returns s.
+ */
+okid_real *okid_lsq_equilibrated_copy(okid_identifier *id, int n, const okid_real *scale);
 
 #endif

@@ -2,8 +2,8 @@
  * The Eigen backend of linalg.h, for targets without LAPACK (bare-metal Cortex-M). Heap-free and
  * re-entrant: every matrix is an Eigen::Map over the caller's memory (the identifier's workspace);
  * the QR update, the rank-revealing least squares and the SVD run in place in it, and the one
- * decomposition object, Eigen's RealSchur of fixed maximum order OKID_EIGEN_MAX_ORDER, is built in
- * the caller's work array. No statics, no exceptions, no RTTI; EIGEN_NO_MALLOC makes any
+ * decomposition object, Eigen's RealSchur of a fixed maximum order (OKID__EIGEN_SCHUR_ORDER: 8 for
+ * up to 8 states, else OKID_EIGEN_MAX_ORDER), is built in the caller's work array. No statics, no exceptions, no RTTI; EIGEN_NO_MALLOC makes any
  * allocation an assertion failure in builds with assertions. Work sizes: OKID__LWORK_* in the
  * public headers, under OKID_LINALG_EIGEN.
  *
@@ -43,6 +43,8 @@
 extern "C" {
 #include "linalg.h"
 
+#include "condition_estimate.h"
+#include "dense.h"
 #include "givens_fold.h"
 }
 #include "okid/identifier.h"
@@ -55,15 +57,23 @@ using Real = okid_real;
 using Matrix = Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic>;
 using MatrixMap = Eigen::Map<Matrix, Eigen::Unaligned, Eigen::OuterStride<>>;
 using VectorMap = Eigen::Map<Eigen::Matrix<Real, Eigen::Dynamic, 1>>;
-/* The real Schur decomposition of the largest order the build supports (results held inline). */
-using EigMatrix = Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, OKID_EIGEN_MAX_ORDER,
-                                OKID_EIGEN_MAX_ORDER>;
-using Schur = Eigen::RealSchur<EigMatrix>;
-constexpr std::size_t kSchurBytes = (sizeof(Schur) + 15u) / 16u * 16u;
+/* Real Schur decompositions with their results inline: one of order up to the small order (the
+   usual few modes: its work array is a small fraction of the largest's) and one of the largest
+   order the build supports (okid/modal.h, OKID__EIGEN_SCHUR_ORDER). */
+template <int N>
+using EigMatrix = Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, N, N>;
+template <int N>
+using Schur = Eigen::RealSchur<EigMatrix<N>>;
+template <int N>
+constexpr std::size_t kSchurBytes = (sizeof(Schur<N>) + 15u) / 16u * 16u;
 
-static_assert(kSchurBytes + alignof(Schur) + 2 * sizeof(Real) * OKID_EIGEN_MAX_ORDER
-                  <= sizeof(Real) * OKID__LWORK_GEEV(1),
-              "OKID__LWORK_GEEV (okid/modal.h) must hold the RealSchur of OKID_EIGEN_MAX_ORDER and a vector");
+template <int N>
+constexpr bool schur_fits()
+{
+    return kSchurBytes<N> + alignof(Schur<N>) + 2 * sizeof(Real) * N <= sizeof(Real) * OKID__LWORK_GEEV(N);
+}
+static_assert(schur_fits<OKID__EIGEN_SMALL_ORDER>() && schur_fits<OKID_EIGEN_MAX_ORDER>(),
+              "OKID__LWORK_GEEV (okid/modal.h) must hold the RealSchur of its order and a complex vector");
 
 /* Relative machine precision as LAPACK's xLAMCH('E') reports it (round to nearest). */
 constexpr Real kEps = std::numeric_limits<Real>::epsilon() / 2;
@@ -103,98 +113,6 @@ void apply_reflector(Real tau, const Vec &v, Real &head, Tail &&tail)
     const Real w = tau * (head + v.dot(tail));
     head -= w;
     tail -= w * v;
-}
-
-/* ---- incremental condition estimation (Bischof 1990): the cases and formulas of LAPACK's xLAIC1
-   (modified BSD licence), the step xGELSY takes its rank with ---- */
-
-struct IceStep {
-    Real sest, s, c;
-};
-
-/*
- * x (unit norm) approximates a singular vector of the j x j upper-triangular R with |R' x| = sest.
- * Returns the estimate for R extended by the column [w; gamma] and the sine/cosine that extend x.
- */
-IceStep ice_largest(Real sest, Real alpha, Real gamma)
-{
-    const Real absalp = std::abs(alpha), absgam = std::abs(gamma), absest = std::abs(sest);
-    if (sest == 0) {
-        const Real s1 = std::max(absgam, absalp);
-        if (s1 == 0) {
-            return {0, 0, 1};
-        }
-        const Real s = alpha / s1, c = gamma / s1, tmp = std::sqrt(s * s + c * c);
-        return {s1 * tmp, s / tmp, c / tmp};
-    }
-    if (absgam <= kEps * absest) {
-        const Real tmp = std::max(absest, absalp), s1 = absest / tmp, s2 = absalp / tmp;
-        return {tmp * std::sqrt(s1 * s1 + s2 * s2), 1, 0};
-    }
-    if (absalp <= kEps * absest) {
-        return absgam <= absest ? IceStep{absest, 1, 0} : IceStep{absgam, 0, 1};
-    }
-    if (absest <= kEps * absalp || absest <= kEps * absgam) {
-        if (absgam <= absalp) {
-            const Real tmp = absgam / absalp, s = std::sqrt(1 + tmp * tmp);
-            return {absalp * s, std::copysign(Real(1), alpha) / s, (gamma / absalp) / s};
-        }
-        const Real tmp = absalp / absgam, c = std::sqrt(1 + tmp * tmp);
-        return {absgam * c, (alpha / absgam) / c, std::copysign(Real(1), gamma) / c};
-    }
-    const Real zeta1 = alpha / absest, zeta2 = gamma / absest;
-    const Real b = (1 - zeta1 * zeta1 - zeta2 * zeta2) / 2, c = zeta1 * zeta1;
-    const Real t = b > 0 ? c / (b + std::sqrt(b * b + c)) : std::sqrt(b * b + c) - b;
-    const Real sine = -zeta1 / t, cosine = -zeta2 / (1 + t), tmp = std::sqrt(sine * sine + cosine * cosine);
-    return {std::sqrt(t + 1) * absest, sine / tmp, cosine / tmp};
-}
-
-IceStep ice_smallest(Real sest, Real alpha, Real gamma)
-{
-    const Real absalp = std::abs(alpha), absgam = std::abs(gamma), absest = std::abs(sest);
-    if (sest == 0) {
-        Real sine = 1, cosine = 0;
-        if (std::max(absgam, absalp) != 0) {
-            sine = -gamma;
-            cosine = alpha;
-        }
-        const Real s1 = std::max(std::abs(sine), std::abs(cosine)), s = sine / s1, c = cosine / s1;
-        const Real tmp = std::sqrt(s * s + c * c);
-        return {0, s / tmp, c / tmp};
-    }
-    if (absgam <= kEps * absest) {
-        return {absgam, 0, 1};
-    }
-    if (absalp <= kEps * absest) {
-        return absgam <= absest ? IceStep{absgam, 0, 1} : IceStep{absest, 1, 0};
-    }
-    if (absest <= kEps * absalp || absest <= kEps * absgam) {
-        if (absgam <= absalp) {
-            const Real tmp = absgam / absalp, c = std::sqrt(1 + tmp * tmp);
-            return {absest * (tmp / c), -(gamma / absalp) / c, std::copysign(Real(1), alpha) / c};
-        }
-        const Real tmp = absalp / absgam, s = std::sqrt(1 + tmp * tmp);
-        return {absest / s, -std::copysign(Real(1), gamma) / s, (alpha / absgam) / s};
-    }
-    const Real zeta1 = alpha / absest, zeta2 = gamma / absest;
-    const Real norma = std::max(1 + zeta1 * zeta1 + std::abs(zeta1 * zeta2), std::abs(zeta1 * zeta2) + zeta2 * zeta2);
-    const Real floor = 4 * kEps * kEps * norma;
-    Real sine, cosine, sestpr;
-    if (1 + 2 * (zeta1 - zeta2) * (zeta1 + zeta2) >= 0) { /* root close to zero */
-        const Real b = (zeta1 * zeta1 + zeta2 * zeta2 + 1) / 2, c = zeta2 * zeta2;
-        const Real t = c / (b + std::sqrt(std::abs(b * b - c)));
-        sine = zeta1 / (1 - t);
-        cosine = -zeta2 / t;
-        sestpr = std::sqrt(t + floor) * absest;
-    } else { /* root closer to one: shift by it */
-        const Real b = (zeta2 * zeta2 + zeta1 * zeta1 - 1) / 2, c = zeta1 * zeta1;
-        const Real t = b >= 0 ? -c / (b + std::sqrt(b * b + c)) : b - std::sqrt(b * b + c);
-        sine = -zeta1 / t;
-        cosine = -zeta2 / (1 + t);
-        sestpr = std::sqrt(1 + t + floor) * absest;
-    }
-    const Real tmp = std::sqrt(sine * sine + cosine * cosine);
-    return {sestpr, sine / tmp, cosine / tmp};
 }
 
 /* ---- the pieces of the rank-revealing solve (xGEQP3, xLAIC1 loop, xTZRZF, xORMQR, xORMRZ) ---- */
@@ -243,8 +161,8 @@ int qr_rank(MatrixMap &a, Real rcond, const PivotedQr &w)
             w.xmin[0] = w.xmax[0] = 1;
         } else { /* does column i keep the condition below 1 / rcond? */
             const auto col = a.col(i).head(i);
-            const IceStep lo = ice_smallest(smin, VectorMap(w.xmin, i).dot(col), a(i, i));
-            const IceStep hi = ice_largest(smax, VectorMap(w.xmax, i).dot(col), a(i, i));
+            const okid_ice_step lo = okid_ice_smallest(smin, VectorMap(w.xmin, i).dot(col), a(i, i));
+            const okid_ice_step hi = okid_ice_largest(smax, VectorMap(w.xmax, i).dot(col), a(i, i));
             if (hi.sest * rcond > lo.sest) {
                 return i;
             }
@@ -521,7 +439,8 @@ void hessenberg(MatrixMap &a, MatrixMap &q, Real *tau)
 }
 
 /* The eigenvalue of T's diagonal block at k (1 x 1, or 2 x 2 with a complex pair: the one with Im > 0). */
-Complex block_eigenvalue(const EigMatrix &t, int k, bool pair)
+template <typename T>
+Complex block_eigenvalue(const T &t, int k, bool pair)
 {
     if (!pair) {
         return Complex(t(k, k), 0);
@@ -543,7 +462,8 @@ Complex guarded(Complex d, Real smin)
  * Eigenvector x of the quasi-triangular T for its eigenvalue lambda at block k (size 1 or 2):
  * x is zero below the block, fixed in the block, and solved upwards block by block.
  */
-void schur_vector(const EigMatrix &t, int k, bool pair, Complex lambda, Real smin, Complex *x)
+template <typename T>
+void schur_vector(const T &t, int k, bool pair, Complex lambda, Real smin, Complex *x)
 {
     const int n = static_cast<int>(t.cols());
     for (int i = 0; i < n; ++i) {
@@ -579,36 +499,27 @@ void schur_vector(const EigMatrix &t, int k, bool pair, Complex lambda, Real smi
     }
 }
 
-} // namespace
-
-extern "C" okid_status okid_la_eig(int n, okid_real *a, int lda, okid_real *wr, okid_real *wi, okid_real *vr,
-                                   int ldvr, okid_real *work)
+/* okid_la_eig with the Schur form of maximum order N >= n. */
+template <int N>
+okid_status eig_fixed(int n, okid_real *a, int lda, okid_real *wr, okid_real *wi, okid_real *vr, int ldvr,
+                      okid_real *work)
 {
-    if (bad_matrix(n, n, lda) || bad_matrix(n, n, ldvr)) {
-        return OKID_E_BACKEND_ARGUMENT;
-    }
-    if (n > OKID_EIGEN_MAX_ORDER) {
-        return OKID_E_BAD_ORDER; /* the build's fixed maximum (CMake OKID_EIGEN_MAX_ORDER) */
-    }
-    if (n == 0) {
-        return OKID_OK;
-    }
     /* The Schur object (results inline, fixed maximum size) lives in the caller's work array,
        followed by one complex vector. */
     void *place = work;
     std::size_t room = sizeof(Real) * OKID__LWORK_GEEV(n);
-    if (std::align(alignof(Schur), sizeof(Schur), place, room) == nullptr) {
+    if (std::align(alignof(Schur<N>), sizeof(Schur<N>), place, room) == nullptr) {
         return OKID_E_BACKEND_ARGUMENT;
     }
-    Schur *schur = new (place) Schur(n);
-    Complex *x = reinterpret_cast<Complex *>(static_cast<unsigned char *>(place) + kSchurBytes);
+    Schur<N> *schur = new (place) Schur<N>(n);
+    Complex *x = reinterpret_cast<Complex *>(static_cast<unsigned char *>(place) + kSchurBytes<N>);
     MatrixMap am = map(a, n, n, lda), v = map(vr, n, n, ldvr);
     hessenberg(am, v, reinterpret_cast<Real *>(x));
     schur->computeFromHessenberg(am, v, true);
     const bool ok = schur->info() == Eigen::Success;
     if (ok) {
-        const EigMatrix &t = schur->matrixT();
-        const EigMatrix &u = schur->matrixU();
+        const EigMatrix<N> &t = schur->matrixT();
+        const EigMatrix<N> &u = schur->matrixU();
         const Real smin = std::max(kEps * t.cwiseAbs().maxCoeff(), std::numeric_limits<Real>::min());
         for (int k = 0; k < n; ++k) {
             const bool pair = k + 1 < n && t(k + 1, k) != 0;
@@ -647,6 +558,24 @@ extern "C" okid_status okid_la_eig(int n, okid_real *a, int lda, okid_real *wr, 
             ++k;
         }
     }
-    schur->~Schur();
+    std::destroy_at(schur);
     return ok ? OKID_OK : OKID_E_DECOMPOSITION_FAILED;
+}
+
+} // namespace
+
+extern "C" okid_status okid_la_eig(int n, okid_real *a, int lda, okid_real *wr, okid_real *wi, okid_real *vr,
+                                   int ldvr, okid_real *work)
+{
+    if (bad_matrix(n, n, lda) || bad_matrix(n, n, ldvr)) {
+        return OKID_E_BACKEND_ARGUMENT;
+    }
+    if (n > OKID_EIGEN_MAX_ORDER) {
+        return OKID_E_BAD_ORDER; /* the build's fixed maximum (CMake OKID_EIGEN_MAX_ORDER) */
+    }
+    if (n == 0) {
+        return OKID_OK;
+    }
+    return n <= OKID__EIGEN_SMALL_ORDER ? eig_fixed<OKID__EIGEN_SMALL_ORDER>(n, a, lda, wr, wi, vr, ldvr, work)
+                                        : eig_fixed<OKID_EIGEN_MAX_ORDER>(n, a, lda, wr, wi, vr, ldvr, work);
 }

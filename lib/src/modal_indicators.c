@@ -155,15 +155,15 @@ void okid_indicators_capture(const okid_identifier *id, int n, okid_real *obs_la
 {
     const okid_dims_ *d = &id->dims_;
     const okid_views_ *v = &id->at_;
-    const int m = d->m, r = d->r, hr = d->hankel_rows, k = d->svd_size;
+    const int m = d->m, r = d->r, ldh = d->era_ldh, ldvt = d->era_ldvt;
     const int last_row = (id->cfg_.hankel_rows - 1) * m, last_col = (id->cfg_.hankel_cols - 1) * d->ncols;
     for (int t = 0; t < n; ++t) {
         const okid_real root = okid_sqrt(v->sv[t]);
         for (int a = 0; a < m; ++a) {
-            OKID_AT(obs_last, m, a, t) = OKID_AT(v->era_h, hr, last_row + a, t) * root * okid_channel_scale(id, r + a);
+            OKID_AT(obs_last, m, a, t) = OKID_AT(v->era_h, ldh, last_row + a, t) * root * okid_channel_scale(id, r + a);
         }
         for (int l = 0; l < r; ++l) {
-            OKID_AT(ctrl_last, n, t, l) = root * OKID_AT(v->era_vt, k, t, last_col + l) / v->era_scale[l];
+            OKID_AT(ctrl_last, n, t, l) = root * OKID_AT(v->era_vt, ldvt, t, last_col + l) / v->era_scale[l];
         }
     }
 }

@@ -17,6 +17,7 @@
 #define okid_cos cosf
 #define okid_sin sinf
 #define okid_pow powf
+#define okid_copysign copysignf
 #define OKID_EPSILON FLT_EPSILON
 #define OKID_REAL_MIN FLT_MIN
 #else
@@ -29,6 +30,7 @@
 #define okid_cos cos
 #define okid_sin sin
 #define okid_pow pow
+#define okid_copysign copysign
 #define OKID_EPSILON DBL_EPSILON
 #define OKID_REAL_MIN DBL_MIN
 #endif

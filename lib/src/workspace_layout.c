@@ -2,6 +2,8 @@
  * Configuration checks and workspace layout. Regions, in order: the persistent accumulation
  * (sample ring, pending regressor rows, triangular factor R), the results of the last
  * identification, then one scratch area that the push and identify phases take turns to use.
+ * R's strict lower triangle is scratch too: identify's large matrices live there (the solves'
+ * equilibrated copy, and ERA's Hankel matrix and V' when they fit), only the upper triangle persists.
  */
 #include "workspace_layout.h"
 
@@ -10,6 +12,7 @@
 #include "carve.h"
 #include "decimator.h"
 #include "real_math.h"
+#include "triangular_lstsq.h"
 
 #define MIN(a, b) ((a) < (b) ? (a) : (b))
 #define MAX(a, b) ((a) > (b) ? (a) : (b))
@@ -53,6 +56,11 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims)
     dims->hankel_cols = cfg->hankel_cols * dims->ncols;
     dims->svd_size = MIN(dims->hankel_rows, dims->hankel_cols);
     dims->markov_count = cfg->hankel_rows + cfg->hankel_cols; /* Y_0 .. Y_(alpha+beta) */
+    /* OKID__ERA_IN_R: the Hankel matrix and V' in R's unused triangle, or in the scratch */
+    dims->era_in_r =
+        dims->hankel_rows + dims->hankel_cols <= dims->w && 2 * dims->hankel_cols + dims->svd_size <= dims->w;
+    dims->era_ldh = dims->era_in_r ? dims->w + 1 : dims->hankel_rows;
+    dims->era_ldvt = dims->era_in_r ? dims->w + 1 : dims->svd_size;
     dims->block_rows = cfg->block_rows > 0 ? cfg->block_rows : 32;
     /* Inner block of the blocked QR update (xTPQRT's NB): a narrow panel keeps the level-2 part
        small and hands the rest to level-3 BLAS; 8 up to w = 128, 16 above, was fastest with both
@@ -150,15 +158,23 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned
     end = MAX(end, c.used);
 
     c.used = scratch;
-    v->lsq_s = okid_carve_reals(&c, q * q);
     v->lsq_scale = okid_carve_reals(&c, q);
-    v->lsq_jpvt = (int *)okid_carve_bytes(&c, sizeof(int) * q);
-    v->lsq_work = okid_carve_reals(&c, OKID__LWORK_GELSY(q, m));
+    v->lsq_column = okid_carve_reals(&c, q);
+    v->lsq_perm = (int *)okid_carve_bytes(&c, sizeof(int) * q);
+    v->lsq_work = okid_carve_reals(&c, OKID__LWORK_TRIANGULAR_LSTSQ(q));
     end = MAX(end, c.used);
 
     c.used = scratch;
-    v->era_h = okid_carve_reals(&c, hr * hc);
-    v->era_vt = okid_carve_reals(&c, k * hc);
+    if (d->era_in_r) {
+        /* in R's strict lower triangle: element (i, j) at R(j + 1 + i, j), below the diagonal as
+           hr + hc <= w (the Hankel matrix from column 0, V' from column hc); identify needs them
+           only between the SVD and okid_indicators_capture(), before the next solve writes there */
+        v->era_h = (v->r != NULL) ? v->r + 1 : NULL;
+        v->era_vt = (v->r != NULL) ? v->r + 1 + hc * (w + 1u) : NULL;
+    } else {
+        v->era_h = okid_carve_reals(&c, hr * hc);
+        v->era_vt = okid_carve_reals(&c, k * hc);
+    }
     v->era_t = okid_carve_reals(&c, hr * n);
     v->era_scale = okid_carve_reals(&c, nc);
     v->era_work = okid_carve_reals(&c, OKID__LWORK_GESVD(hr, hc));
@@ -173,14 +189,6 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned
     v->ind_rhs = okid_carve_reals(&c, n * 2u * r);
     v->ind_work = okid_carve_reals(&c, OKID__LWORK_GELSY(n, 2u * r));
     v->ind_jpvt = (int *)okid_carve_bytes(&c, sizeof(int) * n);
-    end = MAX(end, c.used);
-
-    c.used = scratch;
-    v->diag_scale = okid_carve_reals(&c, q);
-    v->diag_b = okid_carve_reals(&c, q);
-    v->diag_a = okid_carve_reals(&c, q * q);
-    v->diag_jpvt = (int *)okid_carve_bytes(&c, sizeof(int) * q);
-    v->diag_work = okid_carve_reals(&c, OKID__LWORK_GELSY(q, 1u));
     end = MAX(end, c.used);
 
     return end;

@@ -202,14 +202,12 @@ typedef struct okid_views_ {
     /* scratch shared by the phases of okid_push() and okid_identify() */
     okid_real *x;
     okid_real *fold_t, *fold_work;
-    okid_real *lsq_s, *lsq_scale, *lsq_work;
-    int *lsq_jpvt;
+    okid_real *lsq_scale, *lsq_column, *lsq_work; /* the solves of okid_lsq_solve() and the diagnostics */
+    int *lsq_perm;
     okid_real *era_h, *era_vt, *era_t, *era_scale, *era_work;
     okid_real *modal_a, *modal_vr, *modal_wr, *modal_wi, *modal_work;
     okid_real *ind_rhs, *ind_work;
     int *ind_jpvt;
-    okid_real *diag_scale, *diag_a, *diag_b, *diag_work;
-    int *diag_jpvt;
     /* options: NULL when not configured */
     okid_real *dec_coef, *dec_state, *dec_out; /* anti-alias biquads, their state per channel, the kept sample */
     okid_real *scales;                         /* r input then m output scales */
@@ -222,6 +220,8 @@ typedef struct okid_dims_ {
     int ncols;                /* columns of one Hankel block: r, or r + m when combined */
     int hankel_rows, hankel_cols, svd_size, max_order, markov_count;
     int block_rows, block_tile;
+    int era_in_r;             /* the Hankel matrix and V' in R's unused triangle (OKID__ERA_IN_R) */
+    int era_ldh, era_ldvt;    /* their leading dimensions: w + 1 there, else hankel_rows and svd_size */
     int decimation, instrument_lags, nz; /* K; L and nz = r (L + 1) (0 for least squares) */
 } okid_dims_;
 
@@ -287,13 +287,24 @@ typedef struct okid_identifier {
 
 #define OKID__PHASE_FOLD_BYTES(r, m, p, block_rows) \
     (2u * OKID__RB(OKID__NBT(r, m, p, block_rows) * OKID__W(r, m, p)))
-#define OKID__PHASE_LSQ_BYTES(r, m, p)                                                             \
-    (OKID__RB(OKID__Q(r, m, p) * OKID__Q(r, m, p)) + OKID__RB(OKID__Q(r, m, p))                      \
-     + OKID__ALIGN16(sizeof(int) * OKID__Q(r, m, p)) + OKID__RB(OKID__LWORK_GELSY(OKID__Q(r, m, p), m)))
-#define OKID__PHASE_ERA_BYTES(r, m, alpha, beta, n, k, combined)                                   \
-    (OKID__RB(OKID__HR(m, alpha) * OKID__HC(r, m, beta, combined))                                   \
-     + OKID__RB(OKID__Z(k) * OKID__HC(r, m, beta, combined)) + OKID__RB(OKID__HR(m, alpha) * OKID__Z(n)) \
-     + OKID__RB(OKID__NCOLS(r, m, combined))                                                        \
+/* Work of the core's rank-revealing solve on a triangle (triangular_lstsq.h), in reals. */
+#define OKID__LWORK_TRIANGULAR_LSTSQ(n) (4u * OKID__Z(n))
+/* The rank-revealing solves (least squares, the diagnostics' noise-free test) run in R's unused
+   lower triangle: column scales, a column, the permutation and the solve's work. */
+#define OKID__PHASE_SOLVE_BYTES(r, m, p)                                                           \
+    (2u * OKID__RB(OKID__Q(r, m, p)) + OKID__ALIGN16(sizeof(int) * OKID__Q(r, m, p))                \
+     + OKID__RB(OKID__LWORK_TRIANGULAR_LSTSQ(OKID__Q(r, m, p))))
+/* The Hankel matrix (hr x hc) and V' (k x hc) go into R's unused strict lower triangle when they
+   fit (columns stepping down the diagonal, leading dimension w + 1): hr + hc <= w, 2 hc + k <= w. */
+#define OKID__ERA_IN_R(r, m, p, alpha, beta, k, combined)                                           \
+    (OKID__HR(m, alpha) + OKID__HC(r, m, beta, combined) <= OKID__W(r, m, p)                          \
+     && 2u * OKID__HC(r, m, beta, combined) + OKID__Z(k) <= OKID__W(r, m, p))
+#define OKID__PHASE_ERA_BYTES(r, m, p, alpha, beta, n, k, combined)                                \
+    ((OKID__ERA_IN_R(r, m, p, alpha, beta, k, combined)                                              \
+          ? 0u                                                                                      \
+          : OKID__RB(OKID__HR(m, alpha) * OKID__HC(r, m, beta, combined))                            \
+                + OKID__RB(OKID__Z(k) * OKID__HC(r, m, beta, combined)))                             \
+     + OKID__RB(OKID__HR(m, alpha) * OKID__Z(n)) + OKID__RB(OKID__NCOLS(r, m, combined))             \
      + OKID__RB(OKID__LWORK_GESVD(OKID__HR(m, alpha), OKID__HC(r, m, beta, combined))))
 #define OKID__PHASE_MODAL_BYTES(n) \
     (2u * OKID__RB(OKID__Z(n) * OKID__Z(n)) + 2u * OKID__RB(n) + OKID__RB(OKID__LWORK_GEEV(n)))
@@ -301,16 +312,10 @@ typedef struct okid_identifier {
 #define OKID__PHASE_INDICATOR_BYTES(n, r)                                                          \
     (OKID__RB(OKID__Z(n) * 2u * OKID__Z(r)) + OKID__RB(OKID__LWORK_GELSY(n, 2u * OKID__Z(r)))        \
      + OKID__ALIGN16(sizeof(int) * OKID__Z(n)))
-/* Conditioning of the equilibrated regressor factor: its rank at a looser tolerance (noise-free test). */
-#define OKID__PHASE_DIAG_BYTES(r, m, p)                                                            \
-    (2u * OKID__RB(OKID__Q(r, m, p)) + OKID__RB(OKID__Q(r, m, p) * OKID__Q(r, m, p))                 \
-     + OKID__ALIGN16(sizeof(int) * OKID__Q(r, m, p)) + OKID__RB(OKID__LWORK_GELSY(OKID__Q(r, m, p), 1u)))
-
 #define OKID__SCRATCH_BYTES(r, m, p, alpha, beta, n, k, block_rows, combined)                        \
     (OKID__RB(OKID__Q(r, m, p) * OKID__Z(m))                                                        \
-     + OKID__MAX(OKID__MAX(OKID__MAX(OKID__PHASE_FOLD_BYTES(r, m, p, block_rows), OKID__PHASE_LSQ_BYTES(r, m, p)), \
-                           OKID__PHASE_DIAG_BYTES(r, m, p)),                                                \
-                 OKID__MAX(OKID__PHASE_ERA_BYTES(r, m, alpha, beta, n, k, combined),                         \
+     + OKID__MAX(OKID__MAX(OKID__PHASE_FOLD_BYTES(r, m, p, block_rows), OKID__PHASE_SOLVE_BYTES(r, m, p)),   \
+                 OKID__MAX(OKID__PHASE_ERA_BYTES(r, m, p, alpha, beta, n, k, combined),                         \
                            OKID__PHASE_MODAL_BYTES(n) + OKID__PHASE_INDICATOR_BYTES(n, r))))
 
 /**

@@ -59,11 +59,14 @@ typedef struct okid_mode {
 
 /** Work array of the general eigenproblem with right eigenvectors, in reals (internal). */
 #if OKID_LINALG_EIGEN
-/* Eigen backend: its RealSchur for OKID_EIGEN_MAX_ORDER = N states (3 N^2 + 3 N reals and the
-   object's bookkeeping) and one complex N-vector are built in the work array, whatever n. */
-#define OKID__LWORK_GEEV(n)                                                                        \
-    ((size_t)(n) * 0u + 3u * (size_t)OKID_EIGEN_MAX_ORDER * (size_t)OKID_EIGEN_MAX_ORDER           \
-     + 5u * (size_t)OKID_EIGEN_MAX_ORDER + 32u)
+/* Eigen backend: its RealSchur for N = OKID__EIGEN_SCHUR_ORDER(n) states (3 N^2 + 3 N reals and
+   the object's bookkeeping) and one complex N-vector are built in the work array. N is 8 for up to
+   8 states (a few modes: 1 KB in float instead of 13 KB for N = 32), else OKID_EIGEN_MAX_ORDER. */
+#define OKID__EIGEN_SMALL_ORDER (OKID_EIGEN_MAX_ORDER < 8 ? OKID_EIGEN_MAX_ORDER : 8)
+#define OKID__EIGEN_SCHUR_ORDER(n) \
+    ((size_t)(n) <= (size_t)OKID__EIGEN_SMALL_ORDER ? (size_t)OKID__EIGEN_SMALL_ORDER : (size_t)OKID_EIGEN_MAX_ORDER)
+#define OKID__LWORK_GEEV(n)                                                                       \
+    (3u * OKID__EIGEN_SCHUR_ORDER(n) * OKID__EIGEN_SCHUR_ORDER(n) + 5u * OKID__EIGEN_SCHUR_ORDER(n) + 32u)
 #else
 #define OKID__LWORK_GEEV(n) ((size_t)(n) * 36u + 16u)
 #endif
