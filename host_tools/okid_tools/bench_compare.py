@@ -139,7 +139,7 @@ def simulate(cli, dt, samples, noise, seed):
     return path, data[:, 1:2], data[:, 2:]
 
 
-def okid_cli(cli, path, dt, params, timing=False):
+def okid_cli(cli, path, dt, params, timing=False, repeat=20):
     h = str(params["h"])
     args = [cli, "identify", "--json", "--order", "4", "--observer-order", str(params["p"]), "--hankel-rows", h,
             "--hankel-cols", h, "--zero-initial-state", path]
@@ -148,7 +148,7 @@ def okid_cli(cli, path, dt, params, timing=False):
     if params.get("iv"):
         args[2:2] = ["--estimator", "instrumental"]
     if timing:
-        args[2:2] = ["--timing", "--repeat", "20"]
+        args[2:2] = ["--timing", "--repeat", str(repeat)]
     t0 = time.perf_counter()
     out = subprocess.run(args, capture_output=True, text=True, env=best_blas_env())
     wall = time.perf_counter() - t0
@@ -169,12 +169,13 @@ def errors(result, ref):
     return f_err, z_err
 
 
-def call_method(name, params, cli, path, u, y, dt):
-    """One identification: (frequencies, damping ratios) and the seconds it took."""
+def call_method(name, params, cli, path, u, y, dt, in_process=False):
+    """One identification: (frequencies, damping ratios) and the seconds it took (okid with in_process:
+    the C API's time inside the CLI process, without the process start and the CSV parsing)."""
     t0 = time.perf_counter()
     if name.startswith("okid"):
-        result, wall, _ = okid_cli(cli, path, dt, params)
-        return result, wall
+        result, wall, elapsed = okid_cli(cli, path, dt, params, timing=in_process, repeat=3)
+        return result, elapsed if in_process else wall
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         if name == "numpy OKID/ERA":
@@ -188,14 +189,14 @@ def call_method(name, params, cli, path, u, y, dt):
     return result, time.perf_counter() - t0
 
 
-def run_method(name, params, cli, path, u, y, dt, repeats=1):
+def run_method(name, params, cli, path, u, y, dt, repeats=1, in_process=False):
     """The result and the fastest of up to `repeats` calls (fewer once TIME_BUDGET is spent)."""
-    result, best = call_method(name, params, cli, path, u, y, dt)
+    result, best = call_method(name, params, cli, path, u, y, dt, in_process)
     spent = best
     for _ in range(repeats - 1):
         if spent > TIME_BUDGET:
             break
-        _, seconds = call_method(name, params, cli, path, u, y, dt)
+        _, seconds = call_method(name, params, cli, path, u, y, dt, in_process)
         best, spent = min(best, seconds), spent + seconds
     return result, best
 
@@ -210,7 +211,8 @@ def compare(cli, quick):
             tried = []
             for params in (grid[::4] if quick else grid):  # tuning on seed 1
                 try:
-                    result, seconds = run_method(name, params, cli, tune_path, tu, ty, dt)
+                    # okid is tuned on its in-process time: a process start would drown sub-ms differences
+                    result, seconds = run_method(name, params, cli, tune_path, tu, ty, dt, in_process=True)
                     tried.append((max(errors(result, ref)), seconds, params))
                 except Exception:  # a setting a method cannot run is simply not chosen
                     pass
@@ -376,10 +378,14 @@ def behind(rows, cbench):
             f"2q² = {2 * q * q} flops per sample to fold, {1e6 * floor:.1f} µs for the record at this run's best "
             f"single-core DGEMM rate ({dgemm / 1e9:.1f} GFlop/s), before the observer-Markov solve, the Hankel SVD and "
             f"the eigen-analysis; it measures {1e6 * ours['seconds']:.0f} µs "
-            f"({peer['seconds'] / ours['seconds']:.2f}x the peer's speed). The peer's cost is mostly a few LAPACK "
-            "calls on a 1001-row matrix, as is okid's: a 50x factor would need a method that does less arithmetic, not a "
-            "faster implementation of this one. What okid adds is that the same figure holds with a fixed "
-            "memory footprint, sample by sample, on a microcontroller.")
+            f"({peer['seconds'] / ours['seconds']:.2f}x the peer's speed), {ours['seconds'] / floor:.0f}x that floor. "
+            f"At this width the cost is not flops: the fold is bound by per-call overhead (a blocked QR update "
+            f"of a {q}-column factor every 32 samples; Givens rotations row by row measured twice as slow on "
+            "this CPU), and identify does fixed work whatever the record length (the rank-revealing solve and "
+            "the diagnostics' second one, the Hankel SVD, the eigen-analysis, the modal indicators: 0.34 M "
+            "instructions at p = 2, h = 10 under callgrind). The peer's cost is itself a handful of LAPACK calls "
+            "on a 1001-row matrix, so a 50x lead is out of reach for this method; what okid adds is the same "
+            "order of speed in fixed memory, sample by sample, on a microcontroller.")
     def behind_peer(mine, best):
         return not all(no_worse(mine, best, key)[0] for key in ("freq_error", "damping_error"))
 
