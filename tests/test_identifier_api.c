@@ -98,6 +98,7 @@ static void test_invalid_configurations(void **state)
     EXPECT(c.forgetting_factor = -0.5, OKID_E_BAD_PARAMETER);
     EXPECT(c.rank_tolerance = -1e-9, OKID_E_BAD_PARAMETER);
     EXPECT(c.rank_tolerance = NAN, OKID_E_BAD_PARAMETER);
+    EXPECT(c.rank_tolerance = (okid_real)TOL(1e-17, 1e-8), OKID_E_BAD_PARAMETER); /* below round-off */
     EXPECT(c.sensing = (okid_sensing)5, OKID_E_BAD_PARAMETER);
     EXPECT(c.realization = (okid_realization)2, OKID_E_BAD_PARAMETER);
 #undef EXPECT

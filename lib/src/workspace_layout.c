@@ -36,7 +36,8 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims)
     }
     if (!okid_is_finite(cfg->dt) || cfg->dt <= 0 || !okid_is_finite(cfg->forgetting_factor) ||
         cfg->forgetting_factor < 0 || cfg->forgetting_factor > 1 || !okid_is_finite(cfg->rank_tolerance) ||
-        cfg->rank_tolerance < 0 || cfg->rank_tolerance >= 1 || (unsigned)cfg->sensing > 2u ||
+        cfg->rank_tolerance < 0 || cfg->rank_tolerance >= 1 ||
+        (cfg->rank_tolerance > 0 && cfg->rank_tolerance < OKID_EPSILON) || /* below round-off: no rank test */ (unsigned)cfg->sensing > 2u ||
         (unsigned)cfg->realization > 1u || (cfg->zero_initial_state != 0 && cfg->zero_initial_state != 1) ||
         (unsigned)cfg->scaling > 1u || (unsigned)cfg->estimator > 1u) {
         return OKID_E_BAD_PARAMETER;

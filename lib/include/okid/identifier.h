@@ -114,7 +114,8 @@ typedef struct okid_config {
     /**
      * Relative tolerance of the rank-revealing least squares (reciprocal condition number below
      * which columns of the column-equilibrated regressor count as dependent); 0 = 1e-10 (double)
-     * or 1e-5 (float).
+     * or 1e-5 (float). A value in (0, machine epsilon of okid_real) is OKID_E_BAD_PARAMETER: below
+     * round-off every column would count as independent.
      */
     okid_real rank_tolerance;
     okid_sensing sensing;          /**< what the outputs measure (eq. 64) */
