@@ -374,10 +374,10 @@ def test_help_documents_exit_status():
     (["--inputs", 1, "--outputs", 2147483647], "--outputs"),
     (["--inputs", 100], "--inputs 100"),
     (["--observer-order", 1, "--order", 4], "invalid settings"),
-    (["--observer-order", 5000], "invalid settings"),
-    (["--hankel-rows", 0], "invalid settings"),
-    (["--forgetting", 2], "invalid settings"),
-    (["--rank-tolerance", -1], "invalid settings"),
+    (["--observer-order", 5000], "valid: 1..1000"),
+    (["--hankel-rows", 0], "valid: 1..1000"),
+    (["--forgetting", 2], "valid: (0, 1]"),
+    (["--rank-tolerance", -1], "valid: 0 or ["),
 ])
 def test_bad_column_choice_and_settings(paper_csv, args, needle):
     message = assert_one_error(run("identify", *args, paper_csv, check=False), 2)
