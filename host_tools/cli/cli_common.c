@@ -3,7 +3,6 @@
 
 #include <errno.h>
 #include <limits.h>
-#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -40,9 +39,10 @@ const cli_name cli_realization_names[] = {{"system", OKID_REALIZATION_SYSTEM, 0}
                                           {"combined", OKID_REALIZATION_COMBINED, 0},
                                           {NULL, 0, 0}};
 const cli_name cli_scaling_names[] = {{"none", OKID_SCALING_NONE, 0}, {"auto", OKID_SCALING_AUTO, 0}, {NULL, 0, 0}};
+/* "least-squares": the old spelling, accepted for one release (docs/cli.md) */
 const cli_name cli_estimator_names[] = {{"least_squares", OKID_ESTIMATOR_LEAST_SQUARES, 0},
                                         {"instrumental", OKID_ESTIMATOR_INSTRUMENTAL, 0},
-                                        {"least-squares", OKID_ESTIMATOR_LEAST_SQUARES, 1}, /* old spelling, one release (docs/cli.md) */
+                                        {"least-squares", OKID_ESTIMATOR_LEAST_SQUARES, 1},
                                         {NULL, 0, 0}};
 
 const char *cli_name_of(const cli_name *names, int value)

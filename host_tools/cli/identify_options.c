@@ -25,6 +25,11 @@
 /* okid_config::block_rows: regressor rows per fold, at most 4096 (okid_workspace_size) */
 #define MAX_BLOCK_ROWS 4096
 
+/* CLI_ENUM and CLI_SWITCH store an int */
+_Static_assert(sizeof(okid_sensing) == sizeof(int) && sizeof(okid_realization) == sizeof(int) &&
+                   sizeof(okid_scaling) == sizeof(int) && sizeof(okid_estimator) == sizeof(int),
+               "okid_config's enumerations are stored as int");
+
 #define AT(member) offsetof(identify_options, member)
 #define CONFIG(f) AT(cfg.f), sizeof(((okid_config *)0)->f), 0
 #define OWN(member) AT(member), sizeof(((identify_options *)0)->member), 0
