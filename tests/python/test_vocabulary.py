@@ -144,3 +144,35 @@ def test_fmu_has_a_variable_of_each_name(version):
     names = {v.get("name") for v in root.iter() if v.get("valueReference") is not None and v.get("name")}
     missing = [f for f in FIELDS if f not in names]
     assert not missing, f"{description.relative_to(FMU_DIR)} has no variable named {missing}"
+
+
+# FMI 2 gives an enumeration as its C value; FMI 3 as an enumeration item of the same value.
+C_VALUES = {"displacement": 0, "velocity": 1, "acceleration": 2, "system": 0, "combined": 1, "none": 0, "auto": 1,
+            "least_squares": 0, "instrumental": 1}
+
+
+def fmu_starts(description):
+    """name -> start value of every variable that has one (FMI 2: on the type child; FMI 3: an attribute)."""
+    starts = {}
+    for v in ET.parse(description).getroot().iter():
+        start = v.get("start")
+        if start is None:
+            start = next((child.get("start") for child in v if child.get("start") is not None), None)
+        if v.get("name") and v.get("valueReference") is not None and start is not None:
+            starts[v.get("name")] = float(start)
+    return starts
+
+
+@pytest.mark.skipif(FMU_DIR is None, reason="built without the FMUs (OKID_FMU_DIR not set)")
+@pytest.mark.parametrize("version", [2, 3])
+def test_fmu_defaults_are_okid_config_default(version):
+    description = Path(FMU_DIR) / f"fmi{version}" / "okid_identifier" / "modelDescription.xml"
+    starts = fmu_starts(description)
+    wrong = {}
+    for field, (default, _) in docs_table().items():
+        number, name = re.match(r"(-?[\d.]+)\b", default), re.match(r"`(\w+)`", default)
+        if field in starts and (number or name):
+            want = float(number.group(1)) if number else C_VALUES[name.group(1)]
+            if starts[field] != want:
+                wrong[field] = (starts[field], want)
+    assert not wrong, f"{description.relative_to(FMU_DIR)}: start values (FMU, okid_config_default) {wrong}"
