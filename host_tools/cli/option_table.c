@@ -98,16 +98,16 @@ static int refuse(const cli_option *opt, const char *flag, const char *value, co
                      range, opt->note ? " (" : "", opt->note ? opt->note : "", opt->note ? ")" : "");
 }
 
-/* A real the whole text spells, finite and representable (an underflow to 0 is not 0). */
-static const char *read_real(const char *text, double *out)
+/* A real spelled by text up to stop (any length), finite and representable: an underflow to 0 is not 0. */
+static const char *read_real(const char *text, const char *stop, double *out)
 {
     char *end = NULL;
     errno = 0;
     const double v = strtod(text, &end);
-    if (end == text || *end != '\0') {
+    if (end == text || end != stop) {
         return "not a number";
     }
-    if (!isfinite(v) || (errno == ERANGE && fabs(v) > 1)) {
+    if (!isfinite(v)) {
         return "not a finite number";
     }
     if (errno == ERANGE && v == 0) {
@@ -158,7 +158,7 @@ static int set_value(const cli_option *opt, const char *flag, const char *value,
     }
     case CLI_REAL: {
         double v = 0;
-        why = read_real(value, &v);
+        why = read_real(value, value + strlen(value), &v);
         if (why == NULL) why = store_real(opt, v, where);
         break;
     }
@@ -179,17 +179,11 @@ static int set_value(const cli_option *opt, const char *flag, const char *value,
         int count = 0;
         for (const char *p = value; why == NULL;) {
             const char *comma = strchr(p, ',');
-            char item[128];
-            const size_t length = comma ? (size_t)(comma - p) : strlen(p);
             double v = 0;
             if (count >= (int)opt->max) {
                 why = "too many values";
-            } else if (length >= sizeof item) {
-                why = "a value too long to be a number";
             } else {
-                memcpy(item, p, length);
-                item[length] = '\0';
-                why = read_real(item, &v);
+                why = read_real(p, comma ? comma : p + strlen(p), &v);
                 if (why == NULL && !real_in_range(opt, v)) why = "a value out of range";
                 if (why == NULL) values[count++] = v;
             }

@@ -118,6 +118,8 @@ def test_long_but_valid_numbers_are_numbers(paper_csv):
     long_order = "0" * 200 + "4"
     short = identify(paper_csv, "--forgetting-factor", 0.999, "--order", 4)
     assert identify(paper_csv, "--forgetting-factor", long_factor, "--order", long_order) == short
+    long_masses = "2." + "0" * 300 + ",3"
+    assert run("simulate", "--masses", long_masses).stdout == run("simulate").stdout
 
 
 # ---- refusals: the flag as typed, the value, the valid range ----
