@@ -37,8 +37,8 @@ typedef struct simulate_options {
 
 static const cli_option simulate_table[] = {
     /* name, alias, kind, offset/size/count, min, max, range, names, field, metavar, note, default, help */
-    {"masses", NULL, CLI_REAL_LIST, LIST(masses, dofs), 0, MAX_DOFS, CLI_MIN_OPEN | CLI_NO_MAX, NULL, NULL, "M1,M2,...", NULL, NULL,
-     "masses [kg]"},
+    {"masses", NULL, CLI_REAL_LIST, LIST(masses, dofs), 0, MAX_DOFS, CLI_MIN_OPEN | CLI_NO_MAX, NULL, NULL,
+     "M1,M2,...", NULL, NULL, "masses [kg]"},
     {"dampers", NULL, CLI_REAL_LIST, LIST(dampers, num_dampers), 0, MAX_DOFS + 1, CLI_NO_MAX, NULL, NULL, "R1,...",
      "one more than the masses", NULL, "damping coefficients [N s/m]"},
     {"springs", NULL, CLI_REAL_LIST, LIST(springs, num_springs), 0, MAX_DOFS + 1, CLI_NO_MAX, NULL, NULL, "K1,...",
@@ -48,8 +48,7 @@ static const cli_option simulate_table[] = {
     {"sensing", NULL, CLI_ENUM, AT(sensing), 0, 0, 0, cli_sensing_names, NULL, "KIND", NULL, NULL,
      "what the output columns measure"},
     {"samples", NULL, CLI_INT, AT(samples), 1, INT_MAX, 0, NULL, NULL, "N", NULL, NULL, "number of samples"},
-    {"dt", NULL, CLI_REAL, AT(dt), DBL_MIN, 0, CLI_NO_MAX, NULL, NULL, "S", NULL, NULL,
-     "sample interval"},
+    {"dt", NULL, CLI_REAL, AT(dt), DBL_MIN, 0, CLI_NO_MAX, NULL, NULL, "S", NULL, NULL, "sample interval [s]"},
     {"seed", NULL, CLI_INT, AT(seed), INT_MIN, INT_MAX, 0, NULL, NULL, "S", NULL, NULL, "random seed"},
     {"noise", NULL, CLI_REAL, AT(noise), 0, 0, CLI_NO_MAX, NULL, NULL, "F", NULL, NULL,
      "output noise: normal, std F times each output's RMS"},
