@@ -201,22 +201,28 @@ static int choose_columns(const identify_options *o, const csv_table *t, int tim
  * okid_workspace_size() said no although every option is in its own range (identify_options.c
  * checks those): name the combination that is not, with its numbers.
  */
+static long long min3(long long a, long long b, long long c)
+{
+    const long long ab = a < b ? a : b;
+    return ab < c ? ab : c;
+}
+
 static int settings_error(const okid_config *cfg, okid_status st)
 {
-    const int columns = cfg->num_inputs + (cfg->realization == OKID_REALIZATION_COMBINED ? cfg->num_outputs : 0);
-    const long long hankel = (long long)cfg->hankel_rows * cfg->num_outputs,
-                    window = (long long)cfg->hankel_cols * columns, observer = (long long)cfg->observer_order * cfg->num_outputs;
-    const long long largest = hankel < window ? (hankel < observer ? hankel : observer) : (window < observer ? window : observer);
-    char hint[200] = "";
+    const long long r = cfg->num_inputs, m = cfg->num_outputs, p = cfg->observer_order;
+    const long long columns = r + (cfg->realization == OKID_REALIZATION_COMBINED ? m : 0);
+    const long long hankel = cfg->hankel_rows * m, window = cfg->hankel_cols * columns;
+    const long long largest = min3(hankel, window, m * p);
+    char hint[256] = "";
     if (st == OKID_E_BAD_ORDER && cfg->order == 0) {
-        snprintf(hint, sizeof hint, "; the automatic order would search up to min(alpha m, beta columns, m p) = %lld, "
-                 "more than %d: give --order", largest, OKID_MAX_ORDER);
+        snprintf(hint, sizeof hint, "; the automatic order would search up to min(alpha m, beta columns, m p) = "
+                 "%lld, more than %d: give --order", largest, OKID_MAX_ORDER);
     } else if (st == OKID_E_BAD_ORDER) {
-        snprintf(hint, sizeof hint, "; --order %d must be at most min(alpha m, beta columns, m p) = min(%lld, %lld, %lld) = %lld",
-                 cfg->order, hankel, window, observer, largest);
+        snprintf(hint, sizeof hint, "; --order %d must be at most min(alpha m, beta columns, m p) = "
+                 "min(%lld, %lld, %lld) = %lld", cfg->order, hankel, window, m * p, largest);
     } else if (cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL && st == OKID_E_BAD_SIZE) {
-        snprintf(hint, sizeof hint, "; --instrument-lags %d: instrumental variables need r (L + 1) >= q, L >= p = %d and "
-                 "L <= %d", cfg->instrument_lags, cfg->observer_order, OKID_MAX_INSTRUMENT_LAGS);
+        snprintf(hint, sizeof hint, "; --instrument-lags %d: instrumental variables need r (L + 1) >= q = %lld, "
+                 "L >= p = %lld and L <= %d", cfg->instrument_lags, r + (r + m) * p, p, OKID_MAX_INSTRUMENT_LAGS);
     }
     return cli_error(EXIT_USAGE, "invalid settings (r = %d, m = %d, p = %d, n = %d, Hankel %d x %d): %s%s",
                      cfg->num_inputs, cfg->num_outputs, cfg->observer_order, cfg->order, cfg->hankel_rows,

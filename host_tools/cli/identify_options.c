@@ -86,7 +86,8 @@ static const cli_option identify_table[] = {
      "at most the Hankel size min(alpha m, beta r)", "none",
      "stabilization diagram data for the even orders 2..NMAX from one SVD;\n"
      "\"stabilization\" in the JSON, plot it with okid-stabilization (docs/quality.md)"},
-    {"json", NULL, CLI_FLAG, OWN(json), 0, 0, 0, NULL, NULL, NULL, NULL, NULL, "print one JSON object instead of a table"},
+    {"json", NULL, CLI_FLAG, OWN(json), 0, 0, 0, NULL, NULL, NULL, NULL, NULL,
+     "print one JSON object instead of a table"},
     {"timing", NULL, CLI_FLAG, OWN(timing), 0, 0, 0, NULL, NULL, NULL, NULL, NULL,
      "report the seconds from okid_init to the modes (\"elapsed_seconds\" in JSON)"},
     {"repeat", NULL, CLI_INT, OWN(repeat), 1, 100000, 0, NULL, NULL, "K", NULL, NULL,

@@ -136,7 +136,8 @@ static void json_config(FILE *out, const okid_config *cfg)
     json_number(out, (double)cfg->rank_tolerance);
     fprintf(out, ", \"sensing\": \"%s\", \"realization\": \"%s\", \"zero_initial_state\": %d, \"decimation\": %d, "
                  "\"scaling\": \"%s\", \"estimator\": \"%s\", \"instrument_lags\": %d},\n",
-            cli_name_of(cli_sensing_names, (int)cfg->sensing), cli_name_of(cli_realization_names, (int)cfg->realization),
+            cli_name_of(cli_sensing_names, (int)cfg->sensing),
+            cli_name_of(cli_realization_names, (int)cfg->realization),
             cfg->zero_initial_state, cfg->decimation, cli_name_of(cli_scaling_names, (int)cfg->scaling),
             cli_name_of(cli_estimator_names, (int)cfg->estimator), cfg->instrument_lags);
 }
@@ -148,9 +149,11 @@ static void json_old_setting_keys(FILE *out, const okid_config *cfg)
     fprintf(out, "  \"observer_order\": %d,\n  \"sensing\": \"%s\",\n", cfg->observer_order,
             cli_name_of(cli_sensing_names, (int)cfg->sensing));
     fprintf(out, "  \"hankel_rows\": %d,\n  \"hankel_cols\": %d,\n", cfg->hankel_rows, cfg->hankel_cols);
-    fprintf(out, "  \"realization\": \"%s\",\n  \"sample_dt\": ", cli_name_of(cli_realization_names, (int)cfg->realization));
+    fprintf(out, "  \"realization\": \"%s\",\n  \"sample_dt\": ",
+            cli_name_of(cli_realization_names, (int)cfg->realization));
     json_number(out, (double)cfg->dt);
-    fprintf(out, ",\n  \"scale\": \"%s\",\n  \"estimator\": \"%s\",\n", cli_name_of(cli_scaling_names, (int)cfg->scaling),
+    fprintf(out, ",\n  \"scale\": \"%s\",\n  \"estimator\": \"%s\",\n",
+            cli_name_of(cli_scaling_names, (int)cfg->scaling),
             cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL ? "instrumental" : "least-squares");
 }
 

@@ -280,7 +280,8 @@ static const char *default_text(const cli_command *cmd, const cli_option *opt, c
         memcpy(&i, (const char *)cmd->defaults + opt->count_offset, sizeof i);
         for (int k = 0; k < i && used < size; ++k) {
             char one[32];
-            used += (size_t)snprintf(buf + used, size - used, "%s%s", k ? "," : "", shortest(values[k], one, sizeof one));
+            shortest(values[k], one, sizeof one);
+            used += (size_t)snprintf(buf + used, size - used, "%s%s", k ? "," : "", one);
         }
         break;
     }

@@ -77,8 +77,8 @@ FIELDS = config_fields()
 
 
 def identify_config(path, *args):
-    proc = subprocess.run([OKID, "identify", "--json", "--outputs", "acc1,acc2", *args, str(path)], capture_output=True, text=True,
-                          timeout=120)
+    proc = subprocess.run([OKID, "identify", "--json", "--outputs", "acc1,acc2", *args, str(path)],
+                          capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     return json.loads(proc.stdout)["config"]
 
@@ -105,7 +105,8 @@ def test_header_parses_to_the_known_fields():
 
 def test_docs_table_lists_every_field_with_its_flag():
     table = docs_table()
-    assert set(table) == set(FIELDS), f"docs/cli.md lacks {set(FIELDS) - set(table)}, has extra {set(table) - set(FIELDS)}"
+    assert set(table) == set(FIELDS), \
+        f"docs/cli.md lacks {set(FIELDS) - set(table)}, has extra {set(table) - set(FIELDS)}"
     for field, (_, flag) in table.items():
         assert flag == FLAG_EXCEPTIONS.get(field, "--" + field.replace("_", "-")), field
 
