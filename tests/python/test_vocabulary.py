@@ -16,7 +16,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 OKID = os.environ.get("OKID_CLI", "okid")
-FMU_DIR = os.environ.get("OKID_FMU_DIR") or None  # empty in builds without the FMUs (asan)
+FMU_DIR = os.environ.get("OKID_FMU_DIR") or None
 
 # The two fields whose flag takes column names as well as a count keep the short flag (docs/cli.md).
 FLAG_EXCEPTIONS = {"num_inputs": "--inputs", "num_outputs": "--outputs"}
