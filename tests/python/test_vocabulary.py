@@ -46,7 +46,7 @@ PROBES = {
 
 def config_fields():
     """Field names of okid_config, in order, from the header under lib/include/okid/ that defines it."""
-    for header in sorted((ROOT / "lib/include/okid").glob("*.h")):
+    for header in sorted((ROOT / "lib/include/okid").rglob("*.h")):
         text = header.read_text()
         match = re.search(r"typedef\s+struct\s+okid_config\s*\{(.*?)\}\s*okid_config\s*;", text, re.S)
         if match:
