@@ -1,12 +1,25 @@
 #!/usr/bin/env bash
 # Installs what is missing, and only that: Debian packages (apt, as root or through sudo) and the
 # Python packages of host_tools/requirements.txt and the host_tools package itself in .venv. Safe to run again.
+#   bash scripts/setup.sh          everything scripts/test.sh needs
+#   bash scripts/setup.sh --demo   only what scripts/demo.sh needs: a C compiler, CMake, Ninja, LAPACKE
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-APT_PACKAGES=(build-essential cmake ninja-build pkg-config liblapacke-dev liblapack-dev libblas-dev libeigen3-dev
-              libcmocka-dev python3-venv python3-pip valgrind clang libclang-rt-dev llvm
-              gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm)
+mode=all
+case "${1:-}" in
+    "") ;;
+    --demo) mode=demo ;;
+    *) echo "usage: bash scripts/setup.sh [--demo]" >&2; exit 2 ;;
+esac
+
+# The library and examples/paper_2dof (the demo preset): compiler, build tools, LAPACKE.
+DEMO_PACKAGES=(build-essential cmake ninja-build pkg-config liblapacke-dev liblapack-dev libblas-dev)
+# The rest of the test suite: Eigen, cmocka, Python, memory checkers, fuzzing, the firmware targets.
+TEST_PACKAGES=(libeigen3-dev libcmocka-dev python3-venv python3-pip valgrind clang libclang-rt-dev llvm
+               gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm)
+APT_PACKAGES=("${DEMO_PACKAGES[@]}")
+if [[ $mode == all ]]; then APT_PACKAGES+=("${TEST_PACKAGES[@]}"); fi
 
 missing=()
 for pkg in "${APT_PACKAGES[@]}"; do
@@ -20,6 +33,8 @@ if ((${#missing[@]})); then
     "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -q
     "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
+
+if [[ $mode == demo ]]; then exit 0; fi  # the demo needs no Python
 
 if [[ ! -x .venv/bin/python ]]; then
     echo "setup: creating .venv"

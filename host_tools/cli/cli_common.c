@@ -3,7 +3,6 @@
 
 #include <errno.h>
 #include <limits.h>
-#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -32,54 +31,37 @@ int cli_parse_int(const char *text, int *out)
     return 0;
 }
 
-int cli_parse_real(const char *text, double *out)
+const cli_name cli_sensing_names[] = {{"displacement", OKID_SENSING_DISPLACEMENT, 0},
+                                      {"velocity", OKID_SENSING_VELOCITY, 0},
+                                      {"acceleration", OKID_SENSING_ACCELERATION, 0},
+                                      {NULL, 0, 0}};
+const cli_name cli_realization_names[] = {{"system", OKID_REALIZATION_SYSTEM, 0},
+                                          {"combined", OKID_REALIZATION_COMBINED, 0},
+                                          {NULL, 0, 0}};
+const cli_name cli_scaling_names[] = {{"none", OKID_SCALING_NONE, 0}, {"auto", OKID_SCALING_AUTO, 0}, {NULL, 0, 0}};
+/* "least-squares": the old spelling, accepted for one release (docs/cli.md) */
+const cli_name cli_estimator_names[] = {{"least_squares", OKID_ESTIMATOR_LEAST_SQUARES, 0},
+                                        {"instrumental", OKID_ESTIMATOR_INSTRUMENTAL, 0},
+                                        {"least-squares", OKID_ESTIMATOR_LEAST_SQUARES, 1},
+                                        {NULL, 0, 0}};
+
+const char *cli_name_of(const cli_name *names, int value)
 {
-    char *end = NULL;
-    errno = 0;
-    const double v = strtod(text, &end);
-    if (end == text || *end != '\0' || !isfinite(v)) {
-        return -1;
+    for (const cli_name *n = names; n->name != NULL; ++n) {
+        if (!n->alias && n->value == value) {
+            return n->name;
+        }
     }
-    *out = v;
-    return 0;
+    return "?";
 }
 
-int cli_parse_real_list(const char *text, double *out, int max, int *count)
+int cli_value_of(const cli_name *names, const char *text, int *value)
 {
-    *count = 0;
-    const char *p = text;
-    for (;;) {
-        char *end = NULL;
-        errno = 0;
-        const double v = strtod(p, &end);
-        if (end == p || !isfinite(v) || *count >= max || (*end != ',' && *end != '\0')) {
-            return -1;
-        }
-        out[(*count)++] = v;
-        if (*end == '\0') {
-            return 0;
-        }
-        p = end + 1;
-    }
-}
-
-int cli_parse_sensing(const char *text, okid_sensing *out)
-{
-    static const char *const names[3] = {"displacement", "velocity", "acceleration"};
-    for (int i = 0; i < 3; ++i) {
-        if (strcmp(text, names[i]) == 0) {
-            *out = (okid_sensing)i;
+    for (const cli_name *n = names; n->name != NULL; ++n) {
+        if (strcmp(n->name, text) == 0) {
+            *value = n->value;
             return 0;
         }
     }
     return -1;
-}
-
-const char *cli_sensing_name(okid_sensing sensing)
-{
-    switch (sensing) {
-    case OKID_SENSING_DISPLACEMENT: return "displacement";
-    case OKID_SENSING_VELOCITY: return "velocity";
-    default: return "acceleration";
-    }
 }

@@ -1,4 +1,5 @@
-/* What the okid subcommands share: exit codes, one-line errors, option value parsing. */
+/* What the okid subcommands share: exit codes, one-line errors, integer parsing, the names
+   of the enumerations (docs/cli.md: the C enumerator's suffix in lower case). */
 #ifndef OKID_CLI_COMMON_H
 #define OKID_CLI_COMMON_H
 
@@ -14,14 +15,23 @@ int cli_error(int code, const char *format, ...)
 #endif
     ;
 
-/* Strict conversions of a whole option value; 0 on success, -1 otherwise. */
+/* Strict conversion of a whole decimal integer; 0 on success, -1 otherwise. */
 int cli_parse_int(const char *text, int *out);
-int cli_parse_real(const char *text, double *out);
-/* Comma-separated finite reals; *count receives how many (at most max). */
-int cli_parse_real_list(const char *text, double *out, int max, int *count);
-/* acceleration|velocity|displacement */
-int cli_parse_sensing(const char *text, okid_sensing *out);
-const char *cli_sensing_name(okid_sensing sensing);
+
+/* A named value of an enumeration; an alias (an old spelling) is accepted but never printed. */
+typedef struct cli_name {
+    const char *name;
+    int value;
+    int alias;
+} cli_name;
+
+/* The enumerations of okid_config, each ended by a {NULL} entry. */
+extern const cli_name cli_sensing_names[], cli_realization_names[], cli_scaling_names[], cli_estimator_names[];
+
+/* Value to name (the first entry that is not an alias); "?" when there is none. */
+const char *cli_name_of(const cli_name *names, int value);
+/* Name (or alias) to value; 0 on success, -1 when the name is not in the list. */
+int cli_value_of(const cli_name *names, const char *text, int *value);
 
 int identify_command(int argc, char **argv);
 int simulate_command(int argc, char **argv);

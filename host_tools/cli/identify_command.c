@@ -8,173 +8,8 @@
 
 #include "cli_common.h"
 #include "csv_reader.h"
+#include "identify_options.h"
 #include "json_writer.h"
-
-static const char identify_usage[] =
-    "usage: okid identify [options] FILE.csv      (FILE '-' reads standard input)\n"
-    "\n"
-    "FILE.csv has a header row of column names; an optional first column named t or time (any case)\n"
-    "holds the sample times (uniform to 0.01 %). Every other cell is a finite number; a NaN, an empty\n"
-    "or a non-numeric cell, or a row with a missing field rejects the file. At most 64 inputs and 64\n"
-    "outputs. Noisy records need a larger p and a Hankel window spanning about one period of the\n"
-    "slowest mode; for the paper's case with 2 % noise:\n"
-    "  --observer-order 60 --hankel-rows 100 --hankel-cols 100\n"
-    "\n"
-    "  --inputs NAMES|COUNT     input (force) columns: comma-separated names, or how many columns\n"
-    "                           follow the time column (default 1)\n"
-    "  --outputs NAMES|COUNT    output (sensor) columns: names, or how many follow the inputs\n"
-    "                           (default: every remaining column)\n"
-    "  --dt S                   sample interval [s] (default: from the time column, which must be uniform)\n"
-    "  --observer-order P       observer order p (default 20)\n"
-    "  --order N                model order n; 0 = largest singular-value gap (default 0)\n"
-    "  --hankel-rows A          Hankel block rows alpha (default 20)\n"
-    "  --hankel-cols B          Hankel block columns beta (default 20)\n"
-    "  --sensing KIND           acceleration|velocity|displacement (default acceleration)\n"
-    "  --realization KIND       system|combined (default system; combined also gives the observer gain G)\n"
-    "  --forgetting L           exponential forgetting factor in (0, 1] (default 1)\n"
-    "  --rank-tolerance T       relative tolerance of the rank-revealing least squares (default 1e-10)\n"
-    "  --zero-initial-state     the record starts at rest (use its first samples with zero history)\n"
-    "  --decimate K             anti-alias filter (Butterworth, order 2) and keep every K-th sample, 1..64\n"
-    "                           (default 1); p, alpha, beta then count decimated samples, dt of the\n"
-    "                           results is K dt\n"
-    "  --observer-seconds S     observer order p = round(S / (K dt)) (after --dt, --decimate)\n"
-    "  --hankel-seconds S       Hankel block rows and columns alpha = beta = round(S / (K dt))\n"
-    "  --scale KIND             auto|none (default none): auto divides each input and output by its RMS\n"
-    "                           over the first block of rows, so the units of the channels do not matter\n"
-    "  --estimator KIND         least-squares|instrumental (default least-squares); instrumental removes\n"
-    "                           the bias of output noise with delayed inputs as instruments\n"
-    "  --instrument-lags L      instrument lags (default 0: ceil(q/r) + 2p)\n"
-    "  --stabilization NMAX     stabilization diagram data for the even orders 2..NMAX (at most the\n"
-    "                           Hankel size) from one SVD; \"stabilization\" in the JSON, plot it with\n"
-    "                           okid-stabilization (docs/quality.md)\n"
-    "  --json                   print one JSON object instead of a table\n"
-    "  --timing                 report the seconds from okid_init to the modes (\"elapsed_seconds\" in JSON)\n"
-    "  --repeat K               with --timing: identify K times from scratch, report the fastest (default 1)\n"
-    "\n"
-    "Exit status: 0 success, 1 bad data or identification failure, 2 usage error.\n";
-
-typedef struct identify_options {
-    const char *file, *inputs, *outputs;
-    double dt, observer_seconds, hankel_seconds;
-    int have_dt, json, timing, repeat, stabilization;
-    okid_config cfg;
-} identify_options;
-
-/* The options followed by a value: an unknown option is reported as such, not as lacking a value. */
-static int takes_value(const char *opt)
-{
-    static const char *const names[] = {"--inputs", "--outputs", "--repeat", "--dt", "--observer-order", "--order",
-                                         "--hankel-rows", "--hankel-cols", "--sensing", "--realization",
-                                         "--forgetting", "--rank-tolerance", "--stabilization", "--decimate",
-                                         "--observer-seconds", "--hankel-seconds", "--scale", "--estimator",
-                                         "--instrument-lags"};
-    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
-        if (strcmp(opt, names[i]) == 0) {
-            return 1;
-        }
-    }
-    return 0;
-}
-
-static int parse_options(int argc, char **argv, identify_options *o)
-{
-    memset(o, 0, sizeof *o);
-    o->repeat = 1;
-    okid_config_default(&o->cfg, 1, 1);
-    o->cfg.observer_order = 20;
-    o->cfg.order = 0;
-    for (int i = 1; i < argc; ++i) {
-        const char *opt = argv[i];
-        if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0) {
-            fputs(identify_usage, stdout);
-            exit(0);
-        }
-        if (strcmp(opt, "--json") == 0) {
-            o->json = 1;
-            continue;
-        }
-        if (strcmp(opt, "--timing") == 0) {
-            o->timing = 1;
-            continue;
-        }
-        if (strcmp(opt, "--zero-initial-state") == 0) {
-            o->cfg.zero_initial_state = 1;
-            continue;
-        }
-        if (opt[0] != '-' || strcmp(opt, "-") == 0) {
-            if (o->file != NULL) {
-                return cli_error(EXIT_USAGE, "more than one input file ('%s' and '%s')", o->file, opt);
-            }
-            o->file = opt;
-            continue;
-        }
-        if (!takes_value(opt)) {
-            return cli_error(EXIT_USAGE, "unknown option '%s' (see 'okid identify --help')", opt);
-        }
-        if (i + 1 >= argc) {
-            return cli_error(EXIT_USAGE, "option %s needs a value (see 'okid identify --help')", opt);
-        }
-        const char *val = argv[++i];
-        double real = 0;
-        int bad = 0;
-        if (strcmp(opt, "--inputs") == 0) {
-            o->inputs = val;
-        } else if (strcmp(opt, "--outputs") == 0) {
-            o->outputs = val;
-        } else if (strcmp(opt, "--repeat") == 0) {
-            bad = cli_parse_int(val, &o->repeat) != 0 || o->repeat < 1 || o->repeat > 100000;
-        } else if (strcmp(opt, "--dt") == 0) {
-            bad = cli_parse_real(val, &o->dt) != 0 || !(o->dt > 0);
-            o->have_dt = 1;
-        } else if (strcmp(opt, "--observer-order") == 0) {
-            bad = cli_parse_int(val, &o->cfg.observer_order);
-        } else if (strcmp(opt, "--order") == 0) {
-            bad = cli_parse_int(val, &o->cfg.order);
-        } else if (strcmp(opt, "--hankel-rows") == 0) {
-            bad = cli_parse_int(val, &o->cfg.hankel_rows);
-        } else if (strcmp(opt, "--hankel-cols") == 0) {
-            bad = cli_parse_int(val, &o->cfg.hankel_cols);
-        } else if (strcmp(opt, "--sensing") == 0) {
-            bad = cli_parse_sensing(val, &o->cfg.sensing);
-        } else if (strcmp(opt, "--realization") == 0) {
-            bad = strcmp(val, "system") != 0 && strcmp(val, "combined") != 0;
-            o->cfg.realization = strcmp(val, "combined") == 0 ? OKID_REALIZATION_COMBINED : OKID_REALIZATION_SYSTEM;
-        } else if (strcmp(opt, "--forgetting") == 0) {
-            bad = cli_parse_real(val, &real) != 0;
-            o->cfg.forgetting_factor = real;
-        } else if (strcmp(opt, "--stabilization") == 0) {
-            bad = cli_parse_int(val, &o->stabilization) != 0 || o->stabilization < 2;
-        } else if (strcmp(opt, "--decimate") == 0) {
-            bad = cli_parse_int(val, &o->cfg.decimation) != 0 || o->cfg.decimation < 1 ||
-                  o->cfg.decimation > OKID_MAX_DECIMATION;
-        } else if (strcmp(opt, "--observer-seconds") == 0) {
-            bad = cli_parse_real(val, &o->observer_seconds) != 0 || !(o->observer_seconds > 0);
-        } else if (strcmp(opt, "--hankel-seconds") == 0) {
-            bad = cli_parse_real(val, &o->hankel_seconds) != 0 || !(o->hankel_seconds > 0);
-        } else if (strcmp(opt, "--scale") == 0) {
-            bad = strcmp(val, "auto") != 0 && strcmp(val, "none") != 0;
-            o->cfg.scaling = strcmp(val, "auto") == 0 ? OKID_SCALING_AUTO : OKID_SCALING_NONE;
-        } else if (strcmp(opt, "--estimator") == 0) {
-            bad = strcmp(val, "least-squares") != 0 && strcmp(val, "instrumental") != 0;
-            o->cfg.estimator =
-                strcmp(val, "instrumental") == 0 ? OKID_ESTIMATOR_INSTRUMENTAL : OKID_ESTIMATOR_LEAST_SQUARES;
-        } else if (strcmp(opt, "--instrument-lags") == 0) {
-            bad = cli_parse_int(val, &o->cfg.instrument_lags) != 0 || o->cfg.instrument_lags < 0;
-        } else if (strcmp(opt, "--rank-tolerance") == 0) {
-            bad = cli_parse_real(val, &real) != 0;
-            o->cfg.rank_tolerance = real;
-        } else {
-            return cli_error(EXIT_USAGE, "unknown option '%s' (see 'okid identify --help')", opt);
-        }
-        if (bad) {
-            return cli_error(EXIT_USAGE, "bad value '%s' for %s", val, opt);
-        }
-    }
-    if (o->file == NULL) {
-        return cli_error(EXIT_USAGE, "no input file (usage: okid identify [options] FILE.csv)");
-    }
-    return 0;
-}
 
 /* t, T, time, Time, TIME: loggers differ in case. */
 static int is_time_name(const char *name)
@@ -284,7 +119,7 @@ static void print_table(const okid_config *cfg, const okid_result *res, const co
     printf("\n");
     printf("r = %d inputs, m = %d outputs, p = %d, Hankel %d x %d, %s realization, %s sensing\n", cfg->num_inputs,
            cfg->num_outputs, cfg->observer_order, cfg->hankel_rows, cfg->hankel_cols,
-           cfg->realization == OKID_REALIZATION_COMBINED ? "combined" : "system", cli_sensing_name(cfg->sensing));
+           cfg->realization == OKID_REALIZATION_COMBINED ? "combined" : "system", cli_name_of(cli_sensing_names, (int)cfg->sensing));
     printf("decimation %d (model dt = %g s), scaling %s, %s estimator\n", res->decimation, (double)res->dt,
            cfg->scaling == OKID_SCALING_AUTO ? "auto" : "none",
            cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL ? "instrumental-variable" : "least-squares");
@@ -362,21 +197,32 @@ static int choose_columns(const identify_options *o, const csv_table *t, int tim
     return rc;
 }
 
-/* okid_workspace_size() said no: say which setting is out of range, not only the status. */
+/*
+ * okid_workspace_size() said no although every option is in its own range (identify_options.c
+ * checks those): name the combination that is not, with its numbers.
+ */
+static long long min3(long long a, long long b, long long c)
+{
+    const long long ab = a < b ? a : b;
+    return ab < c ? ab : c;
+}
+
 static int settings_error(const okid_config *cfg, okid_status st)
 {
-    const char *hint = "";
-    if (cfg->observer_order < 1 || cfg->observer_order > OKID_MAX_HORIZON || cfg->hankel_rows < 1 ||
-        cfg->hankel_rows > OKID_MAX_HORIZON || cfg->hankel_cols < 1 || cfg->hankel_cols > OKID_MAX_HORIZON) {
-        hint = "; p, alpha and beta must be 1..1000";
-    } else if (cfg->order < 0 || cfg->order > OKID_MAX_ORDER) {
-        hint = "; n must be 0 (automatic) or 1..512";
+    const long long r = cfg->num_inputs, m = cfg->num_outputs, p = cfg->observer_order;
+    const long long columns = r + (cfg->realization == OKID_REALIZATION_COMBINED ? m : 0);
+    const long long hankel = cfg->hankel_rows * m, window = cfg->hankel_cols * columns;
+    const long long largest = min3(hankel, window, m * p);
+    char hint[256] = "";
+    if (st == OKID_E_BAD_ORDER && cfg->order == 0) {
+        snprintf(hint, sizeof hint, "; the automatic order would search up to min(alpha m, beta columns, m p) = "
+                 "%lld, more than %d: give --order", largest, OKID_MAX_ORDER);
     } else if (st == OKID_E_BAD_ORDER) {
-        hint = "; n must be at most m*p and at most the Hankel size";
-    } else if (st == OKID_E_BAD_PARAMETER) {
-        hint = "; the forgetting factor must be in (0, 1], the rank tolerance >= 0, dt > 0";
+        snprintf(hint, sizeof hint, "; --order %d must be at most min(alpha m, beta columns, m p) = "
+                 "min(%lld, %lld, %lld) = %lld", cfg->order, hankel, window, m * p, largest);
     } else if (cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL && st == OKID_E_BAD_SIZE) {
-        hint = "; instrumental variables need r (L + 1) >= q, L >= p and L <= 8000 instrument lags";
+        snprintf(hint, sizeof hint, "; --instrument-lags %d: instrumental variables need r (L + 1) >= q = %lld, "
+                 "L >= p = %lld and L <= %d", cfg->instrument_lags, r + (r + m) * p, p, OKID_MAX_INSTRUMENT_LAGS);
     }
     return cli_error(EXIT_USAGE, "invalid settings (r = %d, m = %d, p = %d, n = %d, Hankel %d x %d): %s%s",
                      cfg->num_inputs, cfg->num_outputs, cfg->observer_order, cfg->order, cfg->hankel_rows,
@@ -531,7 +377,7 @@ static int run(identify_options *o, const csv_table *t)
 int identify_command(int argc, char **argv)
 {
     identify_options o;
-    int rc = parse_options(argc, argv, &o);
+    int rc = identify_parse_options(argc, argv, &o);
     if (rc != 0) {
         return rc;
     }

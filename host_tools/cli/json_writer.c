@@ -122,11 +122,46 @@ static void json_string_list(FILE *out, const char *const *texts, int count)
     fputc(']', out);
 }
 
+/* "config": every okid_config field under its C name, enumerations by name (docs/cli.md). */
+static void json_config(FILE *out, const okid_config *cfg)
+{
+    fprintf(out, "  \"config\": {\"num_inputs\": %d, \"num_outputs\": %d, \"observer_order\": %d, \"order\": %d, "
+                 "\"hankel_rows\": %d, \"hankel_cols\": %d, \"block_rows\": %d, \"dt\": ",
+            cfg->num_inputs, cfg->num_outputs, cfg->observer_order, cfg->order, cfg->hankel_rows, cfg->hankel_cols,
+            cfg->block_rows);
+    json_number(out, (double)cfg->dt);
+    fputs(", \"forgetting_factor\": ", out);
+    json_number(out, (double)cfg->forgetting_factor);
+    fputs(", \"rank_tolerance\": ", out);
+    json_number(out, (double)cfg->rank_tolerance);
+    fprintf(out, ", \"sensing\": \"%s\", \"realization\": \"%s\", \"zero_initial_state\": %d, \"decimation\": %d, "
+                 "\"scaling\": \"%s\", \"estimator\": \"%s\", \"instrument_lags\": %d},\n",
+            cli_name_of(cli_sensing_names, (int)cfg->sensing),
+            cli_name_of(cli_realization_names, (int)cfg->realization),
+            cfg->zero_initial_state, cfg->decimation, cli_name_of(cli_scaling_names, (int)cfg->scaling),
+            cli_name_of(cli_estimator_names, (int)cfg->estimator), cfg->instrument_lags);
+}
+
+/* The settings' top-level keys of the previous release, with their old values: kept for one
+   release (docs/cli.md), then only "config" holds the settings. */
+static void json_old_setting_keys(FILE *out, const okid_config *cfg)
+{
+    fprintf(out, "  \"observer_order\": %d,\n  \"sensing\": \"%s\",\n", cfg->observer_order,
+            cli_name_of(cli_sensing_names, (int)cfg->sensing));
+    fprintf(out, "  \"hankel_rows\": %d,\n  \"hankel_cols\": %d,\n", cfg->hankel_rows, cfg->hankel_cols);
+    fprintf(out, "  \"realization\": \"%s\",\n  \"sample_dt\": ",
+            cli_name_of(cli_realization_names, (int)cfg->realization));
+    json_number(out, (double)cfg->dt);
+    fprintf(out, ",\n  \"scale\": \"%s\",\n  \"estimator\": \"%s\",\n",
+            cli_name_of(cli_scaling_names, (int)cfg->scaling),
+            cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL ? "instrumental" : "least-squares");
+}
+
 void json_result(FILE *out, const okid_config *cfg, const okid_result *res, const char *const *input_names,
                  const char *const *output_names, double elapsed)
 {
     const int m = cfg->num_outputs;
-    fprintf(out, "{\n  \"order\": %d,\n  \"observer_order\": %d,\n", res->order, cfg->observer_order);
+    fprintf(out, "{\n  \"order\": %d,\n", res->order);
     if (input_names != NULL) {
         fputs("  \"inputs\": ", out);
         json_string_list(out, input_names, cfg->num_inputs);
@@ -137,18 +172,18 @@ void json_result(FILE *out, const okid_config *cfg, const okid_result *res, cons
         json_string_list(out, output_names, m);
         fputs(",\n", out);
     }
-    fprintf(out, "  \"sensing\": \"%s\",\n", cli_sensing_name(cfg->sensing));
-    fprintf(out, "  \"hankel_rows\": %d,\n  \"hankel_cols\": %d,\n", cfg->hankel_rows, cfg->hankel_cols);
-    fprintf(out, "  \"realization\": \"%s\",\n",
-            cfg->realization == OKID_REALIZATION_COMBINED ? "combined" : "system");
-    /* the options of docs/quality.md; "dt" below is the model's, decimation times "sample_dt" */
-    fprintf(out, "  \"decimation\": %d,\n  \"sample_dt\": ", res->decimation);
-    json_number(out, (double)cfg->dt);
-    fprintf(out, ",\n  \"scale\": \"%s\",\n  \"estimator\": \"%s\",\n",
-            cfg->scaling == OKID_SCALING_AUTO ? "auto" : "none",
-            cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL ? "instrumental" : "least-squares");
+    json_config(out, cfg);
+    json_old_setting_keys(out, cfg);
+    fprintf(out, "  \"decimation\": %d,\n", res->decimation);
     if (cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL) {
         fprintf(out, "  \"instrument_lags\": %d,\n", res->instrument_lags);
+    }
+    if (res->input_scales != NULL && res->output_scales != NULL) {
+        fputs("  \"input_scales\": ", out);
+        json_vector(out, res->input_scales, cfg->num_inputs);
+        fputs(",\n  \"output_scales\": ", out);
+        json_vector(out, res->output_scales, m);
+        fputs(",\n", out);
     }
     fprintf(out, "  \"samples\": %llu,\n  \"rows\": %llu,\n  \"dt\": ", (unsigned long long)res->samples,
             (unsigned long long)res->rows);

@@ -22,7 +22,8 @@ void json_complex_vector(FILE *out, const okid_complex *values, int count);
 void json_mode_members(FILE *out, const okid_mode *md, int m);
 
 /*
- * The whole result as the members of one JSON object (keys documented in README.md). input_names (r) and
+ * The whole result as the members of one JSON object (keys documented in docs/cli.md): "config" holds
+ * cfg, the settings the run used; the other keys are okid_result's. input_names (r) and
  * output_names (m) label the columns (either may be NULL); elapsed >= 0 adds "elapsed_seconds".
  */
 void json_result(FILE *out, const okid_config *cfg, const okid_result *res, const char *const *input_names,

@@ -1,57 +1,62 @@
 /* okid simulate: a chain of masses excited by white noise, sampled exactly (ZOH), written as CSV. */
 #include <errno.h>
+#include <float.h>
+#include <limits.h>
+#include <stddef.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli_common.h"
+#include "option_table.h"
 
 enum { MAX_DOFS = 16 };
 
-static const char simulate_usage[] =
+static const char synopsis[] =
     "usage: okid simulate [options]\n"
     "\n"
     "Simulates masses in a chain between two walls (spring k_i and damper r_i join mass i-1 and\n"
     "mass i), excited by a white-noise force of unit variance on one mass, sampled exactly with a\n"
     "zero-order hold, from rest. The default is the paper's 2-DOF experiment. Writes CSV columns\n"
     "t, force, then acc1..accN (or vel1.., disp1..), one per mass.\n"
-    "\n"
-    "  --masses M1,M2,...       masses [kg] (default 2,3)\n"
-    "  --dampers R1,...         N+1 damping coefficients [N s/m] (default 2,4,3)\n"
-    "  --springs K1,...         N+1 stiffnesses [N/m] (default 20,40,30)\n"
-    "  --force-dof K            the mass the force acts on, 1-based (default 1)\n"
-    "  --sensing KIND           acceleration|velocity|displacement (default acceleration)\n"
-    "  --samples N              number of samples (default 1001: 10 s at 0.01 s)\n"
-    "  --dt S                   sample interval [s] (default 0.01)\n"
-    "  --seed S                 random seed (default 1)\n"
-    "  --noise F                output noise: normal, std F times each output's RMS (default 0)\n"
-    "  --output FILE            write to FILE instead of standard output\n"
-    "\n"
-    "Exit status: 0 success, 1 write error, 2 usage error (a bad option or model).\n";
+    "\n";
+
+static const char epilogue[] = "\nExit status: 0 success, 1 write error, 2 usage error (a bad option or model).\n";
 
 typedef struct simulate_options {
     double masses[MAX_DOFS], dampers[MAX_DOFS + 1], springs[MAX_DOFS + 1];
     int dofs, num_dampers, num_springs, force_dof, samples, seed;
     double dt, noise;
-    okid_sensing sensing;
+    int sensing; /* okid_sensing */
     const char *output;
 } simulate_options;
 
-/* Every simulate option takes a value; an unknown one is reported as such, not as lacking a value. */
-static int is_option(const char *opt)
-{
-    static const char *const names[] = {"--masses", "--dampers", "--springs", "--force-dof", "--sensing",
-                                         "--samples", "--dt", "--seed", "--noise", "--output"};
-    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
-        if (strcmp(opt, names[i]) == 0) {
-            return 1;
-        }
-    }
-    return 0;
-}
+#define AT(member) offsetof(simulate_options, member), sizeof(((simulate_options *)0)->member), 0
+#define LIST(member, count) offsetof(simulate_options, member), sizeof(double), offsetof(simulate_options, count)
 
-static int parse_options(int argc, char **argv, simulate_options *o)
+static const cli_option simulate_table[] = {
+    /* name, alias, kind, offset/size/count, min, max, range, names, field, metavar, note, default, help */
+    {"masses", NULL, CLI_REAL_LIST, LIST(masses, dofs), 0, MAX_DOFS, CLI_MIN_OPEN | CLI_NO_MAX, NULL, NULL,
+     "M1,M2,...", NULL, NULL, "masses [kg]"},
+    {"dampers", NULL, CLI_REAL_LIST, LIST(dampers, num_dampers), 0, MAX_DOFS + 1, CLI_NO_MAX, NULL, NULL, "R1,...",
+     "one more than the masses", NULL, "damping coefficients [N s/m]"},
+    {"springs", NULL, CLI_REAL_LIST, LIST(springs, num_springs), 0, MAX_DOFS + 1, CLI_NO_MAX, NULL, NULL, "K1,...",
+     "one more than the masses", NULL, "stiffnesses [N/m]"},
+    {"force-dof", NULL, CLI_INT, AT(force_dof), 1, MAX_DOFS, 0, NULL, NULL, "K", "at most the number of masses", NULL,
+     "the mass the force acts on, 1-based"},
+    {"sensing", NULL, CLI_ENUM, AT(sensing), 0, 0, 0, cli_sensing_names, NULL, "KIND", NULL, NULL,
+     "what the output columns measure"},
+    {"samples", NULL, CLI_INT, AT(samples), 1, INT_MAX, 0, NULL, NULL, "N", NULL, NULL, "number of samples"},
+    {"dt", NULL, CLI_REAL, AT(dt), DBL_MIN, 0, CLI_NO_MAX, NULL, NULL, "S", NULL, NULL, "sample interval [s]"},
+    {"seed", NULL, CLI_INT, AT(seed), INT_MIN, INT_MAX, 0, NULL, NULL, "S", NULL, NULL, "random seed"},
+    {"noise", NULL, CLI_REAL, AT(noise), 0, 0, CLI_NO_MAX, NULL, NULL, "F", NULL, NULL,
+     "output noise: normal, std F times each output's RMS"},
+    {"output", NULL, CLI_TEXT, AT(output), 0, 0, 0, NULL, NULL, "FILE", NULL, "standard output", "where to write"},
+    {NULL, NULL, CLI_FLAG, 0, 0, 0, 0, 0, 0, NULL, NULL, NULL, NULL, NULL, NULL},
+};
+
+static void simulate_defaults(simulate_options *o)
 {
     const double masses[2] = {2, 3}, dampers[3] = {2, 4, 3}, springs[3] = {20, 40, 30};
     memset(o, 0, sizeof *o);
@@ -60,59 +65,24 @@ static int parse_options(int argc, char **argv, simulate_options *o)
     memcpy(o->springs, springs, sizeof springs);
     o->dofs = 2, o->num_dampers = 3, o->num_springs = 3, o->force_dof = 1;
     o->samples = 1001, o->seed = 1, o->dt = 0.01, o->sensing = OKID_SENSING_ACCELERATION;
-    for (int i = 1; i < argc; ++i) {
-        const char *opt = argv[i];
-        if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0) {
-            fputs(simulate_usage, stdout);
-            exit(0);
-        }
-        if (strncmp(opt, "--", 2) != 0) {
-            return cli_error(EXIT_USAGE, "unexpected argument '%s' (see 'okid simulate --help')", opt);
-        }
-        if (!is_option(opt)) {
-            return cli_error(EXIT_USAGE, "unknown option '%s' (see 'okid simulate --help')", opt);
-        }
-        if (i + 1 >= argc) {
-            return cli_error(EXIT_USAGE, "option %s needs a value (see 'okid simulate --help')", opt);
-        }
-        const char *val = argv[++i];
-        int bad = 0;
-        if (strcmp(opt, "--masses") == 0) {
-            bad = cli_parse_real_list(val, o->masses, MAX_DOFS, &o->dofs);
-        } else if (strcmp(opt, "--dampers") == 0) {
-            bad = cli_parse_real_list(val, o->dampers, MAX_DOFS + 1, &o->num_dampers);
-        } else if (strcmp(opt, "--springs") == 0) {
-            bad = cli_parse_real_list(val, o->springs, MAX_DOFS + 1, &o->num_springs);
-        } else if (strcmp(opt, "--force-dof") == 0) {
-            bad = cli_parse_int(val, &o->force_dof);
-        } else if (strcmp(opt, "--sensing") == 0) {
-            bad = cli_parse_sensing(val, &o->sensing);
-        } else if (strcmp(opt, "--samples") == 0) {
-            bad = cli_parse_int(val, &o->samples) != 0 || o->samples < 1;
-        } else if (strcmp(opt, "--dt") == 0) {
-            bad = cli_parse_real(val, &o->dt) != 0 || !(o->dt > 0);
-        } else if (strcmp(opt, "--seed") == 0) {
-            bad = cli_parse_int(val, &o->seed);
-        } else if (strcmp(opt, "--noise") == 0) {
-            bad = cli_parse_real(val, &o->noise) != 0 || o->noise < 0;
-        } else if (strcmp(opt, "--output") == 0) {
-            o->output = val;
-        } else {
-            return cli_error(EXIT_USAGE, "unknown option '%s' (see 'okid simulate --help')", opt);
-        }
-        if (bad && (strcmp(opt, "--masses") == 0 || strcmp(opt, "--dampers") == 0 || strcmp(opt, "--springs") == 0)) {
-            return cli_error(EXIT_USAGE, "bad value '%s' for %s: comma-separated finite numbers, at most %d masses",
-                             val, opt, MAX_DOFS);
-        }
-        if (bad) {
-            return cli_error(EXIT_USAGE, "bad value '%s' for %s", val, opt);
-        }
+}
+
+static int parse_options(int argc, char **argv, simulate_options *o)
+{
+    simulate_options defaults;
+    simulate_defaults(&defaults);
+    const cli_command command = {"simulate", synopsis, epilogue, simulate_table, &defaults, 0, NULL};
+    int operands = 0;
+    *o = defaults;
+    const int rc = cli_parse_options(&command, argc, argv, o, NULL, &operands);
+    if (rc != 0) {
+        return rc;
     }
     if (o->num_dampers != o->dofs + 1 || o->num_springs != o->dofs + 1) {
         return cli_error(EXIT_USAGE, "%d masses need %d dampers and %d springs (got %d and %d)", o->dofs, o->dofs + 1,
                          o->dofs + 1, o->num_dampers, o->num_springs);
     }
-    if (o->force_dof < 1 || o->force_dof > o->dofs) {
+    if (o->force_dof > o->dofs) {
         return cli_error(EXIT_USAGE, "--force-dof %d: there are %d masses", o->force_dof, o->dofs);
     }
     return 0;
@@ -144,9 +114,9 @@ static okid_status build_model(const simulate_options *o, discrete_model *dm)
     for (int i = 0; i < n2; ++i) eye[i + i * n2] = 1;
     okid_status st = okid_chain_model(n2, masses, dampers, springs, mm, rr, kk);
     okid_mechanical_model model = {n2, 1, n2, mm, rr, kk, b2, NULL, NULL, NULL};
-    if (o->sensing == OKID_SENSING_ACCELERATION) model.out_acc = eye;
-    if (o->sensing == OKID_SENSING_VELOCITY) model.out_vel = eye;
-    if (o->sensing == OKID_SENSING_DISPLACEMENT) model.out_disp = eye;
+    if (o->sensing == (int)OKID_SENSING_ACCELERATION) model.out_acc = eye;
+    if (o->sensing == (int)OKID_SENSING_VELOCITY) model.out_vel = eye;
+    if (o->sensing == (int)OKID_SENSING_DISPLACEMENT) model.out_disp = eye;
     if (st == OKID_OK) st = okid_model_state_space(&model, ac, bc, dm->c, dm->d, work, OKID_ZOH_WORK_REALS(2 * MAX_DOFS, 1));
     if (st == OKID_OK) st = okid_discretize_zoh(n, 1, ac, bc, (okid_real)o->dt, dm->a, dm->b, work,
                                                 OKID_ZOH_WORK_REALS(2 * MAX_DOFS, 1));

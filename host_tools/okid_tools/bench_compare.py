@@ -33,7 +33,7 @@ CASES = [("paper, noise-free", 0.01, 1001, 0.0), ("paper dt, 2 % noise", 0.01, 1
 # okid and the numpy OKID/ERA get the same grid; the Hankel span reaches one period of the slowest
 # mode at the paper's dt (h = 100), which noisy oversampled data needs (DESIGN.md).
 OKID_GRID = [dict(p=p, h=h) for p in (2, 5, 10, 20, 40, 60, 80, 100) for h in (10, 20, 40, 60, 100)]
-# okid's options of docs/quality.md: decimation (k: --decimate) and the instrumental-variable
+# okid's options of docs/quality.md: decimation (k: --decimation) and the instrumental-variable
 # estimator (iv: --estimator instrumental); p and h then count decimated samples.
 DECIMATED_GRID = [dict(p=p, h=h, k=k) for k in (2, 5, 10) for p in (2, 5, 10, 20, 40) for h in (10, 20, 40, 60)]
 GRIDS = {
@@ -144,7 +144,7 @@ def okid_cli(cli, path, dt, params, timing=False, repeat=20):
     args = [cli, "identify", "--json", "--order", "4", "--observer-order", str(params["p"]), "--hankel-rows", h,
             "--hankel-cols", h, "--zero-initial-state", path]
     if params.get("k", 1) > 1:
-        args[2:2] = ["--decimate", str(params["k"])]
+        args[2:2] = ["--decimation", str(params["k"])]
     if params.get("iv"):
         args[2:2] = ["--estimator", "instrumental"]
     if timing:

@@ -66,7 +66,7 @@ def main(argv=None):
                 Y = numpy_okid_markov(u, y, p, count)
                 errors["era"].append(frequency_error(modal(era_A(Y, HANKEL, HANKEL, 4), DT)[0], exact))
                 errors["dc"].append(frequency_error(modal(era_dc_A(Y, HANKEL, HANKEL, 4), DT)[0], exact))
-                errors["ls"].append(frequency_error(okid_cli(args.cli, path, p, "least-squares"), exact))
+                errors["ls"].append(frequency_error(okid_cli(args.cli, path, p, "least_squares"), exact))
                 errors["iv"].append(frequency_error(okid_cli(args.cli, path, p, "instrumental"), exact))
                 os.unlink(path)
             cells = [f"{100 * np.mean(e):.2f} / {100 * np.max(e):.2f} %" if np.all(np.isfinite(e)) else "no two modes"

@@ -35,7 +35,7 @@ okid_status okid_config_default(okid_config *cfg, int num_inputs, int num_output
     }
     cfg->num_inputs = num_inputs;
     cfg->num_outputs = num_outputs;
-    cfg->observer_order = 10;
+    cfg->observer_order = 20;
     cfg->order = 0;
     cfg->hankel_rows = 20;
     cfg->hankel_cols = 20;

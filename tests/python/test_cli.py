@@ -143,13 +143,13 @@ def test_paper_round_trip_matches_exact(paper_csv):
 
 def test_json_keys_and_types(paper_csv):
     res = identify_json(paper_csv, *PAPER_SETTINGS)
-    types = {"order": int, "observer_order": int, "samples": int, "dt": float, "singular_values": list,
+    types = {"order": int, "config": dict, "samples": int, "dt": float, "singular_values": list,
              "A": list, "B": list, "C": list, "D": list, "regressor_rank": int, "regressor_columns": int,
              "warnings": list, "modes": list, "inputs": list, "outputs": list}
     for key, kind in types.items():
         assert isinstance(res[key], kind), key
     assert "G" not in res  # system realization: no observer gain
-    assert res["order"] == 4 and res["observer_order"] == 20 and res["samples"] == 1001
+    assert res["order"] == 4 and res["config"]["observer_order"] == 20 and res["samples"] == 1001
     assert res["inputs"] == ["force"] and res["outputs"] == ["acc1", "acc2"]
     assert res["dt"] == pytest.approx(0.01, rel=1e-12)
     assert res["regressor_columns"] == 1 + 3 * 20
@@ -220,7 +220,7 @@ def test_automatic_order_and_combined(paper_csv):
     assert auto["order"] == 4
     comb = identify_json(paper_csv, "--realization", "combined", "--observer-order", 2, "--order", 4,
                          "--zero-initial-state")
-    assert comb["realization"] == "combined"
+    assert comb["config"]["realization"] == "combined"
     assert "G" in comb and len(comb["G"]) == 4 and len(comb["G"][0]) == 2
     assert np.max(np.abs(eigenvalues(comb) - exact_eigenvalues(*PAPER))) < 1e-9
 
@@ -333,7 +333,7 @@ def test_messages_name_the_row_and_column(tmp_path):
     (["identify", "--order", "4.5", "x.csv"], 2),
     (["identify", "--dt", "0", "x.csv"], 2),
     (["identify", "--dt", "nan", "x.csv"], 2),
-    (["identify", "--forgetting", "x", "x.csv"], 2),
+    (["identify", "--forgetting-factor", "x", "x.csv"], 2),
     (["identify", "--sensing", "jerk", "x.csv"], 2),
     (["identify", "--realization", "both", "x.csv"], 2),
     (["identify", "a.csv", "b.csv"], 2),
@@ -374,10 +374,10 @@ def test_help_documents_exit_status():
     (["--inputs", 1, "--outputs", 2147483647], "--outputs"),
     (["--inputs", 100], "--inputs 100"),
     (["--observer-order", 1, "--order", 4], "invalid settings"),
-    (["--observer-order", 5000], "invalid settings"),
-    (["--hankel-rows", 0], "invalid settings"),
-    (["--forgetting", 2], "invalid settings"),
-    (["--rank-tolerance", -1], "invalid settings"),
+    (["--observer-order", 5000], "valid: 1..1000"),
+    (["--hankel-rows", 0], "valid: 1..1000"),
+    (["--forgetting-factor", 2], "valid: (0, 1]"),
+    (["--rank-tolerance", -1], "valid: 0 or ["),
 ])
 def test_bad_column_choice_and_settings(paper_csv, args, needle):
     message = assert_one_error(run("identify", *args, paper_csv, check=False), 2)

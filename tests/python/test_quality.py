@@ -36,7 +36,7 @@ def coherence(p, q):
 
 def numpy_indicators(res, m, r):
     """EMAC (output, input), MPC and MSV of each mode (Im lambda > 0) of an ERA on res["markov"]."""
-    alpha, beta, n = res["hankel_rows"], res["hankel_cols"], res["order"]
+    alpha, beta, n = res["config"]["hankel_rows"], res["config"]["hankel_cols"], res["order"]
     Y = np.array(res["markov"])
     block = lambda k: Y[:, k * r:(k + 1) * r]  # noqa: E731
     H0 = np.block([[block(i + j + 1) for j in range(beta)] for i in range(alpha)])
@@ -124,7 +124,7 @@ def test_noisy_recommended_settings_have_no_warning(data):
 
 def test_indicator_contract_and_noise_free_values(data):
     res = identify(data / "clean.csv", *PAPER_SETTINGS)
-    exact_msv = paper_exact_msv(res["hankel_rows"], res["hankel_cols"])
+    exact_msv = paper_exact_msv(res["config"]["hankel_rows"], res["config"]["hankel_cols"])
     for lam, want in exact_msv.items():
         md = match(res["modes"], lam)
         for key in ("emac", "mpc", "cmi"):
@@ -207,7 +207,7 @@ def write_csv(path, t, u, y):
 
 
 def test_decimation_equals_scipy_filter_then_identify(data, tmp_path):
-    """--decimate K = scipy's Butterworth (order 2, edge 0.5/K of the Nyquist frequency) on every
+    """--decimation K = scipy's Butterworth (order 2, edge 0.5/K of the Nyquist frequency) on every
     column, every K-th row kept, then plain identification at K dt."""
     import scipy.signal as ss
     K = 2
@@ -215,27 +215,27 @@ def test_decimation_equals_scipy_filter_then_identify(data, tmp_path):
     filtered = ss.sosfilt(ss.butter(2, 0.5 / K, output="sos"), raw[:, 1:], axis=0)[::K]
     path = write_csv(tmp_path / "decimated.csv", raw[::K, 0], filtered[:, :1], filtered[:, 1:])
     settings = ("--observer-order", 30, "--hankel-rows", 50, "--hankel-cols", 50, "--order", 4, "--zero-initial-state")
-    ours = identify(data / "noisy.csv", *settings, "--decimate", K)
+    ours = identify(data / "noisy.csv", *settings, "--decimation", K)
     ref = identify(path, *settings)
-    assert ours["decimation"] == K and ours["sample_dt"] == pytest.approx(0.01) and ours["dt"] == pytest.approx(0.02)
+    assert ours["decimation"] == K and ours["config"]["dt"] == pytest.approx(0.01) and ours["dt"] == pytest.approx(0.02)
     assert ours["samples"] == len(raw) and ours["rows"] == ref["rows"] == len(filtered)
     np.testing.assert_allclose(ours["markov"], ref["markov"], rtol=1e-7, atol=1e-9 * np.max(np.abs(ref["markov"])))
     # the issue's claim on this record: same p, alpha, beta, K = 1 biased, K = 2 within 1 %
     assert frequency_error(ours) < 0.01
     assert frequency_error(identify(data / "noisy.csv", *settings)) > 0.02
     # horizons in seconds give the same counts: p = 0.6 s / 0.02 s, alpha = beta = 1 s / 0.02 s
-    seconds = identify(data / "noisy.csv", "--decimate", K, "--observer-seconds", 0.6, "--hankel-seconds", 1.0,
+    seconds = identify(data / "noisy.csv", "--decimation", K, "--observer-seconds", 0.6, "--hankel-seconds", 1.0,
                        "--order", 4, "--zero-initial-state")
-    assert (seconds["observer_order"], seconds["hankel_rows"], seconds["hankel_cols"]) == (30, 50, 50)
+    assert tuple(seconds["config"][k] for k in ("observer_order", "hankel_rows", "hankel_cols")) == (30, 50, 50)
     assert seconds["markov"] == ours["markov"]
 
 
 def test_scaling_makes_units_irrelevant(data, tmp_path):
     raw = np.loadtxt(data / "noisy.csv", delimiter=",", skiprows=1)
     mm = write_csv(tmp_path / "mm.csv", raw[:, 0], raw[:, 1:2] / 1000, raw[:, 2:] * 1000)  # kN and mm
-    settings = (*NOISY, "--order", 4, "--scale", "auto", "--realization", "combined")
+    settings = (*NOISY, "--order", 4, "--scaling", "auto", "--realization", "combined")
     si, other = identify(data / "noisy.csv", *settings), identify(mm, *settings)
-    assert si["scale"] == "auto"
+    assert si["config"]["scaling"] == "auto"
     for a, b in zip(si["modes"], other["modes"]):
         assert b["frequency_hz"] == pytest.approx(a["frequency_hz"], rel=1e-10)
         assert b["damping_ratio"] == pytest.approx(a["damping_ratio"], rel=1e-10)
@@ -268,17 +268,17 @@ def test_instrumental_estimator_matches_numpy(tmp_path):
     run("simulate", "--dt", 0.05, "--samples", 2001, "--noise", 0.2, "--seed", 11, "--output", csv)
     settings = ("--observer-order", 10, "--order", 4, "--zero-initial-state")
     iv = identify(csv, *settings, "--estimator", "instrumental")
-    assert iv["estimator"] == "instrumental" and iv["instrument_lags"] == 31 + 20  # ceil(q/r) + 2p
+    assert iv["config"]["estimator"] == "instrumental" and iv["instrument_lags"] == 31 + 20  # ceil(q/r) + 2p
     ref = numpy_iv_markov(csv, 10, iv["instrument_lags"], len(iv["markov"][0]))
     np.testing.assert_allclose(iv["markov"], ref, rtol=1e-6, atol=1e-8 * np.max(np.abs(ref)))
     ls = identify(csv, *settings)
-    assert ls["estimator"] == "least-squares" and "instrument_lags" not in ls
+    assert ls["config"]["estimator"] == "least_squares" and "instrument_lags" not in ls
     f = exact_frequencies()  # the frequencies do not depend on dt
     err = lambda res: np.max(np.abs(np.sort([m["frequency_hz"] for m in res["modes"] if m["is_pair"]]) - f) / f)  # noqa: E731
     assert err(iv) < 0.3 * err(ls)
 
 
-@pytest.mark.parametrize("args", [["--decimate", 0], ["--decimate", 65], ["--scale", "si"],
+@pytest.mark.parametrize("args", [["--decimation", 0], ["--decimation", 65], ["--scaling", "si"],
                                   ["--estimator", "iv"], ["--instrument-lags", -1], ["--observer-seconds", 0],
                                   ["--hankel-seconds", "nan"], ["--hankel-seconds", 1e6]])
 def test_quality_option_usage_errors(data, args):

@@ -1,0 +1,139 @@
+/*
+ * The options of okid identify, once: name, old spelling, value type, valid range, the okid_config
+ * field set (docs/cli.md's vocabulary: the flag is the field's name with '-' for '_') and help.
+ * Defaults are okid_config_default()'s.
+ */
+#include "identify_options.h"
+
+#include <float.h>
+#include <stddef.h>
+#include <string.h>
+
+#include "cli_common.h"
+#include "option_table.h"
+
+/* The working precision of the library this CLI is built on (okid_real is float or double). */
+#if OKID_REAL_IS_FLOAT
+#define REAL_EPSILON ((double)FLT_EPSILON)
+#define REAL_MIN ((double)FLT_MIN)
+#define RANK_TOLERANCE_NOTE "0 = 1e-5; below epsilon there is no rank test"
+#else
+#define REAL_EPSILON DBL_EPSILON
+#define REAL_MIN DBL_MIN
+#define RANK_TOLERANCE_NOTE "0 = 1e-10; below epsilon there is no rank test"
+#endif
+/* okid_config::block_rows: regressor rows per fold, at most 4096 (okid_workspace_size) */
+#define MAX_BLOCK_ROWS 4096
+
+/* CLI_ENUM and CLI_SWITCH store an int */
+_Static_assert(sizeof(okid_sensing) == sizeof(int) && sizeof(okid_realization) == sizeof(int) &&
+                   sizeof(okid_scaling) == sizeof(int) && sizeof(okid_estimator) == sizeof(int),
+               "okid_config's enumerations are stored as int");
+
+#define AT(member) offsetof(identify_options, member)
+#define CONFIG(f) AT(cfg.f), sizeof(((okid_config *)0)->f), 0
+#define OWN(member) AT(member), sizeof(((identify_options *)0)->member), 0
+
+static const cli_option identify_table[] = {
+    /* name, alias, kind, offset/size/count, min, max, range, names, field, metavar, note, default, help */
+    {"inputs", NULL, CLI_TEXT, OWN(inputs), 0, 0, 0, NULL, "num_inputs", "NAMES|COUNT", NULL, "1",
+     "input (force) columns: comma-separated names, or how many columns\n"
+     "follow the time column; 1..64 (OKID_MAX_DIMENSION)"},
+    {"outputs", NULL, CLI_TEXT, OWN(outputs), 0, 0, 0, NULL, "num_outputs", "NAMES|COUNT", NULL,
+     "every remaining column", "output (sensor) columns: names, or how many follow the inputs; 1..64"},
+    {"dt", NULL, CLI_REAL, OWN(dt), REAL_MIN, 0, CLI_NO_MAX, NULL, "dt", "S", NULL,
+     "the time column's step", "sample interval [s], a normal number; a time column must be uniform"},
+    {"observer-order", NULL, CLI_INT, CONFIG(observer_order), 1, OKID_MAX_HORIZON, 0, NULL, "observer_order", "P",
+     "and m p >= n", NULL, "observer order p: observer Markov parameters identified"},
+    {"order", NULL, CLI_INT, CONFIG(order), 0, OKID_MAX_ORDER, 0, NULL, "order", "N",
+     "0 = the largest singular-value gap; at most min(alpha m, beta columns, m p)", NULL, "model order n"},
+    {"hankel-rows", NULL, CLI_INT, CONFIG(hankel_rows), 1, OKID_MAX_HORIZON, 0, NULL, "hankel_rows", "A", NULL, NULL,
+     "Hankel block rows alpha"},
+    {"hankel-cols", NULL, CLI_INT, CONFIG(hankel_cols), 1, OKID_MAX_HORIZON, 0, NULL, "hankel_cols", "B", NULL, NULL,
+     "Hankel block columns beta"},
+    {"block-rows", NULL, CLI_INT, CONFIG(block_rows), 0, MAX_BLOCK_ROWS, 0, NULL, "block_rows", "R", "0 = 32", NULL,
+     "regressor rows folded into the QR factor at a time (speed, not results)"},
+    {"forgetting-factor", "forgetting", CLI_REAL, CONFIG(forgetting_factor), 0, 1, CLI_MIN_OPEN, NULL,
+     "forgetting_factor", "L", NULL, NULL,
+     "exponential forgetting: a row folded k samples ago weighs L^k; 1 keeps all alike"},
+    {"rank-tolerance", NULL, CLI_REAL, CONFIG(rank_tolerance), REAL_EPSILON, 1, CLI_MAX_OPEN | CLI_ZERO_TOO, NULL,
+     "rank_tolerance", "T", RANK_TOLERANCE_NOTE,
+     NULL, "relative tolerance of the rank-revealing least squares"},
+    {"sensing", NULL, CLI_ENUM, CONFIG(sensing), 0, 0, 0, cli_sensing_names, "sensing", "KIND", NULL, NULL,
+     "what the outputs measure (the mode shapes, eq. 64)"},
+    {"realization", NULL, CLI_ENUM, CONFIG(realization), 0, 0, 0, cli_realization_names, "realization", "KIND", NULL,
+     NULL, "combined also gives the observer gain G"},
+    {"zero-initial-state", NULL, CLI_SWITCH, CONFIG(zero_initial_state), 0, 1, 0, NULL, "zero_initial_state", NULL,
+     NULL, NULL, "the record starts at rest (use its first samples with zero history)"},
+    {"decimation", "decimate", CLI_INT, CONFIG(decimation), 1, OKID_MAX_DECIMATION, 0, NULL, "decimation", "K", NULL,
+     NULL,
+     "anti-alias filter (Butterworth, order 2) and keep every K-th sample;\n"
+     "p, alpha, beta then count decimated samples, dt of the results is K dt"},
+    {"scaling", "scale", CLI_ENUM, CONFIG(scaling), 0, 0, 0, cli_scaling_names, "scaling", "KIND", NULL, NULL,
+     "auto divides each input and output by its RMS over the first block\n"
+     "of rows, so the units of the channels do not matter"},
+    {"estimator", NULL, CLI_ENUM, CONFIG(estimator), 0, 0, 0, cli_estimator_names, "estimator", "KIND", NULL, NULL,
+     "instrumental removes the bias of output noise with delayed inputs\n"
+     "as instruments (old spelling of the value: least-squares)"},
+    {"instrument-lags", NULL, CLI_INT, CONFIG(instrument_lags), 0, OKID_MAX_INSTRUMENT_LAGS, 0, NULL, "instrument_lags",
+     "L", "0 = ceil(q/r) + 2p; r (L + 1) >= q and L >= p", NULL, "instrument lags of --estimator instrumental"},
+    /* the command's own options */
+    {"observer-seconds", NULL, CLI_REAL, OWN(observer_seconds), 0, 0, CLI_MIN_OPEN | CLI_NO_MAX, NULL, NULL, "S", NULL,
+     "--observer-order", "observer order p = round(S / (K dt)) (after --dt, --decimation)"},
+    {"hankel-seconds", NULL, CLI_REAL, OWN(hankel_seconds), 0, 0, CLI_MIN_OPEN | CLI_NO_MAX, NULL, NULL, "S", NULL,
+     "--hankel-rows, --hankel-cols", "Hankel block rows and columns alpha = beta = round(S / (K dt))"},
+    {"stabilization", NULL, CLI_INT, OWN(stabilization), 2, OKID_MAX_ORDER, 0, NULL, NULL, "NMAX",
+     "at most the Hankel size min(alpha m, beta r)", "none",
+     "stabilization diagram data for the even orders 2..NMAX from one SVD;\n"
+     "\"stabilization\" in the JSON, plot it with okid-stabilization (docs/quality.md)"},
+    {"json", NULL, CLI_FLAG, OWN(json), 0, 0, 0, NULL, NULL, NULL, NULL, NULL,
+     "print one JSON object instead of a table"},
+    {"timing", NULL, CLI_FLAG, OWN(timing), 0, 0, 0, NULL, NULL, NULL, NULL, NULL,
+     "report the seconds from okid_init to the modes (\"elapsed_seconds\" in JSON)"},
+    {"repeat", NULL, CLI_INT, OWN(repeat), 1, 100000, 0, NULL, NULL, "K", NULL, NULL,
+     "with --timing: identify K times from scratch, report the fastest"},
+    {NULL, NULL, CLI_FLAG, 0, 0, 0, 0, 0, 0, NULL, NULL, NULL, NULL, NULL, NULL},
+};
+
+static const char synopsis[] =
+    "usage: okid identify [options] FILE.csv      (FILE '-' reads standard input)\n"
+    "\n"
+    "FILE.csv has a header row of column names; an optional first column named t or time (any case)\n"
+    "holds the sample times (uniform to 0.01 %). Every other cell is a finite number; a NaN, an empty\n"
+    "or a non-numeric cell, or a row with a missing field rejects the file. Noisy records need a\n"
+    "larger p and a Hankel window spanning about one period of the slowest mode; for the paper's\n"
+    "case with 2 % noise:\n"
+    "  --observer-order 60 --hankel-rows 100 --hankel-cols 100\n"
+    "\n"
+    "Each option is the okid_config field of the same name (docs/cli.md); '--name=value' works too.\n"
+    "In brackets: the valid values and the default (okid_config_default()).\n"
+    "\n";
+
+static const char epilogue[] = "\nExit status: 0 success, 1 bad data or identification failure, 2 usage error.\n";
+
+static void identify_defaults(identify_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->repeat = 1;
+    okid_config_default(&o->cfg, 1, 1);
+}
+
+int identify_parse_options(int argc, char **argv, identify_options *o)
+{
+    identify_options defaults;
+    identify_defaults(&defaults);
+    const cli_command command = {"identify", synopsis, epilogue, identify_table, &defaults, 1, "input file"};
+    const char *file = NULL;
+    int files = 0;
+    *o = defaults;
+    const int rc = cli_parse_options(&command, argc, argv, o, &file, &files);
+    if (rc != 0) {
+        return rc;
+    }
+    if (files == 0) {
+        return cli_error(EXIT_USAGE, "no input file (usage: okid identify [options] FILE.csv)");
+    }
+    o->file = file;
+    o->have_dt = o->dt > 0;
+    return 0;
+}

@@ -1,0 +1,17 @@
+/* The options of okid identify: the option table (identify_options.c) fills this struct. */
+#ifndef OKID_CLI_IDENTIFY_OPTIONS_H
+#define OKID_CLI_IDENTIFY_OPTIONS_H
+
+#include "okid/okid.h"
+
+typedef struct identify_options {
+    const char *file, *inputs, *outputs;
+    double dt, observer_seconds, hankel_seconds;
+    int have_dt, json, timing, repeat, stabilization;
+    okid_config cfg; /* okid_config_default() before the options; num_inputs, num_outputs, dt set from the file */
+} identify_options;
+
+/* Fills o from the command line; 0, or EXIT_USAGE after one line on stderr. "--help" exits 0. */
+int identify_parse_options(int argc, char **argv, identify_options *o);
+
+#endif
