@@ -68,6 +68,9 @@ class Slave:
     def _log3(self, env, status, category, message):
         self.logger(status, category.decode(), message.decode())
 
+    def vr(self, name):
+        return self.vars[name].valueReference
+
     def configure(self, **sizes):
         """FMI 3 configuration mode: set the structural parameters (num_inputs=2, ...)."""
         self.fmu.enterConfigurationMode()

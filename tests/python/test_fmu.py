@@ -307,3 +307,208 @@ def test_sources_build_without_prefixes(tmp_path, version, model):
     out = subprocess.run(["nm", "-D", "--defined-only", str(so)], capture_output=True, text=True).stdout
     exported = {line.split()[-1] for line in out.splitlines() if line.split()[-1].startswith("fmi")}
     assert exported == fmi_functions(version)
+
+
+# ---- issue 17 class 4: every output is current or visibly not (docs/fmu.md, "Stale outputs") ----
+
+def outputs_are_flagged(s, t):
+    """The invariants an importer can rely on after every step."""
+    status, valid, when, y_hat, y_error = s.get("status", "prediction_valid", "identification_time", "y_hat1", "y_error1")
+    assert bool(valid) == math.isfinite(y_hat), (t, valid, y_hat)
+    if not valid:
+        assert math.isnan(y_error)
+    if status == 0:  # collecting: no model, nothing published
+        assert math.isnan(when) and all(math.isnan(v) for v in s.get(*mode_outputs()))
+    else:
+        assert math.isnan(when) or when <= t + 1e-12
+    return status, valid, when
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_outputs_before_the_first_identification_are_nan(version):
+    """On main y_error was 0 and the mode outputs 0 before any model existed."""
+    _, u, y = paper_data(120)
+    s = identifier(version)
+    s.set(**PAPER_SETTINGS)
+    s.initialize()
+    for k in range(59):  # the first identification comes once 60 regressor rows are in
+        s.set_inputs(u[k], y[k])
+        s.step(k * 0.01, 0.01)
+        status, valid, when = outputs_are_flagged(s, k * 0.01)
+        assert status == 0 and not valid and math.isnan(when)
+        assert math.isnan(s.get("y_error2")[0]) and math.isnan(s.get("singular_value1")[0])
+    s.close()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_prediction_after_a_nan_sample_is_nan_until_the_window_refills(version):
+    """After a NaN sample the regressor window restarts: for p samples there is no prediction. On
+    main the FMU kept publishing the last y_hat/y_error, so a 5-unit sensor fault in that window
+    read as y_error1 = -5.6e-16. Now y_hat/y_error are NaN with prediction_valid false, and once
+    the window is full again the fault shows in y_error1."""
+    _, u, y = paper_data(600)
+    s = identifier(version)
+    s.set(**PAPER_SETTINGS)
+    s.initialize()
+    p = PAPER_SETTINGS["observer_order"]
+    for k in range(600):
+        yk = y[k].copy()
+        if k == 500:
+            yk[0] = math.nan
+        elif k > 500:
+            yk[0] += 5.0  # the sensor comes back with an offset
+        s.set_inputs(u[k], yk)
+        s.step(k * 0.01, 0.01)
+        status, valid, _ = outputs_are_flagged(s, k * 0.01)
+        if 300 <= k < 500:
+            assert status == 1 and valid
+        elif k == 500:  # predicted from the past, but the measurement is NaN
+            assert valid and math.isnan(s.get("y_error1")[0])
+        elif 500 < k <= 500 + p:
+            assert not valid and math.isnan(s.get("y_error1")[0]), k
+        elif 500 + p + 1 < k < 600:  # before the next identification re-fits the model to the offset data
+            assert valid and s.get("y_error1")[0] > 1.0, (k, s.get("y_error1"))
+    s.close()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_failed_identification_is_visible(version):
+    """No excitation: the identification fails; status says so and nothing is published."""
+    s = identifier(version)
+    s.set(**PAPER_SETTINGS)
+    s.initialize()
+    for k in range(200):
+        s.set_inputs(0.0, [0.0, 0.0])
+        s.step(k * 0.01, 0.01)
+        outputs_are_flagged(s, k * 0.01)
+    status, last_error, when, identifications = s.get("status", "last_error", "identification_time", "identifications")
+    assert status == 2 and last_error < 0 and math.isnan(when) and identifications == 0
+    assert all(math.isnan(v) for v in s.get(*mode_outputs()))
+    s.close()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_failure_after_success_keeps_the_model_with_its_time(version):
+    """Identified, then the forgetting factor forgets everything (zero data): the failure is
+    reported (status failed, last_error) while the mode outputs keep the last successful
+    identification and identification_time says when that was."""
+    _, u, y = paper_data(400)
+    s = identifier(version)
+    s.set(**{**PAPER_SETTINGS, "forgetting_factor": 0.5, "observer_order": 4, "hankel_rows": 10, "hankel_cols": 10})
+    s.initialize()
+    last_good = None
+    for k in range(4000):
+        uk, yk = (u[k], y[k]) if k < 400 else (0.0, [0.0, 0.0])
+        s.set_inputs(uk, yk)
+        s.step(k * 0.01, 0.01)
+        status, _, when = outputs_are_flagged(s, k * 0.01)
+        if status == 1:
+            last_good = (when, s.get(*mode_outputs()))
+        elif status == 2 and last_good is not None:
+            assert s.get("last_error")[0] < 0 and when == last_good[0] < k * 0.01
+            assert s.get(*mode_outputs()) == last_good[1]
+            break
+    else:
+        pytest.fail("no identification failed after a success")
+    s.close()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_model_description_is_honest(version):
+    """Variable steps are not claimed (the identifier samples once per step of dt); every ranged
+    parameter has min and max; booleans are Boolean; enumerations are FMI 3 enumerations and, in
+    FMI 2, integers whose description lists the values; parameter names are okid_config's."""
+    from fmpy import read_model_description
+    md = read_model_description(fmu(version))
+    assert md.coSimulation.canHandleVariableCommunicationStepSize is False
+    v = {x.name: x for x in md.modelVariables}
+    for name in ("observer_order", "order", "hankel_rows", "hankel_cols", "block_rows", "decimation",
+                 "instrument_lags", "forgetting_factor", "rank_tolerance"):
+        assert v[name].min is not None and v[name].max is not None, name
+    assert v["dt"].min is not None
+    assert v["zero_initial_state"].type == "Boolean"
+    enum_type = "Enumeration" if version == 3 else "Integer"
+    for name, items in [("sensing", "displacement velocity acceleration"), ("realization", "system combined"),
+                        ("scaling", "none auto"), ("estimator", "least_squares instrumental")]:
+        assert v[name].type == enum_type
+        if version == 3:
+            assert [i.name for i in v[name].declaredType.items] == items.split()
+        else:
+            assert all(item.split("_")[0] in v[name].description for item in items.split())
+    import ctypes  # the parameters are okid_config's fields, defaults okid_config_default()'s
+    from okid_tools.fmu_runs import FLAT_NAMES  # noqa: F401
+    assert {"dt", "observer_order", "order", "hankel_rows", "hankel_cols", "block_rows", "forgetting_factor",
+            "rank_tolerance", "sensing", "realization", "zero_initial_state", "decimation", "scaling", "estimator",
+            "instrument_lags"} <= {x.name for x in md.modelVariables if x.causality == "parameter"}
+    assert v["order"].start in ("0", 0) and v["zero_initial_state"].start in ("false", False, 0)
+    del ctypes
+
+
+# ---- issue 16: the configurable FMI 3 identifier, through fmpy's low-level calls ----
+
+CHAIN = dict(masses=(2.0, 3.0, 2.5), dampers=(2.0, 4.0, 3.0, 2.0), springs=(20.0, 40.0, 30.0, 25.0))
+
+
+def chain_case(samples=1001, seed=7):
+    from okid_tools.reference import chain_reference
+    ref = chain_reference(0.01, CHAIN["masses"], CHAIN["dampers"], CHAIN["springs"], forces_on=(0, 2))
+    u = np.random.default_rng(seed).standard_normal((samples, 2))
+    y, _ = ref.simulate(u)
+    return ref, u, y
+
+
+def assert_modes_match(s, ref, tolerance=1e-9):
+    m = ref.C.shape[0]
+    got = modes_from(dict(zip(mode_outputs(len(ref.modes), m), s.get(*mode_outputs(len(ref.modes), m)))),
+                     len(ref.modes), m)
+    from okid_tools.reference import mac
+    for g, want in zip(got, ref.modes):
+        assert abs(g["frequency_hz"] - want.frequency_hz) / want.frequency_hz < tolerance
+        assert abs(g["damping_ratio"] - want.damping_ratio) / want.damping_ratio < tolerance
+        assert abs(g["eigenvalue"] - want.eigenvalue) < tolerance
+        assert mac(g["shape"], want.shape) > 1 - tolerance
+
+
+def test_fmi3_structural_parameters_two_inputs_three_outputs():
+    """Configuration mode: num_inputs 2, num_outputs 3, max_modes 3; the 3-DOF chain with forces on
+    masses 1 and 3 identified to 1e-9 against the numpy reference."""
+    ref, u, y = chain_case()
+    s = identifier(3)
+    s.configure(num_inputs=2, num_outputs=3, max_modes=3)
+    s.set(dt=0.01, observer_order=10, order=6, hankel_rows=20, hankel_cols=20, identify_every=1001,
+          zero_initial_state=1)
+    s.initialize()
+    assert len(s.fmu.getFloat64([s.vr("u")], nValues=2)) == 2
+    for k in range(len(u)):
+        s.set_inputs(u[k], y[k])
+        s.step(k * 0.01, 0.01)
+    assert s.get("status", "num_modes", "identifications") == [1, 3, 1]
+    assert_modes_match(s, ref)
+    s.close()
+
+
+def test_fmi3_start_values_are_the_paper_case():
+    """An importer that ignores structural parameters gets the paper's FMU (r 1, m 2, 4 modes)."""
+    ref, u, y = paper_data()
+    s = identifier(3)
+    run(s, u, y, {**PAPER_SETTINGS, "identify_every": 1001})
+    assert_modes_match(s, ref)
+    assert math.isnan(s.get("mode3_frequency_hz")[0])  # 2 modes identified, 4 published: the rest NaN
+    s.close()
+
+
+def test_fmi3_structural_parameter_rules():
+    log = Log()
+    s = identifier(3, log)
+    assert status_of(s.fmu.setUInt64, [s.vr("num_inputs")], [2]) == 3  # outside configuration mode
+    assert "ConfigurationMode only" in log.text()
+    s.fmu.enterConfigurationMode()
+    s.fmu.setUInt64([s.vr("num_outputs")], [65])
+    assert status_of(s.fmu.exitConfigurationMode) == 3
+    assert "num_outputs = 65 refused: this build allows 1..64" in log.text()
+    s.fmu.setUInt64([s.vr("num_outputs")], [3])
+    s.fmu.exitConfigurationMode()
+    s.structural["num_outputs"] = 3
+    assert len(s.get("y_hat")[0]) == 3
+    assert status_of(s.fmu.getFloat64, [s.vr("y_hat")], nValues=2) == 3  # nValues must match the size
+    s.fmu.freeInstance()
