@@ -3,6 +3,7 @@ reference, the shared objects' hygiene, and every behaviour an importer relies o
 import math
 import os
 import re
+import shutil
 import subprocess
 from pathlib import Path
 
@@ -512,3 +513,19 @@ def test_fmi3_structural_parameter_rules():
     assert len(s.get("y_hat")[0]) == 3
     assert status_of(s.fmu.getFloat64, [s.vr("y_hat")], nValues=2) == 3  # nValues must match the size
     s.fmu.freeInstance()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_sources_build_with_fmpy(tmp_path, version):
+    """fmpy's source build (FMI 2: <SourceFiles> of modelDescription.xml; FMI 3: buildDescription.xml)
+    compiles sources/ into a shared object exporting the FMI functions. fmpy links no libraries:
+    the binary leaves LAPACKE/LAPACK/BLAS and libm to the loading process (docs/fmu.md)."""
+    import zipfile
+    from fmpy.build import build_platform_binary
+    with zipfile.ZipFile(fmu(version)) as z:
+        z.extractall(tmp_path)
+    shutil.rmtree(tmp_path / "binaries")
+    build_platform_binary(str(tmp_path.resolve()))
+    so = next((tmp_path / "binaries").glob("*/okid_identifier.so"))
+    out = subprocess.run(["nm", "-D", "--defined-only", str(so)], capture_output=True, text=True).stdout
+    assert {line.split()[-1] for line in out.splitlines() if line.split()[-1].startswith("fmi")} == fmi_functions(version)
