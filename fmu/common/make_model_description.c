@@ -5,7 +5,10 @@
  *                                                  defaults of CONFIG, the resources/<model>.cfg)
  *   make_model_description 3 > modelDescription.xml
  *   make_model_description build SOURCE... > buildDescription.xml        (FMI 3 sources/)
- * okid_tools.fmu_generator writes the same FMI 2 text for any configuration (a test compares them).
+ *   make_model_description table > model_variables.json                  (the table and start values,
+ *                                                  from which okid_tools.fmu_generator writes the FMI 2
+ *                                                  description of any configuration: a test compares
+ *                                                  its text with this program's)
  */
 #include <math.h>
 #include <stdio.h>
@@ -284,6 +287,72 @@ static void build_description(int argc, char **argv)
     puts("  </BuildConfiguration>\n</fmiBuildDescription>");
 }
 
+static void json_string(const char *text)
+{
+    putchar('"');
+    for (const char *p = text ? text : ""; *p; ++p) {
+        if (*p == '"' || *p == '\\') putchar('\\');
+        putchar(*p);
+    }
+    putchar('"');
+}
+
+static void json_number(double x)
+{
+    if (isfinite(x)) printf("%.17g", x);
+    else printf("null");
+}
+
+/* The variable table as JSON, with the start values of the parameters (structural ones included). */
+static void table(void *data)
+{
+    static const char *const types[] = {"real", "integer", "enumeration", "boolean", "size"};
+    static const char *const causalities[] = {"structural", "parameter", "input", "output"};
+    printf("{\n  \"model\": ");
+    json_string(FMU_MODEL.name);
+    printf(",\n  \"description\": ");
+    json_string(FMU_MODEL.description);
+    printf(",\n  \"generation_tool\": \"okid %s\",\n  \"variable_step\": %s,\n  \"variables\": [\n", OKID_VERSION_STRING,
+           FMU_MODEL.variable_step ? "true" : "false");
+    for (int g = 0; g < FMU_MODEL.num_groups; ++g) {
+        const fmu_variable_group *v = group(g);
+        printf("    {\"name\": ");
+        json_string(v->name);
+        printf(", \"flat_name\": ");
+        if (v->flat_name) json_string(v->flat_name);
+        else printf("null");
+        printf(", \"type\": \"%s\", \"causality\": \"%s\", \"variability\": \"%s\", \"dims\": [", types[v->type],
+               causalities[v->causality], variability(v->variability));
+        for (int d = 0; d < FMU_MAX_DIMS && v->dims[d] != 0; ++d) {
+            if (d) printf(", ");
+            if (v->dims[d] < 0) printf("%d", -v->dims[d]);
+            else json_string(group(v->dims[d] - 1)->name);
+        }
+        printf("], \"start\": ");
+        if (v->causality == FMU_OUTPUT || v->dims[0] != 0) {
+            printf("null");
+        } else {
+            double x;
+            int i;
+            if (v->type == FMU_REAL) memcpy(&x, fmu_group_element(&FMU_MODEL, data, g, 0), sizeof x);
+            else memcpy(&i, fmu_group_element(&FMU_MODEL, data, g, 0), sizeof i), x = i;
+            json_number(x);
+        }
+        const int ranged = !(isnan(v->min) || isnan(v->max) || v->min > v->max || v->type == FMU_BOOLEAN);
+        printf(", \"min\": ");
+        json_number(ranged ? v->min : (double)NAN);
+        printf(", \"max\": ");
+        json_number(ranged ? v->max : (double)NAN);
+        printf(", \"unit\": ");
+        if (v->unit) json_string(v->unit);
+        else printf("null");
+        printf(", \"description\": ");
+        json_string(v->description);
+        printf("}%s\n", g + 1 < FMU_MODEL.num_groups ? "," : "");
+    }
+    printf("  ]\n}\n");
+}
+
 /* The model data with its start values, the configuration of `path` ("-": none) applied. */
 static void *start_values(const char *path, unsigned long *hash)
 {
@@ -316,13 +385,16 @@ int main(int argc, char **argv)
 {
     unsigned long hash = 0;
     if (argc >= 3 && strcmp(argv[1], "2") == 0) {
-        fmi2(start_values(argv[2], &hash), hash, argc - 3, argv + 3);
+        void *data = start_values(argv[2], &hash); /* before hash is read */
+        fmi2(data, hash, argc - 3, argv + 3);
     } else if (argc >= 2 && strcmp(argv[1], "3") == 0) {
         fmi3(start_values(NULL, &hash));
+    } else if (argc >= 2 && strcmp(argv[1], "table") == 0) {
+        table(start_values(NULL, &hash));
     } else if (argc >= 2 && strcmp(argv[1], "build") == 0) {
         build_description(argc - 2, argv + 2);
     } else {
-        fprintf(stderr, "usage: %s 2 CONFIG|- [sources...] | 3 | build [sources...]\n", argv[0]);
+        fprintf(stderr, "usage: %s 2 CONFIG|- [sources...] | 3 | table | build [sources...]\n", argv[0]);
         return 2;
     }
     return 0;

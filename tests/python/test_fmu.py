@@ -529,3 +529,69 @@ def test_sources_build_with_fmpy(tmp_path, version):
     so = next((tmp_path / "binaries").glob("*/okid_identifier.so"))
     out = subprocess.run(["nm", "-D", "--defined-only", str(so)], capture_output=True, text=True).stdout
     assert {line.split()[-1] for line in out.splitlines() if line.split()[-1].startswith("fmi")} == fmi_functions(version)
+
+
+# ---- issue 16: FMI 2 FMUs for any configuration from the one prebuilt binary (okid-fmu) ----
+
+def generated_chain_fmu(tmp_path, **extra):
+    from okid_tools.fmu_generator import generate
+    out = tmp_path / "chain.fmu"
+    settings = [("num_inputs", 2), ("num_outputs", 3), ("max_modes", 3), ("observer_order", 10), ("order", 6),
+                ("zero_initial_state", 1), *extra.items()]
+    text = generate(fmu(2), out, settings)
+    return out, text
+
+
+def test_generated_fmi2_description_is_the_c_generators(tmp_path):
+    """okid-fmu's modelDescription.xml is byte for byte the C generator's for the same resources/ file."""
+    import zipfile
+    out, text = generated_chain_fmu(tmp_path, dt=0.005, identify_every=500)
+    with zipfile.ZipFile(out) as z:
+        (tmp_path / "chain.cfg").write_bytes(z.read("resources/okid_identifier.cfg"))
+    sources = re.findall(r'<File name="([^"]+)"/>', text)
+    c_text = subprocess.run([str(FMU_DIR / "okid_identifier_describe"), "2", str(tmp_path / "chain.cfg"), *sources],
+                            capture_output=True, text=True, check=True).stdout
+    assert text == c_text
+
+
+def test_generated_fmi2_fmu_identifies_the_chain(tmp_path):
+    """A 2-input, 3-output FMI 2 FMU written by okid-fmu: validated by fmpy and fmutool, then the
+    3-DOF chain identified to 1e-9 through fmpy's FMI 2 calls (the defaults come from resources/)."""
+    from fmpy.validation import validate_fmu
+    from okid_tools.verify_fmu import fmutool_problems
+    out, _ = generated_chain_fmu(tmp_path, identify_every=1001)
+    assert validate_fmu(str(out)) == [] and fmutool_problems(out) == []
+    ref, u, y = chain_case()
+    s = Slave(str(out), "chain").instantiate()
+    s.set(dt=0.01, hankel_rows=20, hankel_cols=20)  # observer_order, order, zero_initial_state: the FMU's defaults
+    s.initialize()
+    for k in range(len(u)):
+        s.set_inputs(u[k], y[k])
+        s.step(k * 0.01, 0.01)
+    assert s.get("status", "num_modes", "identifications", "num_inputs", "num_outputs") == [1, 3, 1, 2, 3]
+    assert_modes_match(s, ref)
+    s.close()
+
+
+def test_generated_fmi2_configuration_is_bound_and_checked(tmp_path):
+    """The GUID binds the resources/ file (an edited file is refused); sizes beyond the binary's
+    limits are refused by the generator and by the binary, with the numbers."""
+    import zipfile
+    from okid_tools.fmu_generator import generate
+    with pytest.raises(SystemExit, match="num_outputs = 65 is outside this binary's range 1..64"):
+        generate(fmu(2), tmp_path / "big.fmu", [("num_inputs", 1), ("num_outputs", 65), ("max_modes", 1)])
+    out, _ = generated_chain_fmu(tmp_path)
+    for edit, message in [(lambda c: c.replace("max_modes 3", "max_modes 2"), "is not this FMU's"),
+                          (lambda c: c.replace("num_outputs 3", "num_outputs 65"), "num_outputs = 65 refused: this build allows 1..64"),
+                          (lambda c: c + "observer_order ten\n", "is not '<structural parameter or parameter> <number>'")]:
+        edited = tmp_path / "edited.fmu"
+        with zipfile.ZipFile(out) as zin, zipfile.ZipFile(edited, "w") as zout:
+            for item in zin.infolist():
+                data = zin.read(item)
+                if item.filename == "resources/okid_identifier.cfg":
+                    data = edit(data.decode()).encode()
+                zout.writestr(item, data)
+        log = Log()
+        with pytest.raises(Exception):
+            Slave(str(edited), "edited", logger=log).instantiate(logging_on=True)
+        assert message in log.text()
