@@ -66,7 +66,7 @@ static const char *variability(fmu_variability v)
 }
 
 /* Element e of group g as start-value text. */
-static void value(void *data, int g, size_t e, int version)
+static void value(void *data, int g, size_t e)
 {
     const void *at = fmu_group_element(&FMU_MODEL, data, g, e);
     if (group(g)->type == FMU_REAL) {
@@ -79,7 +79,6 @@ static void value(void *data, int g, size_t e, int version)
     memcpy(&v, at, sizeof v);
     if (group(g)->type == FMU_BOOLEAN) printf("%s", v ? "true" : "false");
     else printf("%d", v);
-    (void)version;
 }
 
 static void range(const fmu_variable_group *v)
@@ -164,7 +163,7 @@ static void fmi2(void *data, unsigned long config_hash, int num_sources, char **
             printf(">\n      <%s", v->type == FMU_REAL ? "Real" : v->type == FMU_BOOLEAN ? "Boolean" : "Integer");
             if (v->causality == FMU_PARAMETER || v->causality == FMU_INPUT) {
                 printf(" start=\"");
-                value(data, g, e, 2);
+                value(data, g, e);
                 putchar('"');
             }
             range(v);
@@ -242,7 +241,7 @@ static void fmi3(void *data)
             const size_t size = fmu_group_size(&FMU_MODEL, data, g);
             for (size_t e = 0; e < size; ++e) {
                 if (e) putchar(' ');
-                value(data, g, e, 3);
+                value(data, g, e);
             }
             putchar('"');
         }

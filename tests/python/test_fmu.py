@@ -436,13 +436,11 @@ def test_model_description_is_honest(version):
             assert [i.name for i in v[name].declaredType.items] == items.split()
         else:
             assert all(item.split("_")[0] in v[name].description for item in items.split())
-    import ctypes  # the parameters are okid_config's fields, defaults okid_config_default()'s
-    from okid_tools.fmu_runs import FLAT_NAMES  # noqa: F401
+    # the parameters are okid_config's fields (their defaults: tests/python/test_vocabulary.py)
     assert {"dt", "observer_order", "order", "hankel_rows", "hankel_cols", "block_rows", "forgetting_factor",
             "rank_tolerance", "sensing", "realization", "zero_initial_state", "decimation", "scaling", "estimator",
             "instrument_lags"} <= {x.name for x in md.modelVariables if x.causality == "parameter"}
     assert v["order"].start in ("0", 0) and v["zero_initial_state"].start in ("false", False, 0)
-    del ctypes
 
 
 # ---- issue 16: the configurable FMI 3 identifier, through fmpy's low-level calls ----
