@@ -5,6 +5,8 @@
  * tests/python/test_fmu.py (forces on masses 1 and 3, accelerations of all three, simulated here
  * with okid's exact zero-order hold); prints the identified modes with 17 digits, which
  * tests/python/test_fmu_platforms.py compares with numpy's exact modes and across the platforms.
+ * It runs the case twice, with fmi3Reset and a new configuration in between, and requires the same
+ * bits both times (valgrind checks the allocations of both configurations).
  *   fmu3_chain IDENTIFIER_DIR [PLATFORM]   (unpacked FMU of build/fmu/fmi3; x86_64-linux by default)
  */
 #include <stdio.h>
@@ -24,6 +26,24 @@
 enum { DOFS = 3, R = 2, M = 3, STATES = 2 * DOFS, SAMPLES = 1001 };
 
 static void *library;
+/* The FMU's entry points. */
+static fmi3InstantiateCoSimulationTYPE *instantiate;
+static fmi3EnterConfigurationModeTYPE *enter_configuration;
+static fmi3ExitConfigurationModeTYPE *exit_configuration;
+static fmi3SetUInt64TYPE *set_uint64;
+static fmi3SetInt32TYPE *set_int32;
+static fmi3SetFloat64TYPE *set_float64;
+static fmi3SetBooleanTYPE *set_boolean;
+static fmi3GetFloat64TYPE *get_float64;
+static fmi3GetInt32TYPE *get_int32;
+static fmi3EnterInitializationModeTYPE *enter_init;
+static fmi3ExitInitializationModeTYPE *exit_init;
+static fmi3DoStepTYPE *do_step;
+static fmi3ResetTYPE *reset;
+static fmi3TerminateTYPE *terminate;
+static fmi3FreeInstanceTYPE *free_instance;
+static const double DT = 0.01;
+
 
 static void *symbol(const char *name)
 {
@@ -128,6 +148,42 @@ static void simulate(double dt, double *u, double *y)
     if (okid_simulate(&sim, SAMPLES, u, R, y, M) != OKID_OK) exit(2);
 }
 
+/* Configures (2 inputs, 3 outputs, 3 modes), initialises, feeds the chain and reads the modes (6 values). */
+static int identify(fmi3Instance fmu, const char *xml, const double *u, const double *y, double *modes_out)
+{
+    const fmi3ValueReference sizes[3] = {vr(xml, "num_inputs"), vr(xml, "num_outputs"), vr(xml, "max_modes")};
+    const fmi3UInt64 size_values[3] = {R, M, 3};
+    check(enter_configuration(fmu), "fmi3EnterConfigurationMode");
+    check(set_uint64(fmu, sizes, 3, size_values, 3), "fmi3SetUInt64");
+    check(exit_configuration(fmu), "fmi3ExitConfigurationMode");
+    const fmi3ValueReference settings[5] = {vr(xml, "observer_order"), vr(xml, "order"), vr(xml, "hankel_rows"),
+                                            vr(xml, "hankel_cols"), vr(xml, "identify_every")};
+    const fmi3Int32 values[5] = {10, 6, 20, 20, SAMPLES};
+    const fmi3ValueReference at_rest = vr(xml, "zero_initial_state"), dt_vr = vr(xml, "dt");
+    const fmi3Boolean yes = fmi3True;
+    check(set_int32(fmu, settings, 5, values, 5), "fmi3SetInt32");
+    check(set_boolean(fmu, &at_rest, 1, &yes, 1), "fmi3SetBoolean");
+    check(set_float64(fmu, &dt_vr, 1, &DT, 1), "fmi3SetFloat64");
+    check(enter_init(fmu, fmi3False, 0, 0, fmi3False, 0), "fmi3EnterInitializationMode");
+    check(exit_init(fmu), "fmi3ExitInitializationMode");
+    const fmi3ValueReference inputs[2] = {vr(xml, "u"), vr(xml, "y")};
+    for (int k = 0; k < SAMPLES; ++k) {
+        double io[R + M];
+        memcpy(io, &u[k * R], sizeof(double) * R);
+        memcpy(io + R, &y[k * M], sizeof(double) * M);
+        fmi3Boolean event, stop, early;
+        fmi3Float64 last;
+        check(set_float64(fmu, inputs, 2, io, R + M), "fmi3SetFloat64 (u, y)");
+        check(do_step(fmu, k * DT, DT, fmi3True, &event, &stop, &early, &last), "fmi3DoStep");
+    }
+    const fmi3ValueReference modes[2] = {vr(xml, "mode_frequency_hz"), vr(xml, "mode_damping_ratio")};
+    const fmi3ValueReference count_vr = vr(xml, "identifications");
+    fmi3Int32 identifications = 0;
+    check(get_float64(fmu, modes, 2, modes_out, 6), "fmi3GetFloat64 (modes)");
+    check(get_int32(fmu, &count_vr, 1, &identifications, 1), "fmi3GetInt32");
+    return identifications == 1;
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2 && argc != 3) {
@@ -150,20 +206,6 @@ int main(int argc, char **argv)
         fprintf(stderr, "fmu3_chain: cannot load %s\n", path);
         return 2;
     }
-    fmi3InstantiateCoSimulationTYPE *instantiate;
-    fmi3EnterConfigurationModeTYPE *enter_configuration;
-    fmi3ExitConfigurationModeTYPE *exit_configuration;
-    fmi3SetUInt64TYPE *set_uint64;
-    fmi3SetInt32TYPE *set_int32;
-    fmi3SetFloat64TYPE *set_float64;
-    fmi3SetBooleanTYPE *set_boolean;
-    fmi3GetFloat64TYPE *get_float64;
-    fmi3GetInt32TYPE *get_int32;
-    fmi3EnterInitializationModeTYPE *enter_init;
-    fmi3ExitInitializationModeTYPE *exit_init;
-    fmi3DoStepTYPE *do_step;
-    fmi3TerminateTYPE *terminate;
-    fmi3FreeInstanceTYPE *free_instance;
     RESOLVE(instantiate, "fmi3InstantiateCoSimulation");
     RESOLVE(enter_configuration, "fmi3EnterConfigurationMode");
     RESOLVE(exit_configuration, "fmi3ExitConfigurationMode");
@@ -176,50 +218,27 @@ int main(int argc, char **argv)
     RESOLVE(enter_init, "fmi3EnterInitializationMode");
     RESOLVE(exit_init, "fmi3ExitInitializationMode");
     RESOLVE(do_step, "fmi3DoStep");
+    RESOLVE(reset, "fmi3Reset");
     RESOLVE(terminate, "fmi3Terminate");
     RESOLVE(free_instance, "fmi3FreeInstance");
 
-    const double dt = 0.01;
     static double u[R * SAMPLES], y[M * SAMPLES];
-    simulate(dt, u, y);
+    simulate(DT, u, y);
 
     fmi3Instance fmu = instantiate("chain", token, NULL, fmi3False, fmi3True, fmi3False, fmi3False, NULL, 0, NULL,
                                    logger, NULL);
     if (fmu == NULL) return 1;
-    const fmi3ValueReference sizes[3] = {vr(xml, "num_inputs"), vr(xml, "num_outputs"), vr(xml, "max_modes")};
-    const fmi3UInt64 size_values[3] = {R, M, 3};
-    check(enter_configuration(fmu), "fmi3EnterConfigurationMode");
-    check(set_uint64(fmu, sizes, 3, size_values, 3), "fmi3SetUInt64");
-    check(exit_configuration(fmu), "fmi3ExitConfigurationMode");
-    const fmi3ValueReference settings[5] = {vr(xml, "observer_order"), vr(xml, "order"), vr(xml, "hankel_rows"),
-                                            vr(xml, "hankel_cols"), vr(xml, "identify_every")};
-    const fmi3Int32 values[5] = {10, 6, 20, 20, SAMPLES};
-    const fmi3ValueReference at_rest = vr(xml, "zero_initial_state"), dt_vr = vr(xml, "dt");
-    const fmi3Boolean yes = fmi3True;
-    check(set_int32(fmu, settings, 5, values, 5), "fmi3SetInt32");
-    check(set_boolean(fmu, &at_rest, 1, &yes, 1), "fmi3SetBoolean");
-    check(set_float64(fmu, &dt_vr, 1, &dt, 1), "fmi3SetFloat64");
-    check(enter_init(fmu, fmi3False, 0, 0, fmi3False, 0), "fmi3EnterInitializationMode");
-    check(exit_init(fmu), "fmi3ExitInitializationMode");
-    const fmi3ValueReference inputs[2] = {vr(xml, "u"), vr(xml, "y")};
-    for (int k = 0; k < SAMPLES; ++k) {
-        double io[R + M];
-        memcpy(io, &u[k * R], sizeof(double) * R);
-        memcpy(io + R, &y[k * M], sizeof(double) * M);
-        fmi3Boolean event, stop, early;
-        fmi3Float64 last;
-        check(set_float64(fmu, inputs, 2, io, R + M), "fmi3SetFloat64 (u, y)");
-        check(do_step(fmu, k * dt, dt, fmi3True, &event, &stop, &early, &last), "fmi3DoStep");
+    double first[6], again[6];
+    const int ok = identify(fmu, xml, u, y, first);
+    check(reset(fmu), "fmi3Reset");
+    const int ok_again = identify(fmu, xml, u, y, again);
+    for (int k = 0; k < 3; ++k) printf("mode %d: frequency_hz %.17g damping_ratio %.17g\n", k + 1, first[k], first[3 + k]);
+    if (memcmp(first, again, sizeof first) != 0) {
+        fprintf(stderr, "fmu3_chain: the run after fmi3Reset differs\n");
+        return 1;
     }
-    const fmi3ValueReference modes[2] = {vr(xml, "mode_frequency_hz"), vr(xml, "mode_damping_ratio")};
-    const fmi3ValueReference count_vr = vr(xml, "identifications");
-    double got[6];
-    fmi3Int32 identifications = 0;
-    check(get_float64(fmu, modes, 2, got, 6), "fmi3GetFloat64 (modes)");
-    check(get_int32(fmu, &count_vr, 1, &identifications, 1), "fmi3GetInt32");
-    for (int k = 0; k < 3; ++k) printf("mode %d: frequency_hz %.17g damping_ratio %.17g\n", k + 1, got[k], got[3 + k]);
     terminate(fmu);
     free_instance(fmu);
     free(xml);
-    return identifications == 1 ? 0 : 1;
+    return ok && ok_again ? 0 : 1;
 }
