@@ -8,6 +8,10 @@
  *   fmu_cosim PLANT_DIR IDENTIFIER_DIR [PLATFORM]  (unpacked FMU folders of build/fmu/fmi2/;
  *                                                   PLATFORM linux64 (default), win64, aarch64-linux)
  */
+#if !defined(_WIN32)
+#define _XOPEN_SOURCE 700 /* realpath */
+#endif
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -72,12 +76,21 @@ static fmi2ValueReference vr_of(const char *xml, const char *name)
 }
 
 /* Instantiates and initialises with n integer parameters and the Boolean parameter `flag` (if any) set to true. */
-static fmi2Component start(const fmi2_api *f, const char *name, const char *token,
+static fmi2Component start(const fmi2_api *f, const char *name, const char *token, const char *dir,
                            const fmi2CallbackFunctions *cb, const fmi2ValueReference *vr, const fmi2Integer *iv,
                            size_t n, const fmi2ValueReference *flag)
 {
     const fmi2Boolean yes = fmi2True;
-    fmi2Component c = f->instantiate(name, fmi2CoSimulation, token, NULL, cb, fmi2False, fmi2True);
+    /* The resource location as a file: URI (an FMU written by okid-fmu keeps its configuration there). */
+    char location[PATH_MAX + 32] = "";
+#if !defined(_WIN32)
+    char absolute[PATH_MAX];
+    if (realpath(dir, absolute) != NULL) snprintf(location, sizeof location, "file://%s/resources", absolute);
+#else
+    (void)dir;
+#endif
+    fmi2Component c = f->instantiate(name, fmi2CoSimulation, token, location[0] ? location : NULL, cb, fmi2False,
+                                     fmi2True);
     if (c == NULL || f->setup(c, fmi2False, 0, 0, fmi2False, 0) != fmi2OK || f->enter_init(c) != fmi2OK ||
         (n > 0 && f->set_integer(c, vr, n, iv) != fmi2OK) || (flag && f->set_boolean(c, flag, 1, &yes) != fmi2OK) ||
         f->exit_init(c) != fmi2OK) {
@@ -115,8 +128,8 @@ int main(int argc, char **argv)
     const fmi2Integer values[5] = {20, 4, 20, 20, 1001};
     const fmi2ValueReference at_rest = vr_of(ident_xml, "zero_initial_state");
     const fmi2ValueReference ident_inputs[3] = {vr_of(ident_xml, "u1"), vr_of(ident_xml, "y1"), vr_of(ident_xml, "y2")};
-    fmi2Component plant = start(&plant_api, "plant", plant_token, &cb, NULL, NULL, 0, NULL);
-    fmi2Component ident = start(&ident_api, "identifier", ident_token, &cb, settings, values, 5, &at_rest);
+    fmi2Component plant = start(&plant_api, "plant", plant_token, argv[1], &cb, NULL, NULL, 0, NULL);
+    fmi2Component ident = start(&ident_api, "identifier", ident_token, argv[2], &cb, settings, values, 5, &at_rest);
     const fmi2ValueReference force_vr = vr_of(plant_xml, "force");
     const fmi2ValueReference acc_vr[2] = {vr_of(plant_xml, "acc1"), vr_of(plant_xml, "acc2")};
     okid_rng rng;

@@ -199,6 +199,7 @@ def generate(base, out, settings):
             raise SystemExit(f"okid-fmu: {name} = {value} is outside this binary's range {v['min']:.0f}..{v['max']:.0f}")
     sources = re.findall(r'<File name="([^"]+)"/>', base_md)
     text = t.fmi2(sources)
+    Path(out).parent.mkdir(parents=True, exist_ok=True)
     with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as z:
         z.writestr("modelDescription.xml", text)
         z.writestr(f"resources/{CONFIG_NAME}", config)
