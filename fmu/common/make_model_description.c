@@ -345,6 +345,14 @@ static void table(void *data)
         printf(", \"unit\": ");
         if (v->unit) json_string(v->unit);
         else printf("null");
+        if (v->enumeration) {
+            printf(", \"items\": [");
+            for (int i = 0; i < v->enumeration->count; ++i) {
+                if (i) printf(", ");
+                json_string(v->enumeration->items[i]);
+            }
+            printf("]");
+        }
         printf(", \"description\": ");
         json_string(v->description);
         printf("}%s\n", g + 1 < FMU_MODEL.num_groups ? "," : "");

@@ -208,6 +208,16 @@ def generate(base, out, settings):
     return text
 
 
+def enumeration(items):
+    def parse(text):
+        if text in items:
+            return items.index(text)
+        if text.isdigit() and int(text) < len(items):
+            return int(text)
+        raise argparse.ArgumentTypeError(f"'{text}' is not one of {', '.join(items)}")
+    return parse
+
+
 def main(argv=None):
     pre = argparse.ArgumentParser(add_help=False)
     pre.add_argument("--base", type=Path, default=None)
@@ -228,8 +238,12 @@ def main(argv=None):
         for v in table["variables"]:  # every parameter of the vocabulary: --field-name
             if v["causality"] == "parameter":
                 kind = float if v["type"] == "real" else int
+                default = f"{v['start']:g}"
+                if v.get("items"):  # enumerations by their item name (docs/cli.md) or C value
+                    kind = enumeration(v["items"])
+                    default = v["items"][int(v["start"])]
                 parser.add_argument("--" + v["name"].replace("_", "-"), type=kind, default=None, dest=v["name"],
-                                    help=f"{v['description']} (default {v['start']:g})")
+                                    help=f"{v['description']} (default {default})")
     args = parser.parse_args(argv)
     if table is None:
         parser.error(f"the prebuilt FMU {base} does not exist (build it, or give --base)")
