@@ -58,7 +58,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (c == NULL) return 0;
     double time = 0;
     for (int op = 0; op < 300 && in.pos < in.size; ++op) {
-        fmi2ValueReference vr = (fmi2ValueReference)fuzz_int(&in, 0, 130);
+        fmi2ValueReference vr = (fmi2ValueReference)fuzz_int(&in, 0, 220);
         switch (fuzz_byte(&in) % 12) {
         case 0: {
             const fmi2Real v = fuzz_real(&in);

@@ -17,7 +17,11 @@ esac
 DEMO_PACKAGES=(build-essential cmake ninja-build pkg-config liblapacke-dev liblapack-dev libblas-dev)
 # The rest of the test suite: Eigen, cmocka, Python, memory checkers, fuzzing, the firmware targets.
 TEST_PACKAGES=(libeigen3-dev libcmocka-dev python3-venv python3-pip valgrind clang libclang-rt-dev llvm
-               gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm)
+               gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
+               # the FMUs' other platforms (fmu/platforms) and the importers that run them
+               gcc-mingw-w64-x86-64 g++-mingw-w64-x86-64 wine64 qemu-user lld
+               libc6-dev-arm64-cross libgcc-12-dev-arm64-cross libstdc++-12-dev-arm64-cross
+               libtbb12)
 APT_PACKAGES=("${DEMO_PACKAGES[@]}")
 if [[ $mode == all ]]; then APT_PACKAGES+=("${TEST_PACKAGES[@]}"); fi
 

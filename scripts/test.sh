@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Every test: the default build (-Werror) with ctest (C, CLI, FMUs, install, both linear-algebra
-# backends compared), the float build, the Eigen-backend build, the Cortex-M cross-builds with
+# Every test: the default build (-Werror; it cross-builds the FMUs' win64 and aarch64-linux binaries
+# too) with ctest (C, CLI, FMUs in fmpy, ecospy, libcosimpy, and under Wine and qemu-user, install,
+# both linear-algebra backends compared), the float build, the Eigen-backend build, the Cortex-M cross-builds with
 # their tests under QEMU and the footprint report, the whole suite again under ASan + UBSan,
 # valgrind memcheck, and bounded fuzzing. Stops at the first failure.
 set -euo pipefail
@@ -64,6 +65,13 @@ trap 'rm -f "$csv"' EXIT
 "${vg[@]}" build/host_tools/cli/okid simulate --output "$csv"
 "${vg[@]}" build/host_tools/cli/okid identify --json --order 4 "$csv" >/dev/null
 "${vg[@]}" build/tests/fmu_cosim build/fmu/fmi2/okid_plant_2dof build/fmu/fmi2/okid_identifier >/dev/null
+"${vg[@]}" build/tests/fmu3_chain build/fmu/fmi3/okid_identifier >/dev/null
+# an FMI 2 FMU written by okid-fmu: the binary reads its configuration from resources/
+rm -rf build/fmu-generated
+.venv/bin/okid-fmu --base build/fmu/fmi2/okid_identifier.fmu --inputs 1 --outputs 2 --max-modes 4 --hankel-rows 20 \
+    -o build/fmu-generated/paper.fmu >/dev/null
+.venv/bin/python -m zipfile -e build/fmu-generated/paper.fmu build/fmu-generated/paper
+"${vg[@]}" build/tests/fmu_cosim build/fmu/fmi2/okid_plant_2dof build/fmu-generated/paper >/dev/null
 
 step "bounded fuzzing (libFuzzer, ASan + UBSan), ${FUZZ_SECONDS:-60} s per target"
 bash scripts/fuzz.sh

@@ -2,9 +2,16 @@
  * Loads the production FMI 2 FMUs (plant and identifier shared objects) with dlopen, couples them
  * for the paper's experiment and checks the identified frequencies and damping ratios against the
  * numpy reference. A C importer with no Python in between, so valgrind can check the FMUs.
- * Value references and tokens are read from the modelDescription.xml files next to them.
- *   fmu_cosim PLANT_DIR IDENTIFIER_DIR   (the unpacked FMU folders of build/fmu/fmi2/)
+ * Value references and tokens are read from the modelDescription.xml files next to them. Built
+ * for the host and cross-built for the other platforms (run under Wine and qemu-user), it prints
+ * the identified values with 17 digits so that the platforms can be compared.
+ *   fmu_cosim PLANT_DIR IDENTIFIER_DIR [PLATFORM]  (unpacked FMU folders of build/fmu/fmi2/;
+ *                                                   PLATFORM linux64 (default), win64, aarch64-linux)
  */
+#if !defined(_WIN32)
+#define _XOPEN_SOURCE 700 /* realpath */
+#endif
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -68,13 +75,25 @@ static fmi2ValueReference vr_of(const char *xml, const char *name)
     return (fmi2ValueReference)strtoul(attribute(xml, name, "valueReference", value, sizeof value), NULL, 10);
 }
 
-static fmi2Component start(const fmi2_api *f, const char *name, const char *token,
+/* Instantiates and initialises with n integer parameters and the Boolean parameter `flag` (if any) set to true. */
+static fmi2Component start(const fmi2_api *f, const char *name, const char *token, const char *dir,
                            const fmi2CallbackFunctions *cb, const fmi2ValueReference *vr, const fmi2Integer *iv,
-                           size_t n)
+                           size_t n, const fmi2ValueReference *flag)
 {
-    fmi2Component c = f->instantiate(name, fmi2CoSimulation, token, NULL, cb, fmi2False, fmi2True);
+    const fmi2Boolean yes = fmi2True;
+    /* The resource location as a file: URI (an FMU written by okid-fmu keeps its configuration there). */
+    char location[PATH_MAX + 32] = "";
+#if !defined(_WIN32)
+    char absolute[PATH_MAX];
+    if (realpath(dir, absolute) != NULL) snprintf(location, sizeof location, "file://%s/resources", absolute);
+#else
+    (void)dir;
+#endif
+    fmi2Component c = f->instantiate(name, fmi2CoSimulation, token, location[0] ? location : NULL, cb, fmi2False,
+                                     fmi2True);
     if (c == NULL || f->setup(c, fmi2False, 0, 0, fmi2False, 0) != fmi2OK || f->enter_init(c) != fmi2OK ||
-        (n > 0 && f->set_integer(c, vr, n, iv) != fmi2OK) || f->exit_init(c) != fmi2OK) {
+        (n > 0 && f->set_integer(c, vr, n, iv) != fmi2OK) || (flag && f->set_boolean(c, flag, 1, &yes) != fmi2OK) ||
+        f->exit_init(c) != fmi2OK) {
         fprintf(stderr, "fmu_cosim: cannot start %s\n", name);
         exit(1);
     }
@@ -83,28 +102,34 @@ static fmi2Component start(const fmi2_api *f, const char *name, const char *toke
 
 int main(int argc, char **argv)
 {
-    if (argc != 3) {
-        fprintf(stderr, "usage: fmu_cosim PLANT_DIR IDENTIFIER_DIR\n");
+    if (argc != 3 && argc != 4) {
+        fprintf(stderr, "usage: fmu_cosim PLANT_DIR IDENTIFIER_DIR [PLATFORM]\n");
         return 2;
     }
+    const char *platform = argc == 4 ? argv[3] : "linux64";
+    const char *suffix = strcmp(platform, "win64") == 0 ? "dll" : "so";
     char *plant_xml = read_text(argv[1], "modelDescription.xml"), *ident_xml = read_text(argv[2], "modelDescription.xml");
     char path[1024], plant_token[128], ident_token[128], id[128];
     fmi2_api plant_api, ident_api;
-    snprintf(path, sizeof path, "%s/binaries/linux64/%s.so", argv[1],
-             attribute(plant_xml, NULL, "modelIdentifier", id, sizeof id));
+    snprintf(path, sizeof path, "%s/binaries/%s/%s.%s", argv[1], platform,
+             attribute(plant_xml, NULL, "modelIdentifier", id, sizeof id), suffix);
     fmi2_load(path, &plant_api);
-    snprintf(path, sizeof path, "%s/binaries/linux64/%s.so", argv[2],
-             attribute(ident_xml, NULL, "modelIdentifier", id, sizeof id));
+    snprintf(path, sizeof path, "%s/binaries/%s/%s.%s", argv[2], platform,
+             attribute(ident_xml, NULL, "modelIdentifier", id, sizeof id), suffix);
     fmi2_load(path, &ident_api);
     attribute(plant_xml, NULL, "guid", plant_token, sizeof plant_token);
     attribute(ident_xml, NULL, "guid", ident_token, sizeof ident_token);
 
     const fmi2CallbackFunctions cb = {logger, calloc, free, NULL, NULL};
-    const fmi2ValueReference every = vr_of(ident_xml, "identify_every");
+    /* The paper's settings (p = 20, n = 4, 20 x 20 Hankel blocks, from rest); one identification, after the last sample */
+    const fmi2ValueReference settings[5] = {vr_of(ident_xml, "observer_order"), vr_of(ident_xml, "order"),
+                                            vr_of(ident_xml, "hankel_rows"), vr_of(ident_xml, "hankel_cols"),
+                                            vr_of(ident_xml, "identify_every")};
+    const fmi2Integer values[5] = {20, 4, 20, 20, 1001};
+    const fmi2ValueReference at_rest = vr_of(ident_xml, "zero_initial_state");
     const fmi2ValueReference ident_inputs[3] = {vr_of(ident_xml, "u1"), vr_of(ident_xml, "y1"), vr_of(ident_xml, "y2")};
-    const fmi2Integer every_value = 1001; /* one identification, after the last sample */
-    fmi2Component plant = start(&plant_api, "plant", plant_token, &cb, NULL, NULL, 0);
-    fmi2Component ident = start(&ident_api, "identifier", ident_token, &cb, &every, &every_value, 1);
+    fmi2Component plant = start(&plant_api, "plant", plant_token, argv[1], &cb, NULL, NULL, 0, NULL);
+    fmi2Component ident = start(&ident_api, "identifier", ident_token, argv[2], &cb, settings, values, 5, &at_rest);
     const fmi2ValueReference force_vr = vr_of(plant_xml, "force");
     const fmi2ValueReference acc_vr[2] = {vr_of(plant_xml, "acc1"), vr_of(plant_xml, "acc2")};
     okid_rng rng;
@@ -122,15 +147,15 @@ int main(int argc, char **argv)
             return 1;
         }
     }
-    const fmi2ValueReference modes[4] = {vr_of(ident_xml, "mode1_frequency"), vr_of(ident_xml, "mode2_frequency"),
-                                         vr_of(ident_xml, "mode1_damping"), vr_of(ident_xml, "mode2_damping")};
+    const fmi2ValueReference modes[4] = {vr_of(ident_xml, "mode1_frequency_hz"), vr_of(ident_xml, "mode2_frequency_hz"),
+                                         vr_of(ident_xml, "mode1_damping_ratio"), vr_of(ident_xml, "mode2_damping_ratio")};
     double got[4];
     ident_api.get_real(ident, modes, 4, got);
     const double want[4] = {PAPER_FREQ_HZ[0], PAPER_FREQ_HZ[1], PAPER_DAMPING_RATIO[0], PAPER_DAMPING_RATIO[1]};
     int bad = 0;
     for (int i = 0; i < 4; ++i) {
         const double err = fabs(got[i] - want[i]) / want[i];
-        printf("%s %d: identified %.12f exact %.12f relative error %.1e\n", i < 2 ? "frequency" : "damping", i % 2 + 1,
+        printf("%s %d: identified %.17g exact %.17g relative error %.1e\n", i < 2 ? "frequency" : "damping", i % 2 + 1,
                got[i], want[i], err);
         bad |= !(err < 1e-9);
     }

@@ -1,6 +1,7 @@
 /* The FMI 2.0 co-simulation API over fmu_instance.c (one source for every model). */
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "fmi2Functions.h"
@@ -43,7 +44,6 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
                               fmi2String fmuResourceLocation, const fmi2CallbackFunctions *functions,
                               fmi2Boolean visible, fmi2Boolean loggingOn)
 {
-    (void)fmuResourceLocation;
     (void)visible;
     static const fmi2CallbackFunctions none = {0};
     const fmi2CallbackFunctions *cb = functions ? functions : &none;
@@ -52,7 +52,11 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
         fmu_log(&early, FMU_ERROR, "logStatusError", "%s supports co-simulation only", FMU_MODEL.name);
         return NULL;
     }
-    fmu_instance *inst = fmu_instantiate(instanceName, fmuGUID, fmi2_sink, (void *)cb, loggingOn);
+    /* The importer's memory functions (FMI 2 requires them; the C library's if one passes none). */
+    fmu_allocator memory = {calloc, free};
+    if (cb->allocateMemory != NULL && cb->freeMemory != NULL) memory = (fmu_allocator){cb->allocateMemory, cb->freeMemory};
+    fmu_instance *inst = fmu_instantiate(instanceName, fmuGUID, fmi2_sink, (void *)cb, loggingOn, 2,
+                                         fmuResourceLocation, memory);
     if (inst == NULL) {
         return NULL;
     }
@@ -87,19 +91,17 @@ fmi2Status fmi2Reset(fmi2Component c) { RET(fmu_reset(INST)); }
 
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[])
 {
-    RET(fmu_get_real(INST, vr, nvr, value));
+    RET(fmu_get(INST, FMU_AS_DOUBLE, vr, nvr, value, nvr, "fmi2GetReal"));
 }
 
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[])
 {
-    RET(fmu_get_integer(INST, vr, nvr, value));
+    RET(fmu_get(INST, FMU_AS_INT32, vr, nvr, value, nvr, "fmi2GetInteger"));
 }
 
 fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[])
 {
-    (void)vr;
-    (void)value;
-    RET(nvr == 0 ? fmu_check(INST, ~0u, "fmi2GetBoolean") : fmu_unsupported(INST, "fmi2GetBoolean (no Boolean variables)"));
+    RET(fmu_get(INST, FMU_AS_BOOL32, vr, nvr, value, nvr, "fmi2GetBoolean"));
 }
 
 fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2String value[])
@@ -111,19 +113,17 @@ fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
 
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[])
 {
-    RET(fmu_set_real(INST, vr, nvr, value));
+    RET(fmu_set(INST, FMU_AS_DOUBLE, vr, nvr, value, nvr, "fmi2SetReal"));
 }
 
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[])
 {
-    RET(fmu_set_integer(INST, vr, nvr, value));
+    RET(fmu_set(INST, FMU_AS_INT32, vr, nvr, value, nvr, "fmi2SetInteger"));
 }
 
 fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[])
 {
-    (void)vr;
-    (void)value;
-    RET(nvr == 0 ? fmu_check(INST, ~0u, "fmi2SetBoolean") : fmu_unsupported(INST, "fmi2SetBoolean (no Boolean variables)"));
+    RET(fmu_set(INST, FMU_AS_BOOL32, vr, nvr, value, nvr, "fmi2SetBoolean"));
 }
 
 fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2String value[])

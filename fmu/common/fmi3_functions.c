@@ -1,5 +1,6 @@
 /* The FMI 3.0 co-simulation API over fmu_instance.c (one source for every model). */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "fmi3Functions.h"
@@ -47,14 +48,16 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3String ins
                                          fmi3InstanceEnvironment instanceEnvironment, fmi3LogMessageCallback logMessage,
                                          fmi3IntermediateUpdateCallback intermediateUpdate)
 {
-    (void)resourcePath, (void)visible, (void)earlyReturnAllowed, (void)requiredIntermediateVariables;
+    (void)visible, (void)earlyReturnAllowed, (void)requiredIntermediateVariables;
     (void)nRequiredIntermediateVariables, (void)intermediateUpdate;
     fmi3_env early = {instanceEnvironment, logMessage};
     if (eventModeUsed) {
         fmi3_sink(&early, instanceName, FMU_ERROR, "logStatusError", "event mode is not supported by this FMU");
         return NULL;
     }
-    fmu_instance *inst = fmu_instantiate(instanceName, instantiationToken, fmi3_sink, &early, loggingOn);
+    /* FMI 3 passes no memory functions: the C library's. */
+    fmu_instance *inst = fmu_instantiate(instanceName, instantiationToken, fmi3_sink, &early, loggingOn, 3,
+                                         resourcePath, (fmu_allocator){calloc, free});
     if (inst == NULL) {
         return NULL;
     }
@@ -91,33 +94,24 @@ fmi3Status fmi3ExitInitializationMode(fmi3Instance instance) { RET(fmu_exit_init
 fmi3Status fmi3Terminate(fmi3Instance instance) { RET(fmu_terminate(INST)); }
 fmi3Status fmi3Reset(fmi3Instance instance) { RET(fmu_reset(INST)); }
 
-fmi3Status fmi3GetFloat64(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, fmi3Float64 values[],
-                          size_t nValues)
-{
-    if (nValues != nvr) RET(fmu_unsupported(INST, "fmi3GetFloat64 with nValues != nValueReferences (no arrays)"));
-    RET(fmu_get_real(INST, vr, nvr, values));
-}
+#define ACCESS(Name, Type, kind)                                                                              \
+    fmi3Status fmi3Get##Name(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, Type values[],   \
+                             size_t nValues)                                                                     \
+    {                                                                                                            \
+        RET(fmu_get(INST, kind, vr, nvr, values, nValues, "fmi3Get" #Name));                                     \
+    }                                                                                                            \
+    fmi3Status fmi3Set##Name(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, const Type values[], \
+                             size_t nValues)                                                                     \
+    {                                                                                                            \
+        RET(fmu_set(INST, kind, vr, nvr, values, nValues, "fmi3Set" #Name));                                     \
+    }
 
-fmi3Status fmi3SetFloat64(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr,
-                          const fmi3Float64 values[], size_t nValues)
-{
-    if (nValues != nvr) RET(fmu_unsupported(INST, "fmi3SetFloat64 with nValues != nValueReferences (no arrays)"));
-    RET(fmu_set_real(INST, vr, nvr, values));
-}
-
-fmi3Status fmi3GetInt32(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, fmi3Int32 values[],
-                        size_t nValues)
-{
-    if (nValues != nvr) RET(fmu_unsupported(INST, "fmi3GetInt32 with nValues != nValueReferences (no arrays)"));
-    RET(fmu_get_integer(INST, vr, nvr, values));
-}
-
-fmi3Status fmi3SetInt32(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, const fmi3Int32 values[],
-                        size_t nValues)
-{
-    if (nValues != nvr) RET(fmu_unsupported(INST, "fmi3SetInt32 with nValues != nValueReferences (no arrays)"));
-    RET(fmu_set_integer(INST, vr, nvr, values));
-}
+_Static_assert(sizeof(fmi3Boolean) == 1, "fmi3Boolean is a one-byte bool");
+ACCESS(Float64, fmi3Float64, FMU_AS_DOUBLE)
+ACCESS(Int32, fmi3Int32, FMU_AS_INT32)
+ACCESS(Int64, fmi3Int64, FMU_AS_INT64)
+ACCESS(UInt64, fmi3UInt64, FMU_AS_UINT64)
+ACCESS(Boolean, fmi3Boolean, FMU_AS_BOOL8)
 
 /* Types this FMU has no variables of: an empty call is fine, anything else is an error. */
 #define NO_VARIABLES_GET(Name, Type)                                                                           \
@@ -142,9 +136,6 @@ NO_VARIABLES(UInt8, fmi3UInt8)
 NO_VARIABLES(Int16, fmi3Int16)
 NO_VARIABLES(UInt16, fmi3UInt16)
 NO_VARIABLES(UInt32, fmi3UInt32)
-NO_VARIABLES(Int64, fmi3Int64)
-NO_VARIABLES(UInt64, fmi3UInt64)
-NO_VARIABLES(Boolean, fmi3Boolean)
 NO_VARIABLES(String, fmi3String)
 
 fmi3Status fmi3GetBinary(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, size_t valueSizes[],
@@ -242,8 +233,8 @@ fmi3Status fmi3GetAdjointDerivative(fmi3Instance instance, const fmi3ValueRefere
     RET(fmu_unsupported(INST, "fmi3GetAdjointDerivative"));
 }
 
-fmi3Status fmi3EnterConfigurationMode(fmi3Instance instance) { RET(fmu_unsupported(INST, "fmi3EnterConfigurationMode")); }
-fmi3Status fmi3ExitConfigurationMode(fmi3Instance instance) { RET(fmu_unsupported(INST, "fmi3ExitConfigurationMode")); }
+fmi3Status fmi3EnterConfigurationMode(fmi3Instance instance) { RET(fmu_enter_configuration(INST)); }
+fmi3Status fmi3ExitConfigurationMode(fmi3Instance instance) { RET(fmu_exit_configuration(INST)); }
 
 fmi3Status fmi3GetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr,
                                   fmi3Float64 intervals[], fmi3IntervalQualifier qualifiers[])

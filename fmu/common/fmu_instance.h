@@ -16,8 +16,25 @@ typedef enum fmu_state {
     FMU_STATE_INITIALIZATION = 1 << 1,
     FMU_STATE_STEP = 1 << 2,
     FMU_STATE_TERMINATED = 1 << 3,
-    FMU_STATE_ERROR = 1 << 4
+    FMU_STATE_ERROR = 1 << 4,
+    FMU_STATE_CONFIGURATION = 1 << 5 /* FMI 3: structural parameters may change */
 } fmu_state;
+
+/* The caller's value type: how the FMI functions of a version see a stored value. */
+typedef enum fmu_value_kind {
+    FMU_AS_DOUBLE,  /* fmi2Real, fmi3Float64 */
+    FMU_AS_INT32,   /* fmi2Integer, fmi3Int32 */
+    FMU_AS_BOOL32,  /* fmi2Boolean (an int) */
+    FMU_AS_BOOL8,   /* fmi3Boolean (a bool) */
+    FMU_AS_INT64,   /* fmi3Int64: FMI 3 enumerations */
+    FMU_AS_UINT64   /* fmi3UInt64: FMI 3 structural parameters */
+} fmu_value_kind;
+
+/* The kind in which FMI `version` exchanges values of `type`. */
+fmu_value_kind fmu_kind_of(int version, fmu_type type);
+
+/* The resources configuration of FMI 2 (name value lines), kept for reset. */
+enum { FMU_MAX_CONFIG_BYTES = 4096 };
 
 /* Where log messages go: the FMI version's callback, reached through a small adapter. */
 typedef void (*fmu_log_sink)(void *env, const char *instance, fmu_status status, const char *category,
@@ -37,14 +54,22 @@ typedef struct fmu_instance {
     fmu_state state;
     double time, start_time, stop_time, tolerance;
     int has_stop_time;
+    int fmi_version;
     fmu_logger logger;
+    fmu_allocator memory;
     void *data; /* the model's data, FMU_MODEL.data_bytes */
+    char config[FMU_MAX_CONFIG_BYTES]; /* resources/<model>.cfg, "" when there is none */
     /* The FMI version's callback structure, copied: the logger's environment points here. */
     _Alignas(16) unsigned char callbacks_copy[64];
 } fmu_instance;
 
-/* Checks the token, allocates the instance and its model data (the only allocation). NULL on error (logged). */
-fmu_instance *fmu_instantiate(const char *name, const char *token, fmu_log_sink sink, void *env, int logging_on);
+/*
+ * Reads resources/<model>.cfg (FMI 2; resource_location is a file: URI, may be NULL), applies it
+ * to the start values, checks the token against the one the configuration gives, allocates the
+ * instance, its model data and the model's arrays through `memory`. NULL on error (logged).
+ */
+fmu_instance *fmu_instantiate(const char *name, const char *token, fmu_log_sink sink, void *env, int logging_on,
+                              int fmi_version, const char *resource_location, fmu_allocator memory);
 void fmu_free(fmu_instance *inst);
 
 /* FMU_OK when inst is valid and in one of the allowed states; otherwise logs why and returns FMU_ERROR. */
@@ -52,16 +77,22 @@ fmu_status fmu_check(fmu_instance *inst, unsigned allowed_states, const char *fu
 
 fmu_status fmu_set_debug_logging(fmu_instance *inst, int logging_on, size_t count, const char *const categories[]);
 fmu_status fmu_setup(fmu_instance *inst, double start_time, int has_stop_time, double stop_time);
+fmu_status fmu_enter_configuration(fmu_instance *inst);
+fmu_status fmu_exit_configuration(fmu_instance *inst);
 fmu_status fmu_enter_initialization(fmu_instance *inst);
 fmu_status fmu_exit_initialization(fmu_instance *inst);
 fmu_status fmu_do_step(fmu_instance *inst, double current_time, double step);
 fmu_status fmu_terminate(fmu_instance *inst);
 fmu_status fmu_reset(fmu_instance *inst);
 
-fmu_status fmu_get_real(fmu_instance *inst, const unsigned vr[], size_t count, double values[]);
-fmu_status fmu_set_real(fmu_instance *inst, const unsigned vr[], size_t count, const double values[]);
-fmu_status fmu_get_integer(fmu_instance *inst, const unsigned vr[], size_t count, int values[]);
-fmu_status fmu_set_integer(fmu_instance *inst, const unsigned vr[], size_t count, const int values[]);
+/*
+ * Values of `kind` for value references vr[0..nvr): in FMI 2 one value per reference; in FMI 3
+ * every element of each referenced variable in turn, nValues in all. Setting is all or nothing.
+ */
+fmu_status fmu_get(fmu_instance *inst, fmu_value_kind kind, const unsigned vr[], size_t nvr, void *values,
+                   size_t nvalues, const char *function);
+fmu_status fmu_set(fmu_instance *inst, fmu_value_kind kind, const unsigned vr[], size_t nvr, const void *values,
+                   size_t nvalues, const char *function);
 
 /* Logs "function is not supported by this FMU" and returns FMU_ERROR. */
 fmu_status fmu_unsupported(fmu_instance *inst, const char *function);

@@ -1,244 +1,398 @@
 /*
- * The identifier FMU: inputs u[r] and y[m] each communication step; OKID/ERA re-identification
- * every N samples; outputs per mode (frequency, damping, eigenvalue, eq. 64 shape), the one-step
- * prediction and its error, counters and Hankel singular values. Sizes are fixed per build
- * (OKID_FMU_R, OKID_FMU_M, OKID_FMU_MAX_MODES); the workspace lives inside the instance, sized for
- * the largest settings allowed (OKID_FMU_MAX_OBSERVER_ORDER, OKID_FMU_MAX_HANKEL).
+ * The identifier FMU: inputs u[num_inputs] and y[num_outputs] each communication step; OKID/ERA
+ * re-identification every identify_every samples; outputs per mode (frequency, damping,
+ * eigenvalue, eq. 64 shape, accuracy indicators), the one-step prediction and its error, counters
+ * and Hankel singular values.
+ *
+ * The sizes are structural parameters (FMI 3: set in configuration mode; FMI 2: read from
+ * resources/okid_identifier.cfg), checked against this build's limits; the arrays are allocated
+ * once when the configuration ends, the workspace once at the end of initialization, sized by
+ * okid_workspace_size() for the parameters then set. The parameters carry okid_config's names and
+ * okid_config_default()'s defaults; okid_init() checks them and its status is reported as it is.
+ *
+ * Every output is current or visibly not (docs/fmu.md): mode outputs are NaN until the first
+ * identification and beyond num_modes; after a failed identification they keep the last
+ * successful one, status says "failed" and identification_time when that one was; y_hat and
+ * y_error are NaN whenever this step has no prediction (prediction_valid = false).
  */
+#include <limits.h>
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "fmu_config.h"
 #include "fmu_model.h"
 #include "okid/okid.h"
 
-#ifndef OKID_FMU_R
-#define OKID_FMU_R 1
+/* This build's limits on the structural parameters and on the workspace. */
+#define MAX_CHANNELS OKID_MAX_DIMENSION
+#define MAX_MODES_LIMIT (OKID_MAX_ORDER / 2)
+#define MAX_SINGULAR_VALUES OKID_MAX_ORDER
+#ifndef OKID_FMU_MAX_WORKSPACE_BYTES
+#define OKID_FMU_MAX_WORKSPACE_BYTES (1024.0 * 1024.0 * 1024.0)
 #endif
-#ifndef OKID_FMU_M
-#define OKID_FMU_M 2
-#endif
-#ifndef OKID_FMU_MAX_MODES
-#define OKID_FMU_MAX_MODES 4
-#endif
-#ifndef OKID_FMU_MAX_OBSERVER_ORDER
-#define OKID_FMU_MAX_OBSERVER_ORDER 60
-#endif
-#ifndef OKID_FMU_MAX_HANKEL
-#define OKID_FMU_MAX_HANKEL 100
-#endif
-#ifndef OKID_FMU_MAX_DECIMATION
-#define OKID_FMU_MAX_DECIMATION 16
-#endif
-#define R OKID_FMU_R
-#define M OKID_FMU_M
-#define MAX_MODES OKID_FMU_MAX_MODES
-#define NUM_SV 8
-/* the largest settings: combined realization, decimation, scaling and instruments (automatic lags) */
-#define WORKSPACE_BYTES                                                                                        \
-    OKID_WORKSPACE_BYTES_OPTIONS(R, M, OKID_FMU_MAX_OBSERVER_ORDER, OKID_FMU_MAX_HANKEL, OKID_FMU_MAX_HANKEL, \
-                                 2 * MAX_MODES, 0, 1, 2, 1, 1, 0)
 
-enum { STATUS_COLLECTING = 0, STATUS_IDENTIFIED = 1, STATUS_ERROR = 2 };
+enum { STATUS_COLLECTING = 0, STATUS_IDENTIFIED = 1, STATUS_FAILED = 2 };
 
 typedef struct identifier_data {
-    /* parameters */
-    double dt, forgetting_factor;
-    int observer_order, order, hankel_rows, hankel_cols, sensing, realization, identify_every, zero_initial_state;
-    int decimation, scaling, estimator;
+    /* structural parameters */
+    int num_inputs, num_outputs, max_modes, num_singular_values;
+    /* parameters: okid_config's fields, and the FMU's own identify_every */
+    int observer_order, order, hankel_rows, hankel_cols, block_rows;
+    double dt, forgetting_factor, rank_tolerance;
+    int sensing, realization, zero_initial_state, decimation, scaling, estimator, instrument_lags, identify_every;
     /* inputs */
-    double u[R], y[M];
+    double *u, *y;
     /* outputs */
-    int status, samples, rejected, rank, num_modes, identifications, last_error, warnings;
-    double y_hat[M], y_error[M], singular_values[NUM_SV];
-    double frequency[MAX_MODES], damping[MAX_MODES], eig_re[MAX_MODES], eig_im[MAX_MODES];
-    double emac[MAX_MODES], mpc[MAX_MODES], cmi[MAX_MODES];
-    double shape_re[MAX_MODES][2 * M], shape_im[MAX_MODES][2 * M];
+    int status, last_error, samples, rejected, rank, num_modes, identifications, warnings, prediction_valid;
+    double identification_time;
+    double *y_hat, *y_error, *singular_values;
+    double *frequency, *damping, *eig_re, *eig_im, *emac, *mpc, *cmi, *shape_re, *shape_im;
     /* internal */
-    int since_identify, has_model;
+    okid_real *u_real, *y_real, *y_hat_real;
+    void *arrays;                    /* every array above, one allocation */
+    void *workspace_block;           /* the workspace as allocated (aligned inside) */
+    int since_identify;
     okid_identifier id;
-    _Alignas(OKID_WORKSPACE_ALIGN) unsigned char workspace[WORKSPACE_BYTES];
 } identifier_data;
 
+/* Table indices of the structural parameters: dimensions refer to them as index + 1. */
+enum { G_NUM_INPUTS, G_NUM_OUTPUTS, G_MAX_MODES, G_NUM_SINGULAR_VALUES };
+#define BY_INPUTS {G_NUM_INPUTS + 1, 0, 0}
+#define BY_OUTPUTS {G_NUM_OUTPUTS + 1, 0, 0}
+#define BY_MODES {G_MAX_MODES + 1, 0, 0}
+#define BY_SINGULAR_VALUES {G_NUM_SINGULAR_VALUES + 1, 0, 0}
+#define BY_SHAPE {G_MAX_MODES + 1, -2, G_NUM_OUTPUTS + 1} /* eq. 64: displacements, then velocities */
+#define SCALAR {0, 0, 0}
+#define NO_RANGE (double)NAN, (double)NAN
+
+static const char *const SENSING_ITEMS[] = {"displacement", "velocity", "acceleration"};
+static const char *const REALIZATION_ITEMS[] = {"system", "combined"};
+static const char *const SCALING_ITEMS[] = {"none", "auto"};
+static const char *const ESTIMATOR_ITEMS[] = {"least_squares", "instrumental"};
+static const char *const STATUS_ITEMS[] = {"collecting", "identified", "failed"};
+static const fmu_enum_type SENSING = {"okid_sensing", 3, SENSING_ITEMS};
+static const fmu_enum_type REALIZATION = {"okid_realization", 2, REALIZATION_ITEMS};
+static const fmu_enum_type SCALING = {"okid_scaling", 2, SCALING_ITEMS};
+static const fmu_enum_type ESTIMATOR = {"okid_estimator", 2, ESTIMATOR_ITEMS};
+static const fmu_enum_type STATUS = {"okid_fmu_status", 3, STATUS_ITEMS};
+
 #define OFF(field) offsetof(identifier_data, field)
-#define PARAM_REAL(name, field, start, unit, text) \
-    {name, 0, 0, FMU_REAL, FMU_PARAMETER, FMU_FIXED, OFF(field), 0, 0, start, unit, text}
-#define PARAM_INT(name, field, start, text) {name, 0, 0, FMU_INTEGER, FMU_PARAMETER, FMU_FIXED, OFF(field), 0, 0, start, NULL, text}
-#define OUT_INT(name, field, text) {name, 0, 0, FMU_INTEGER, FMU_OUTPUT, FMU_DISCRETE, OFF(field), 0, 0, 0, NULL, text}
-#define OUT_REALS(name, count, field, unit, text) \
-    {name, count, 0, FMU_REAL, FMU_OUTPUT, FMU_DISCRETE, OFF(field), sizeof(double), 0, 0, unit, text}
+#define STRUCTURAL(name, field, start, max, text) \
+    {name, NULL, FMU_SIZE, FMU_STRUCTURAL, FMU_FIXED, OFF(field), SCALAR, start, 1, max, NULL, NULL, text}
+#define PARAM(name, type, field, min, max, enumeration, unit, text) \
+    {name, NULL, type, FMU_PARAMETER, FMU_FIXED, OFF(field), SCALAR, 0, min, max, enumeration, unit, text}
+#define OUT(name, type, field, enumeration, unit, text) \
+    {name, NULL, type, FMU_OUTPUT, FMU_DISCRETE, OFF(field), SCALAR, 0, NO_RANGE, enumeration, unit, text}
+#define OUTS(name, flat, dims, field, unit, text) \
+    {name, flat, FMU_REAL, FMU_OUTPUT, FMU_DISCRETE, OFF(field), dims, 0, NO_RANGE, NULL, unit, text}
 
 static const fmu_variable_group GROUPS[] = {
-    PARAM_REAL("dt", dt, 0.01, "s", "sample interval = the communication step size"),
-    PARAM_INT("observer_order", observer_order, 20, "observer order p (1..max, m p >= n)"),
-    PARAM_INT("order", order, 4, "model order n (even, 2..2 x the number of modes of this build)"),
-    PARAM_INT("hankel_rows", hankel_rows, 20, "Hankel block rows alpha"),
-    PARAM_INT("hankel_cols", hankel_cols, 20, "Hankel block columns beta"),
-    PARAM_INT("sensing", sensing, 2, "outputs measure 0 displacement, 1 velocity, 2 acceleration"),
-    PARAM_REAL("forgetting_factor", forgetting_factor, 1.0, NULL, "exponential forgetting factor in (0, 1]"),
-    PARAM_INT("realization", realization, 0, "0 system Markov parameters, 1 combined with observer gain"),
-    PARAM_INT("identify_every", identify_every, 100, "re-identify every N samples"),
-    PARAM_INT("zero_initial_state", zero_initial_state, 1, "1 when the record starts at rest"),
-    PARAM_INT("decimation", decimation, 1,
-              "K: anti-alias filter and keep every K-th sample (1..OKID_FMU_MAX_DECIMATION); p, alpha, beta count "
-              "kept samples; no prediction (y_hat) when K > 1"),
-    PARAM_INT("scaling", scaling, 0, "0 data as given, 1 each channel divided by its RMS (results independent of units)"),
-    PARAM_INT("estimator", estimator, 0, "0 least squares, 1 instrumental variables (no output-noise bias)"),
-    {"u%d", R, 0, FMU_REAL, FMU_INPUT, FMU_CONTINUOUS, OFF(u), sizeof(double), 0, 0, NULL, "input (force)"},
-    {"y%d", M, 0, FMU_REAL, FMU_INPUT, FMU_CONTINUOUS, OFF(y), sizeof(double), 0, 0, NULL, "output (sensor)"},
-    OUT_INT("status", status, "0 collecting, 1 identified, 2 error (see last_error)"),
-    OUT_INT("last_error", last_error, "okid_status of the last failed identification (0 none)"),
-    OUT_INT("samples", samples, "samples accepted"),
-    OUT_INT("rejected", rejected, "samples rejected as non-finite"),
-    OUT_INT("regressor_rank", rank, "numerical rank of the regressor"),
-    OUT_INT("num_modes", num_modes, "modes identified"),
-    OUT_INT("identifications", identifications, "successful identifications so far"),
-    OUT_INT("warnings", warnings, "okid_warning bits of the last identification (okid/status.h)"),
-    OUT_REALS("y_hat%d", M, y_hat, NULL, "one-step prediction of y with the identified observer"),
-    OUT_REALS("y_error%d", M, y_error, NULL, "y - y_hat (innovation)"),
-    OUT_REALS("singular_value%d", NUM_SV, singular_values, NULL, "Hankel singular values, decreasing"),
-    OUT_REALS("mode%d_frequency", MAX_MODES, frequency, "Hz", "natural frequency"),
-    OUT_REALS("mode%d_damping", MAX_MODES, damping, NULL, "damping ratio"),
-    OUT_REALS("mode%d_emac", MAX_MODES, emac, NULL, "extended modal amplitude coherence in [0, 1]"),
-    OUT_REALS("mode%d_mpc", MAX_MODES, mpc, NULL, "modal phase collinearity in [0, 1]"),
-    OUT_REALS("mode%d_cmi", MAX_MODES, cmi, NULL, "consistent mode indicator EMAC * MPC in [0, 1]: low for computational modes"),
-    OUT_REALS("mode%d_eigenvalue_re", MAX_MODES, eig_re, NULL, "discrete eigenvalue, real part"),
-    OUT_REALS("mode%d_eigenvalue_im", MAX_MODES, eig_im, NULL, "discrete eigenvalue, imaginary part"),
-    {"mode%d_shape%d_re", MAX_MODES, 2 * M, FMU_REAL, FMU_OUTPUT, FMU_DISCRETE, OFF(shape_re), sizeof(double) * 2 * M,
-     sizeof(double), 0, NULL, "eq. 64 mode shape (displacements then velocities), real part"},
-    {"mode%d_shape%d_im", MAX_MODES, 2 * M, FMU_REAL, FMU_OUTPUT, FMU_DISCRETE, OFF(shape_im), sizeof(double) * 2 * M,
-     sizeof(double), 0, NULL, "eq. 64 mode shape, imaginary part"},
+    [G_NUM_INPUTS] = STRUCTURAL("num_inputs", num_inputs, 1, MAX_CHANNELS, "r: inputs (forces)"),
+    [G_NUM_OUTPUTS] = STRUCTURAL("num_outputs", num_outputs, 2, MAX_CHANNELS, "m: outputs (sensors)"),
+    [G_MAX_MODES] = STRUCTURAL("max_modes", max_modes, 4, MAX_MODES_LIMIT, "modes published (the first, by frequency)"),
+    [G_NUM_SINGULAR_VALUES] = STRUCTURAL("num_singular_values", num_singular_values, 8, MAX_SINGULAR_VALUES,
+                                         "Hankel singular values published"),
+    /* Start values: okid_config_default() (set_defaults); the description generator reads them from there. */
+    PARAM("observer_order", FMU_INTEGER, observer_order, 1, OKID_MAX_HORIZON, NULL, NULL,
+          "p: observer Markov parameters identified (m p >= order)"),
+    PARAM("order", FMU_INTEGER, order, 0, OKID_MAX_ORDER, NULL, NULL,
+          "n: model order; 0 = automatic (largest gap of the Hankel singular values)"),
+    PARAM("hankel_rows", FMU_INTEGER, hankel_rows, 1, OKID_MAX_HORIZON, NULL, NULL, "alpha: Hankel block rows"),
+    PARAM("hankel_cols", FMU_INTEGER, hankel_cols, 1, OKID_MAX_HORIZON, NULL, NULL, "beta: Hankel block columns"),
+    PARAM("block_rows", FMU_INTEGER, block_rows, 0, 4096, NULL, NULL, "regressor rows folded per QR update; 0 = 32"),
+    PARAM("dt", FMU_REAL, dt, 2.2250738585072014e-308, (double)INFINITY, NULL, "s",
+          "sample interval = the communication step size (fixed: the FMU samples once per step)"),
+    PARAM("forgetting_factor", FMU_REAL, forgetting_factor, 2.2250738585072014e-308, 1, NULL, NULL,
+          "exponential forgetting factor lambda in (0, 1]; 1 keeps every sample"),
+    PARAM("rank_tolerance", FMU_REAL, rank_tolerance, 0, 1, NULL, NULL,
+          "relative rank tolerance of the least squares: 0 (= 1e-10) or [machine epsilon, 1)"),
+    PARAM("sensing", FMU_ENUM, sensing, 0, 2, &SENSING, NULL,
+          "what the outputs measure: 0 displacement, 1 velocity, 2 acceleration"),
+    PARAM("realization", FMU_ENUM, realization, 0, 1, &REALIZATION, NULL,
+          "ERA from 0 system Markov parameters, 1 combined with the observer gain"),
+    PARAM("zero_initial_state", FMU_BOOLEAN, zero_initial_state, 0, 1, NULL, NULL,
+          "true when the record starts at rest (zero state, zero past inputs)"),
+    PARAM("decimation", FMU_INTEGER, decimation, 1, OKID_MAX_DECIMATION, NULL, NULL,
+          "K: anti-alias filter and keep every K-th sample; p, alpha, beta count kept samples; no y_hat when K > 1"),
+    PARAM("scaling", FMU_ENUM, scaling, 0, 1, &SCALING, NULL,
+          "per-channel scaling: 0 none, 1 auto (each channel divided by its RMS)"),
+    PARAM("estimator", FMU_ENUM, estimator, 0, 1, &ESTIMATOR, NULL,
+          "0 least_squares, 1 instrumental (instrumental variables: no output-noise bias)"),
+    PARAM("instrument_lags", FMU_INTEGER, instrument_lags, 0, OKID_MAX_INSTRUMENT_LAGS, NULL, NULL,
+          "L of the instrumental estimator; 0 = automatic"),
+    PARAM("identify_every", FMU_INTEGER, identify_every, 1, INT_MAX, NULL, NULL, "re-identify every N samples"),
+    {"u", "u%d", FMU_REAL, FMU_INPUT, FMU_CONTINUOUS, OFF(u), BY_INPUTS, 0, NO_RANGE, NULL, NULL, "input (force)"},
+    {"y", "y%d", FMU_REAL, FMU_INPUT, FMU_CONTINUOUS, OFF(y), BY_OUTPUTS, 0, NO_RANGE, NULL, NULL, "output (sensor)"},
+    OUT("status", FMU_ENUM, status, &STATUS, NULL,
+        "0 collecting (no identification yet), 1 identified (the mode outputs are from the latest identification), "
+        "2 failed (the latest identification failed, see last_error; the mode outputs are from identification_time)"),
+    OUT("last_error", FMU_INTEGER, last_error, NULL, NULL, "okid_status of the latest failed identification (0 none)"),
+    OUT("identification_time", FMU_REAL, identification_time, NULL, "s",
+        "time of the last sample of the identification the mode outputs come from (NaN: none yet)"),
+    OUT("prediction_valid", FMU_BOOLEAN, prediction_valid, NULL, NULL,
+        "true when y_hat and y_error are this step's one-step prediction (otherwise they are NaN)"),
+    OUT("samples", FMU_INTEGER, samples, NULL, NULL, "samples accepted"),
+    OUT("rejected", FMU_INTEGER, rejected, NULL, NULL, "samples rejected as non-finite"),
+    OUT("regressor_rank", FMU_INTEGER, rank, NULL, NULL, "numerical rank of the regressor"),
+    OUT("num_modes", FMU_INTEGER, num_modes, NULL, NULL, "modes identified (at most max_modes are published)"),
+    OUT("identifications", FMU_INTEGER, identifications, NULL, NULL, "successful identifications so far"),
+    OUT("warnings", FMU_INTEGER, warnings, NULL, NULL, "okid_warning bits of the last identification (okid/status.h)"),
+    OUTS("y_hat", "y_hat%d", BY_OUTPUTS, y_hat, NULL, "one-step prediction of y with the identified observer (NaN: none)"),
+    OUTS("y_error", "y_error%d", BY_OUTPUTS, y_error, NULL, "y - y_hat (innovation; NaN: no prediction)"),
+    OUTS("singular_values", "singular_value%d", BY_SINGULAR_VALUES, singular_values, NULL,
+         "Hankel singular values, decreasing (NaN: none)"),
+    OUTS("mode_frequency_hz", "mode%d_frequency_hz", BY_MODES, frequency, "Hz", "undamped natural frequency"),
+    OUTS("mode_damping_ratio", "mode%d_damping_ratio", BY_MODES, damping, NULL, "damping ratio"),
+    OUTS("mode_emac", "mode%d_emac", BY_MODES, emac, NULL, "extended modal amplitude coherence in [0, 1]"),
+    OUTS("mode_mpc", "mode%d_mpc", BY_MODES, mpc, NULL, "modal phase collinearity in [0, 1]"),
+    OUTS("mode_cmi", "mode%d_cmi", BY_MODES, cmi, NULL,
+         "consistent mode indicator EMAC * MPC in [0, 1]: low for computational modes"),
+    OUTS("mode_eigenvalue_re", "mode%d_eigenvalue_re", BY_MODES, eig_re, NULL, "discrete eigenvalue, real part"),
+    OUTS("mode_eigenvalue_im", "mode%d_eigenvalue_im", BY_MODES, eig_im, NULL, "discrete eigenvalue, imaginary part"),
+    OUTS("mode_shape_re", "mode%d_shape%d_re", BY_SHAPE, shape_re, NULL,
+         "eq. 64 mode shape (displacements then velocities at the sensors), real part"),
+    OUTS("mode_shape_im", "mode%d_shape%d_im", BY_SHAPE, shape_im, NULL, "eq. 64 mode shape, imaginary part"),
 };
+enum { NUM_GROUPS = (int)(sizeof GROUPS / sizeof GROUPS[0]) };
 
 static void set_defaults(void *data)
 {
     identifier_data *d = data;
-    fmu_variable v;
-    const int n = fmu_variable_count(GROUPS, (int)(sizeof GROUPS / sizeof GROUPS[0]));
-    for (int i = 0; i < n; ++i) {
-        fmu_variable_at(GROUPS, (int)(sizeof GROUPS / sizeof GROUPS[0]), i, &v);
-        if (v.causality == FMU_OUTPUT) continue;
-        if (v.type == FMU_REAL) {
-            memcpy((char *)d + v.offset, &v.start, sizeof(double));
-        } else {
-            const int value = (int)v.start;
-            memcpy((char *)d + v.offset, &value, sizeof(int));
-        }
+    d->num_inputs = (int)GROUPS[G_NUM_INPUTS].start;
+    d->num_outputs = (int)GROUPS[G_NUM_OUTPUTS].start;
+    d->max_modes = (int)GROUPS[G_MAX_MODES].start;
+    d->num_singular_values = (int)GROUPS[G_NUM_SINGULAR_VALUES].start;
+    okid_config cfg;
+    okid_config_default(&cfg, d->num_inputs, d->num_outputs);
+    d->observer_order = cfg.observer_order;
+    d->order = cfg.order;
+    d->hankel_rows = cfg.hankel_rows;
+    d->hankel_cols = cfg.hankel_cols;
+    d->block_rows = cfg.block_rows;
+    d->dt = 0.01; /* the C placeholder is 1; the FMU's default experiment steps 0.01 s */
+    d->forgetting_factor = (double)cfg.forgetting_factor;
+    d->rank_tolerance = (double)cfg.rank_tolerance;
+    d->sensing = (int)cfg.sensing;
+    d->realization = (int)cfg.realization;
+    d->zero_initial_state = cfg.zero_initial_state;
+    d->decimation = cfg.decimation;
+    d->scaling = (int)cfg.scaling;
+    d->estimator = (int)cfg.estimator;
+    d->instrument_lags = cfg.instrument_lags;
+    d->identify_every = 100;
+    d->identification_time = (double)NAN;
+}
+
+static void token(const void *data, int fmi_version, unsigned long config_hash, char *out, size_t size)
+{
+    const identifier_data *d = data;
+    if (fmi_version == 3) { /* the sizes are set after instantiation */
+        snprintf(out, size, "{%s-configurable}", OKID_FMU_TOKEN_BASE);
+    } else if (config_hash == 0) {
+        snprintf(out, size, "{%s-r%d-m%d-modes%d-sv%d}", OKID_FMU_TOKEN_BASE, d->num_inputs, d->num_outputs,
+                 d->max_modes, d->num_singular_values);
+    } else {
+        snprintf(out, size, "{%s-r%d-m%d-modes%d-sv%d-config%08lx}", OKID_FMU_TOKEN_BASE, d->num_inputs,
+                 d->num_outputs, d->max_modes, d->num_singular_values, config_hash);
     }
 }
 
-static fmu_status refuse(fmu_logger *logger, const char *what)
-{
-    fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused: %s", what);
-    return FMU_ERROR;
-}
-
-static fmu_status exit_initialization(void *data, fmu_logger *logger)
+static void release(void *data, const fmu_allocator *memory)
 {
     identifier_data *d = data;
-    if (!(isfinite(d->dt) && d->dt > 0)) return refuse(logger, "dt must be finite and > 0");
-    if (d->observer_order < 1 || d->observer_order > OKID_FMU_MAX_OBSERVER_ORDER) {
-        return refuse(logger, "observer_order must be in 1..OKID_FMU_MAX_OBSERVER_ORDER of this build");
+    if (d->arrays) memory->release(d->arrays);
+    if (d->workspace_block) memory->release(d->workspace_block);
+    d->arrays = d->workspace_block = NULL;
+    d->u = d->y = d->y_hat = d->y_error = d->singular_values = NULL;
+    d->frequency = d->damping = d->eig_re = d->eig_im = d->emac = d->mpc = d->cmi = d->shape_re = d->shape_im = NULL;
+}
+
+static void fill(double *values, size_t count, double value)
+{
+    for (size_t i = 0; i < count; ++i) values[i] = value;
+}
+
+/* The published model is none: every mode output and singular value NaN. */
+static void publish_nothing(identifier_data *d)
+{
+    const size_t modes = (size_t)d->max_modes, shape = modes * 2u * (size_t)d->num_outputs;
+    double *per_mode[] = {d->frequency, d->damping, d->eig_re, d->eig_im, d->emac, d->mpc, d->cmi};
+    for (size_t i = 0; i < sizeof per_mode / sizeof per_mode[0]; ++i) fill(per_mode[i], modes, (double)NAN);
+    fill(d->shape_re, shape, (double)NAN);
+    fill(d->shape_im, shape, (double)NAN);
+    fill(d->singular_values, (size_t)d->num_singular_values, (double)NAN);
+    d->identification_time = (double)NAN;
+    d->num_modes = 0;
+}
+
+static fmu_status configure(void *data, const fmu_allocator *memory, fmu_logger *logger)
+{
+    identifier_data *d = data;
+    release(d, memory);
+    const struct {
+        const char *name;
+        int value, max;
+    } sizes[] = {{"num_inputs", d->num_inputs, MAX_CHANNELS}, {"num_outputs", d->num_outputs, MAX_CHANNELS},
+                 {"max_modes", d->max_modes, MAX_MODES_LIMIT},
+                 {"num_singular_values", d->num_singular_values, MAX_SINGULAR_VALUES}};
+    for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; ++i) {
+        if (sizes[i].value < 1 || sizes[i].value > sizes[i].max) {
+            fmu_log(logger, FMU_ERROR, "logStatusError",
+                    "structural parameter %s = %d refused: this build allows 1..%d", sizes[i].name,
+                    sizes[i].value, sizes[i].max);
+            return FMU_ERROR;
+        }
     }
-    if (d->order < 2 || d->order > 2 * MAX_MODES || d->order % 2 != 0) {
-        return refuse(logger, "order must be even and in 2..2 x the modes of this build");
+    const size_t r = (size_t)d->num_inputs, m = (size_t)d->num_outputs, k = (size_t)d->max_modes;
+    const size_t doubles = r + m + 2 * m + (size_t)d->num_singular_values + 7 * k + 2 * k * 2 * m;
+    const size_t reals = r + 2 * m;
+    d->arrays = memory->allocate(doubles * sizeof(double) + reals * sizeof(okid_real), 1);
+    if (d->arrays == NULL) {
+        fmu_log(logger, FMU_ERROR, "logStatusError", "out of memory for the arrays of %zu doubles", doubles);
+        return FMU_ERROR;
     }
-    if (d->hankel_rows < 1 || d->hankel_cols < 1 || d->hankel_rows > OKID_FMU_MAX_HANKEL ||
-        d->hankel_cols > OKID_FMU_MAX_HANKEL) {
-        return refuse(logger, "hankel_rows and hankel_cols must be in 1..OKID_FMU_MAX_HANKEL of this build");
+    double *at = d->arrays;
+    double **arrays[] = {&d->u, &d->y, &d->y_hat, &d->y_error, &d->singular_values, &d->frequency, &d->damping,
+                         &d->eig_re, &d->eig_im, &d->emac, &d->mpc, &d->cmi, &d->shape_re, &d->shape_im};
+    const size_t counts[] = {r, m, m, m, (size_t)d->num_singular_values, k, k, k, k, k, k, k, 2 * k * m, 2 * k * m};
+    for (size_t i = 0; i < sizeof counts / sizeof counts[0]; ++i) {
+        *arrays[i] = at;
+        at += counts[i];
     }
-    if (d->sensing < 0 || d->sensing > 2) return refuse(logger, "sensing must be 0, 1 or 2");
-    if (d->realization < 0 || d->realization > 1) return refuse(logger, "realization must be 0 or 1");
-    if (!(isfinite(d->forgetting_factor) && d->forgetting_factor > 0 && d->forgetting_factor <= 1)) {
-        return refuse(logger, "forgetting_factor must be in (0, 1]");
+    d->u_real = (okid_real *)at;
+    d->y_real = d->u_real + r;
+    d->y_hat_real = d->y_real + m;
+    fill(d->y_hat, m, (double)NAN);
+    fill(d->y_error, m, (double)NAN);
+    publish_nothing(d);
+    return FMU_OK;
+}
+
+static fmu_status exit_initialization(void *data, const fmu_allocator *memory, fmu_logger *logger)
+{
+    identifier_data *d = data;
+    if (d->identify_every < 1) {
+        fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused: identify_every = %d, must be >= 1",
+                d->identify_every);
+        return FMU_ERROR;
     }
-    if (d->identify_every < 1) return refuse(logger, "identify_every must be >= 1");
-    if (d->decimation < 1 || d->decimation > OKID_FMU_MAX_DECIMATION) {
-        return refuse(logger, "decimation must be in 1..OKID_FMU_MAX_DECIMATION of this build");
-    }
-    if (d->scaling < 0 || d->scaling > 1) return refuse(logger, "scaling must be 0 or 1");
-    if (d->estimator < 0 || d->estimator > 1) return refuse(logger, "estimator must be 0 or 1");
     okid_config cfg;
-    okid_config_default(&cfg, R, M);
-    cfg.dt = d->dt;
+    okid_config_default(&cfg, d->num_inputs, d->num_outputs);
     cfg.observer_order = d->observer_order;
     cfg.order = d->order;
     cfg.hankel_rows = d->hankel_rows;
     cfg.hankel_cols = d->hankel_cols;
+    cfg.block_rows = d->block_rows;
+    cfg.dt = (okid_real)d->dt;
+    cfg.forgetting_factor = (okid_real)d->forgetting_factor;
+    cfg.rank_tolerance = (okid_real)d->rank_tolerance;
     cfg.sensing = (okid_sensing)d->sensing;
     cfg.realization = (okid_realization)d->realization;
-    cfg.forgetting_factor = d->forgetting_factor;
-    cfg.zero_initial_state = d->zero_initial_state != 0;
+    cfg.zero_initial_state = d->zero_initial_state;
     cfg.decimation = d->decimation;
     cfg.scaling = (okid_scaling)d->scaling;
     cfg.estimator = (okid_estimator)d->estimator;
-    size_t needed = 0;
-    const okid_status st = okid_init(&d->id, &cfg, d->workspace, sizeof d->workspace, &needed);
+    cfg.instrument_lags = d->instrument_lags;
+    char values[400];
+    snprintf(values, sizeof values,
+             "num_inputs %d, num_outputs %d, observer_order %d, order %d, hankel_rows %d, hankel_cols %d, block_rows %d, "
+             "dt %.17g, forgetting_factor %.17g, rank_tolerance %.17g, sensing %d, realization %d, zero_initial_state %d, "
+             "decimation %d, scaling %d, estimator %d, instrument_lags %d",
+             d->num_inputs, d->num_outputs, d->observer_order, d->order, d->hankel_rows, d->hankel_cols, d->block_rows,
+             d->dt, d->forgetting_factor, d->rank_tolerance, d->sensing, d->realization, d->zero_initial_state,
+             d->decimation, d->scaling, d->estimator, d->instrument_lags);
+    size_t bytes = 0;
+    okid_status st = okid_workspace_size(&cfg, &bytes);
     if (st != OKID_OK) {
-        fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused: %s (workspace %zu of %zu bytes)",
-                okid_status_str(st), needed, sizeof d->workspace);
+        fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused by okid_workspace_size: %s "
+                "(okid_status %d) for %s", okid_status_str(st), (int)st, values);
+        return FMU_ERROR;
+    }
+    if ((double)bytes > OKID_FMU_MAX_WORKSPACE_BYTES) {
+        fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused: their workspace of %zu bytes "
+                "exceeds this build's limit of %.0f bytes (%s)", bytes, (double)OKID_FMU_MAX_WORKSPACE_BYTES, values);
+        return FMU_ERROR;
+    }
+    if (d->workspace_block) memory->release(d->workspace_block);
+    d->workspace_block = memory->allocate(bytes + OKID_WORKSPACE_ALIGN, 1);
+    if (d->workspace_block == NULL) {
+        fmu_log(logger, FMU_ERROR, "logStatusError", "out of memory for the workspace of %zu bytes", bytes);
+        return FMU_ERROR;
+    }
+    const uintptr_t raw = (uintptr_t)d->workspace_block;
+    void *workspace = (void *)((raw + OKID_WORKSPACE_ALIGN - 1) / OKID_WORKSPACE_ALIGN * OKID_WORKSPACE_ALIGN);
+    st = okid_init(&d->id, &cfg, workspace, bytes, NULL);
+    if (st != OKID_OK) {
+        fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused by okid_init: %s (okid_status %d) "
+                "for %s", okid_status_str(st), (int)st, values);
         return FMU_ERROR;
     }
     return FMU_OK;
 }
 
-static void publish(identifier_data *d, const okid_result *res)
+static void publish(identifier_data *d, const okid_result *res, double t)
 {
-    d->num_modes = res->num_modes < MAX_MODES ? res->num_modes : MAX_MODES;
+    const int m2 = 2 * d->num_outputs;
+    publish_nothing(d);
+    d->num_modes = res->num_modes;
     d->rank = res->regressor_rank;
     d->warnings = (int)res->warnings;
-    for (int i = 0; i < NUM_SV; ++i) {
-        d->singular_values[i] = i < res->num_singular_values ? (double)res->singular_values[i] : 0.0;
+    d->identification_time = t;
+    for (int i = 0; i < d->num_singular_values && i < res->num_singular_values; ++i) {
+        d->singular_values[i] = (double)res->singular_values[i];
     }
-    for (int k = 0; k < MAX_MODES; ++k) {
-        const int live = k < d->num_modes;
-        const okid_mode *md = &res->modes[k < d->num_modes ? k : 0];
-        d->frequency[k] = live ? (double)md->frequency_hz : 0.0;
-        d->damping[k] = live ? (double)md->damping_ratio : 0.0;
-        d->eig_re[k] = live ? (double)md->eigenvalue.re : 0.0;
-        d->eig_im[k] = live ? (double)md->eigenvalue.im : 0.0;
-        d->emac[k] = live ? (double)md->emac : 0.0;
-        d->mpc[k] = live ? (double)md->mpc : 0.0;
-        d->cmi[k] = live ? (double)md->cmi : 0.0;
-        for (int j = 0; j < 2 * M; ++j) {
-            d->shape_re[k][j] = live ? (double)md->shape[j].re : 0.0;
-            d->shape_im[k][j] = live ? (double)md->shape[j].im : 0.0;
+    for (int k = 0; k < d->max_modes && k < res->num_modes; ++k) {
+        const okid_mode *md = &res->modes[k];
+        d->frequency[k] = (double)md->frequency_hz;
+        d->damping[k] = (double)md->damping_ratio;
+        d->eig_re[k] = (double)md->eigenvalue.re;
+        d->eig_im[k] = (double)md->eigenvalue.im;
+        d->emac[k] = (double)md->emac;
+        d->mpc[k] = (double)md->mpc;
+        d->cmi[k] = (double)md->cmi;
+        for (int j = 0; j < m2; ++j) {
+            d->shape_re[k * m2 + j] = (double)md->shape[j].re;
+            d->shape_im[k * m2 + j] = (double)md->shape[j].im;
         }
     }
 }
 
+static int saturate(uint64_t count) { return count > INT_MAX ? INT_MAX : (int)count; }
+
 static fmu_status do_step(void *data, double t, double h, fmu_logger *logger)
 {
     identifier_data *d = data;
-    (void)t;
+    const int r = d->num_inputs, m = d->num_outputs;
     if (fabs(h - d->dt) > 1e-9 * d->dt) {
         fmu_log(logger, FMU_ERROR, "logStatusError",
                 "DoStep: communication step %.17g differs from the parameter dt = %.17g (the identifier samples "
                 "once per step)", h, d->dt);
         return FMU_ERROR;
     }
-    okid_real u[R], y[M], y_hat[M];
-    for (int i = 0; i < R; ++i) u[i] = (okid_real)d->u[i];
-    for (int i = 0; i < M; ++i) y[i] = (okid_real)d->y[i];
-    if (okid_predict(&d->id, u, y_hat) == OKID_OK) {
-        for (int i = 0; i < M; ++i) {
-            d->y_hat[i] = (double)y_hat[i];
-            d->y_error[i] = d->y[i] - d->y_hat[i];
-        }
+    for (int i = 0; i < r; ++i) d->u_real[i] = (okid_real)d->u[i];
+    for (int i = 0; i < m; ++i) d->y_real[i] = (okid_real)d->y[i];
+    /* The prediction of this sample from the model and the past, or NaN: never an earlier step's. */
+    d->prediction_valid = okid_predict(&d->id, d->u_real, d->y_hat_real) == OKID_OK;
+    for (int i = 0; i < m; ++i) {
+        d->y_hat[i] = d->prediction_valid ? (double)d->y_hat_real[i] : (double)NAN;
+        d->y_error[i] = d->y[i] - d->y_hat[i];
     }
-    const okid_status pushed = okid_push(&d->id, u, y);
+    const okid_status pushed = okid_push(&d->id, d->u_real, d->y_real);
     okid_progress progress;
     okid_get_progress(&d->id, &progress);
-    d->samples = (int)progress.samples;
-    d->rejected = (int)progress.rejected;
+    d->samples = saturate(progress.samples);
+    d->rejected = saturate(progress.rejected);
     if (pushed == OKID_E_NONFINITE_SAMPLE) {
         fmu_log(logger, FMU_WARNING, "logStatusWarning",
                 "non-finite input sample at t = %.17g rejected; the identification so far is kept", t);
         return FMU_WARNING;
     }
     if (pushed != OKID_OK) {
-        fmu_log(logger, FMU_ERROR, "logStatusError", "okid_push failed: %s", okid_status_str(pushed));
+        fmu_log(logger, FMU_ERROR, "logStatusError", "okid_push failed: %s (okid_status %d)", okid_status_str(pushed),
+                (int)pushed);
         return FMU_ERROR;
     }
     if (++d->since_identify < d->identify_every || progress.rows < (uint64_t)progress.rows_needed) {
@@ -249,12 +403,13 @@ static fmu_status do_step(void *data, double t, double h, fmu_logger *logger)
     const okid_status st = okid_identify(&d->id, &res);
     if (st != OKID_OK) {
         d->last_error = (int)st;
-        d->status = d->identifications > 0 ? STATUS_IDENTIFIED : STATUS_ERROR;
-        fmu_log(logger, FMU_OK, "logEvents", "identification at t = %.6g not possible yet: %s", t,
-                okid_status_str(st));
-        return FMU_OK; /* data-dependent: keep collecting, the outputs keep the last model */
+        d->status = STATUS_FAILED;
+        fmu_log(logger, FMU_OK, "logEvents",
+                "identification at t = %.17g failed: %s (okid_status %d); the mode outputs keep the identification at "
+                "t = %.17g (NaN: none)", t, okid_status_str(st), (int)st, d->identification_time);
+        return FMU_OK; /* data-dependent: keep collecting */
     }
-    publish(d, &res);
+    publish(d, &res, t);
     d->status = STATUS_IDENTIFIED;
     d->last_error = 0;
     ++d->identifications;
@@ -264,14 +419,16 @@ static fmu_status do_step(void *data, double t, double h, fmu_logger *logger)
 const fmu_model FMU_MODEL = {
     "okid_identifier",
     "OKID/ERA identification of a structure from forces and responses: modes as they converge",
-    OKID_FMU_TOKEN,
     0.01,
+    0, /* one sample per step: the step must be dt */
     GROUPS,
-    (int)(sizeof GROUPS / sizeof GROUPS[0]),
+    NUM_GROUPS,
     sizeof(identifier_data),
-    OKID_WORKSPACE_ALIGN,
     set_defaults,
+    token,
+    configure,
     exit_initialization,
     do_step,
     NULL,
+    release,
 };

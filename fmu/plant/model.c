@@ -5,6 +5,7 @@
  */
 #include <math.h>
 #include <stddef.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "fmu_config.h"
@@ -25,24 +26,30 @@ typedef struct plant_data {
 } plant_data;
 
 #define OFF(field) offsetof(plant_data, field)
-#define PARAM(name, field, index, start, unit, text) \
-    {name, 0, 0, FMU_REAL, FMU_PARAMETER, FMU_FIXED, OFF(field) + (index) * sizeof(double), 0, 0, start, unit, text}
-#define OUTS(name, field, text, unit) \
-    {name, DOFS, 0, FMU_REAL, FMU_OUTPUT, FMU_CONTINUOUS, OFF(field), sizeof(double), 0, 0, unit, text}
+#define PARAM(name, field, index, start, min, unit, text) \
+    {name, NULL, FMU_REAL, FMU_PARAMETER, FMU_FIXED, OFF(field) + (index) * sizeof(double), {0, 0, 0}, start, min, \
+     (double)INFINITY, NULL, unit, text}
+#define OUT(name, field, index, unit, text) \
+    {name, NULL, FMU_REAL, FMU_OUTPUT, FMU_CONTINUOUS, OFF(field) + (index) * sizeof(double), {0, 0, 0}, 0, (double)NAN, (double)NAN, \
+     NULL, unit, text}
+#define POSITIVE 2.2250738585072014e-308
 
 static const fmu_variable_group GROUPS[] = {
-    PARAM("m1", masses, 0, 2.0, "kg", "mass 1"),
-    PARAM("m2", masses, 1, 3.0, "kg", "mass 2"),
-    PARAM("r1", dampers, 0, 2.0, "N.s/m", "damper between the left wall and mass 1"),
-    PARAM("r2", dampers, 1, 4.0, "N.s/m", "damper between mass 1 and mass 2"),
-    PARAM("r3", dampers, 2, 3.0, "N.s/m", "damper between mass 2 and the right wall"),
-    PARAM("k1", springs, 0, 20.0, "N/m", "spring between the left wall and mass 1"),
-    PARAM("k2", springs, 1, 40.0, "N/m", "spring between mass 1 and mass 2"),
-    PARAM("k3", springs, 2, 30.0, "N/m", "spring between mass 2 and the right wall"),
-    {"force", 0, 0, FMU_REAL, FMU_INPUT, FMU_CONTINUOUS, OFF(force), 0, 0, 0.0, "N", "force on mass 1"},
-    OUTS("acc%d", acc, "acceleration of mass i", "m/s2"),
-    OUTS("x%d", disp, "displacement of mass i", "m"),
-    OUTS("v%d", vel, "velocity of mass i", "m/s"),
+    PARAM("m1", masses, 0, 2.0, POSITIVE, "kg", "mass 1 (> 0)"),
+    PARAM("m2", masses, 1, 3.0, POSITIVE, "kg", "mass 2 (> 0)"),
+    PARAM("r1", dampers, 0, 2.0, 0, "N.s/m", "damper between the left wall and mass 1"),
+    PARAM("r2", dampers, 1, 4.0, 0, "N.s/m", "damper between mass 1 and mass 2"),
+    PARAM("r3", dampers, 2, 3.0, 0, "N.s/m", "damper between mass 2 and the right wall"),
+    PARAM("k1", springs, 0, 20.0, 0, "N/m", "spring between the left wall and mass 1"),
+    PARAM("k2", springs, 1, 40.0, 0, "N/m", "spring between mass 1 and mass 2"),
+    PARAM("k3", springs, 2, 30.0, 0, "N/m", "spring between mass 2 and the right wall"),
+    {"force", NULL, FMU_REAL, FMU_INPUT, FMU_CONTINUOUS, OFF(force), {0, 0, 0}, 0.0, (double)NAN, (double)NAN, NULL, "N", "force on mass 1"},
+    OUT("acc1", acc, 0, "m/s2", "acceleration of mass 1"),
+    OUT("acc2", acc, 1, "m/s2", "acceleration of mass 2"),
+    OUT("x1", disp, 0, "m", "displacement of mass 1"),
+    OUT("x2", disp, 1, "m", "displacement of mass 2"),
+    OUT("v1", vel, 0, "m/s", "velocity of mass 1"),
+    OUT("v2", vel, 1, "m/s", "velocity of mass 2"),
 };
 
 static void set_defaults(void *data)
@@ -52,6 +59,12 @@ static void set_defaults(void *data)
     memcpy(p->masses, masses, sizeof masses);
     memcpy(p->dampers, dampers, sizeof dampers);
     memcpy(p->springs, springs, sizeof springs);
+}
+
+static void token(const void *data, int fmi_version, unsigned long config_hash, char *out, size_t size)
+{
+    (void)data, (void)fmi_version, (void)config_hash;
+    snprintf(out, size, "%s", OKID_FMU_TOKEN);
 }
 
 static void update_outputs(void *data)
@@ -66,9 +79,10 @@ static void update_outputs(void *data)
     }
 }
 
-static fmu_status exit_initialization(void *data, fmu_logger *logger)
+static fmu_status exit_initialization(void *data, const fmu_allocator *memory, fmu_logger *logger)
 {
     plant_data *p = data;
+    (void)memory;
     okid_real masses[DOFS], dampers[DOFS + 1], springs[DOFS + 1], mm[DOFS * DOFS], rr[DOFS * DOFS], kk[DOFS * DOFS];
     for (int i = 0; i <= DOFS; ++i) {
         if (i < DOFS) masses[i] = (okid_real)p->masses[i];
@@ -124,14 +138,16 @@ static fmu_status do_step(void *data, double t, double h, fmu_logger *logger)
 const fmu_model FMU_MODEL = {
     "okid_plant_2dof",
     "The 2-DOF mass-spring-damper system of Guida, Nilvetti, Pappalardo, stepped exactly (ZOH)",
-    OKID_FMU_TOKEN,
     0.01,
+    1, /* exact ZOH for any step size */
     GROUPS,
     (int)(sizeof GROUPS / sizeof GROUPS[0]),
     sizeof(plant_data),
-    16,
     set_defaults,
+    token,
+    NULL,
     exit_initialization,
     do_step,
     update_outputs,
+    NULL,
 };

@@ -77,9 +77,9 @@ def paper_plots(folder, ref, cs, noisy, noisy_ref, cli=None):
     h = noisy.history
     ok = h["status"] == 1
     for k, want in enumerate(noisy_ref.modes, start=1):
-        ax[0].plot(noisy.t[ok], h[f"mode{k}_frequency"][ok], label=f"mode {k}")
+        ax[0].plot(noisy.t[ok], h[f"mode{k}_frequency_hz"][ok], label=f"mode {k}")
         ax[0].axhline(want.frequency_hz, color="k", lw=0.6, ls="--")
-        ax[1].plot(noisy.t[ok], h[f"mode{k}_damping"][ok], label=f"mode {k}")
+        ax[1].plot(noisy.t[ok], h[f"mode{k}_damping_ratio"][ok], label=f"mode {k}")
         ax[1].axhline(want.damping_ratio, color="k", lw=0.6, ls="--")
     ax[0].set_ylabel("frequency [Hz]")
     ax[1].set_ylabel("damping ratio")

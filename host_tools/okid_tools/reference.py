@@ -72,16 +72,23 @@ class Reference:
 
 def paper_reference(dt=0.01, masses=PAPER["masses"], dampers=PAPER["dampers"], springs=PAPER["springs"]):
     """Force on mass 1, accelerations of every mass measured (the paper's section III)."""
+    return chain_reference(dt, masses, dampers, springs, forces_on=(0,))
+
+
+def chain_reference(dt, masses, dampers, springs, forces_on):
+    """A chain of masses between two walls, forces on the masses `forces_on` (0-based), the
+    accelerations of every mass measured."""
     M, R, K = chain_matrices(masses, dampers, springs)
-    n = len(masses)
+    n, r = len(masses), len(forces_on)
     Mi = np.linalg.inv(M)
-    B2 = np.zeros((n, 1))
-    B2[0, 0] = 1.0
+    B2 = np.zeros((n, r))
+    for j, dof in enumerate(forces_on):
+        B2[dof, j] = 1.0
     Ac = np.block([[np.zeros((n, n)), np.eye(n)], [-Mi @ K, -Mi @ R]])
-    Bc = np.vstack([np.zeros((n, 1)), Mi @ B2])
+    Bc = np.vstack([np.zeros((n, r)), Mi @ B2])
     C = np.hstack([-Mi @ K, -Mi @ R])
     D = Mi @ B2
-    aug = np.zeros((2 * n + 1, 2 * n + 1))
+    aug = np.zeros((2 * n + r, 2 * n + r))
     aug[:2 * n, :2 * n], aug[:2 * n, 2 * n:] = Ac, Bc
     E = expm(aug * dt)
     s, V = np.linalg.eig(Ac)

@@ -4,7 +4,8 @@
 
 (a) validation (fmpy.validation.validate_fmu and fmutool -check must report nothing), (b) the plant
 alone with simulate_fmu against the exact discrete model, (c) the identifier fed from arrays
-(simulate_fmu with an input array) and coupled to the plant in a master loop, (d) identified
+(FMI 2: simulate_fmu with an input table; FMI 3, whose inputs are arrays of structural size:
+fmpy's low-level calls) and coupled to the plant in a master loop, (d) identified
 against exact in a table, (e) the paper's plots. Exit status 0 when every check passes.
 """
 import argparse

@@ -3,6 +3,7 @@ reference, the shared objects' hygiene, and every behaviour an importer relies o
 import math
 import os
 import re
+import shutil
 import subprocess
 from pathlib import Path
 
@@ -63,7 +64,7 @@ def run(slave, u, y, settings=PAPER_SETTINGS, initialize=True):
         slave.set(**settings)
         slave.initialize()
     for k in range(len(u)):
-        slave.set(u1=u[k], y1=y[k, 0], y2=y[k, 1])
+        slave.set_inputs(u[k], y[k])
         slave.step(k * settings["dt"], settings["dt"])
     return dict(zip(["identifications", "samples", "rejected"] + mode_outputs(),
                     slave.get("identifications", "samples", "rejected", *mode_outputs())))
@@ -123,7 +124,7 @@ def test_illegal_calls_for_the_state(version):
     s.initialize()
     assert status_of(s.set, observer_order=30) == 3  # a fixed parameter after initialization
     assert "'observer_order' (a fixed parameter) cannot be set in state StepMode" in log.text()
-    assert status_of(s.set, mode1_frequency=1.0) == 3  # an output
+    assert status_of(s.set, identification_time=1.0) == 3  # an output
     assert status_of(s.step, 0.0, 0.02) == 3  # step size other than dt
     assert "differs from the parameter dt" in log.text()
     assert status_of(s.step, 0.5, 0.01) == 3  # a communication point that is not the FMU's time
@@ -134,16 +135,23 @@ def test_illegal_calls_for_the_state(version):
 
 @pytest.mark.parametrize("version", VERSIONS)
 @pytest.mark.parametrize("bad", [dict(observer_order=0), dict(dt=0.0), dict(dt=-0.01), dict(dt=math.nan),
-                                 dict(order=3), dict(order=10), dict(hankel_rows=0), dict(forgetting_factor=1.5),
-                                 dict(sensing=7), dict(order=4, observer_order=1), dict(decimation=0),
-                                 dict(decimation=17), dict(scaling=2), dict(estimator=-1)])
+                                 dict(order=41), dict(hankel_rows=0), dict(forgetting_factor=1.5),
+                                 dict(sensing=7), dict(order=4, observer_order=1), dict(decimation=65),
+                                 dict(scaling=2), dict(estimator=-1), dict(identify_every=0)])
 def test_invalid_parameters_refused_at_initialization(version, bad):
+    """okid_init's own check and status, reported with the values as numbers (no C macro names)."""
     log = Log()
     s = identifier(version, log)
     s.set(**{**PAPER_SETTINGS, **bad})
     with pytest.raises(FMICallException):
         s.initialize()
-    assert "parameters refused" in log.text()
+    text = log.text()
+    assert "parameters refused" in text
+    name, value = next(iter(bad.items())) if "identify_every" in bad else list(bad.items())[-1]
+    number = format(value, ".17g") if isinstance(value, float) else str(value)  # as the FMU's %.17g prints it
+    assert f"{name} {number}" in text or f"{name} = {number}" in text, text
+    assert "okid_status" in text or name == "identify_every"
+    assert not re.search(r"OKID_[A-Z_]+", text), text
     s.fmu.terminate()
     s.fmu.freeInstance()
 
@@ -157,12 +165,12 @@ def test_nan_sample_rejected_and_learning_kept(version):
     s.initialize()
     out = run(s, u[:500], y[:500], initialize=False)
     before = modes_from(out)
-    s.set(u1=u[500], y1=math.nan, y2=y[500, 1])
+    s.set_inputs(u[500], [math.nan, y[500, 1]])
     assert status_of(s.step, 5.0, 0.01) == 0  # a warning (fmpy raises only above warning)
     assert any(cat == "logStatusWarning" and "rejected" in text for _, cat, text in log.messages)
-    assert s.get("rejected")[0] == 1 and s.get("mode1_frequency")[0] == before[0]["frequency_hz"]
+    assert s.get("rejected")[0] == 1 and s.get("mode1_frequency_hz")[0] == before[0]["frequency_hz"]
     for k in range(501, 1001):
-        s.set(u1=u[k], y1=y[k, 0], y2=y[k, 1])
+        s.set_inputs(u[k], y[k])
         s.step(k * 0.01, 0.01)
     after = modes_from(dict(zip(mode_outputs(), s.get(*mode_outputs()))))
     for got, want in zip(after, ref.modes):
@@ -198,10 +206,11 @@ def test_decimation_scaling_and_instruments(version, estimator):
     s = identifier(version)
     out = run(s, u, y, settings)
     exact = np.sort([md.frequency_hz for md in ref.modes])
-    freqs = np.sort([out[f"mode{k}_frequency"] for k in (1, 2)])
+    freqs = np.sort([out[f"mode{k}_frequency_hz"] for k in (1, 2)])
     assert np.all(np.abs(freqs - exact) < 0.01 * exact), freqs
     assert out["identifications"] == 1 and out["samples"] == 1001
-    assert s.get("y_hat1", "y_hat2") == [0.0, 0.0]  # no one-step prediction of decimated data
+    assert all(math.isnan(v) for v in s.get("y_hat1", "y_hat2", "y_error1", "y_error2"))  # no prediction when K > 1
+    assert s.get("prediction_valid")[0] == 0
     s.close()
 
 
@@ -212,7 +221,8 @@ def test_reset_then_rerun_is_identical(version):
     first = run(s, u, y)
     s.fmu.reset()
     second = run(s, u, y)
-    assert first == second and first["identifications"] > 0
+    assert first["identifications"] > 0
+    assert all(first[k] == second[k] or (math.isnan(first[k]) and math.isnan(second[k])) for k in first)
     s.close()
 
 
@@ -226,8 +236,8 @@ def test_two_instances_are_independent(version):
         s.set(**PAPER_SETTINGS)
         s.initialize()
     for k in range(400):  # interleaved, different data
-        a.set(u1=u1[k], y1=y1[k, 0], y2=y1[k, 1])
-        b.set(u1=u2[k], y1=y2[k, 0], y2=y2[k, 1])
+        a.set_inputs(u1[k], y1[k])
+        b.set_inputs(u2[k], y2[k])
         a.step(k * 0.01, 0.01)
         b.step(k * 0.01, 0.01)
     assert dict(zip(mode_outputs(), a.get(*mode_outputs()))) == {k: solo[k] for k in mode_outputs()}
@@ -242,7 +252,7 @@ def test_terminate_and_free_in_every_legal_state(version):
     s.initialize()
     s.close()  # step mode
     s = identifier(version)
-    s.set(**{**PAPER_SETTINGS, "order": 3})
+    s.set(**{**PAPER_SETTINGS, "order": 41})
     with pytest.raises(FMICallException):
         s.initialize()
     s.close()  # after a refused initialization
@@ -255,7 +265,7 @@ def test_logging_only_for_enabled_categories_and_percent_safe(version):
     (s.fmu.setDebugLogging)(True, ["logStatusError"])
     s.set(**PAPER_SETTINGS)
     s.initialize()
-    s.set(u1=1.0, y1=math.nan, y2=0.0)
+    s.set_inputs(1.0, [math.nan, 0.0])
     s.step(0.0, 0.01)
     assert s.get("rejected")[0] == 1
     assert not any(cat == "logStatusWarning" for _, cat, _ in log.messages)  # not enabled
@@ -298,3 +308,288 @@ def test_sources_build_without_prefixes(tmp_path, version, model):
     out = subprocess.run(["nm", "-D", "--defined-only", str(so)], capture_output=True, text=True).stdout
     exported = {line.split()[-1] for line in out.splitlines() if line.split()[-1].startswith("fmi")}
     assert exported == fmi_functions(version)
+
+
+# ---- issue 17 class 4: every output is current or visibly not (docs/fmu.md, "Stale outputs") ----
+
+def outputs_are_flagged(s, t):
+    """The invariants an importer can rely on after every step."""
+    status, valid, when, y_hat, y_error = s.get("status", "prediction_valid", "identification_time", "y_hat1", "y_error1")
+    assert bool(valid) == math.isfinite(y_hat), (t, valid, y_hat)
+    if not valid:
+        assert math.isnan(y_error)
+    if status == 0:  # collecting: no model, nothing published
+        assert math.isnan(when) and all(math.isnan(v) for v in s.get(*mode_outputs()))
+    else:
+        assert math.isnan(when) or when <= t + 1e-12
+    return status, valid, when
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_outputs_before_the_first_identification_are_nan(version):
+    """On main y_error was 0 and the mode outputs 0 before any model existed."""
+    _, u, y = paper_data(120)
+    s = identifier(version)
+    s.set(**PAPER_SETTINGS)
+    s.initialize()
+    for k in range(59):  # the first identification comes once 60 regressor rows are in
+        s.set_inputs(u[k], y[k])
+        s.step(k * 0.01, 0.01)
+        status, valid, when = outputs_are_flagged(s, k * 0.01)
+        assert status == 0 and not valid and math.isnan(when)
+        assert math.isnan(s.get("y_error2")[0]) and math.isnan(s.get("singular_value1")[0])
+    s.close()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_prediction_after_a_nan_sample_is_nan_until_the_window_refills(version):
+    """After a NaN sample the regressor window restarts: for p samples there is no prediction. On
+    main the FMU kept publishing the last y_hat/y_error, so a 5-unit sensor fault in that window
+    read as y_error1 = -5.6e-16. Now y_hat/y_error are NaN with prediction_valid false, and once
+    the window is full again the fault shows in y_error1."""
+    _, u, y = paper_data(600)
+    s = identifier(version)
+    s.set(**PAPER_SETTINGS)
+    s.initialize()
+    p = PAPER_SETTINGS["observer_order"]
+    for k in range(600):
+        yk = y[k].copy()
+        if k == 500:
+            yk[0] = math.nan
+        elif k > 500:
+            yk[0] += 5.0  # the sensor comes back with an offset
+        s.set_inputs(u[k], yk)
+        s.step(k * 0.01, 0.01)
+        status, valid, _ = outputs_are_flagged(s, k * 0.01)
+        if 300 <= k < 500:
+            assert status == 1 and valid
+        elif k == 500:  # predicted from the past, but the measurement is NaN
+            assert valid and math.isnan(s.get("y_error1")[0])
+        elif 500 < k <= 500 + p:
+            assert not valid and math.isnan(s.get("y_error1")[0]), k
+        elif 500 + p + 1 < k < 600:  # before the next identification re-fits the model to the offset data
+            assert valid and s.get("y_error1")[0] > 1.0, (k, s.get("y_error1"))
+    s.close()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_failed_identification_is_visible(version):
+    """No excitation: the identification fails; status says so and nothing is published."""
+    s = identifier(version)
+    s.set(**PAPER_SETTINGS)
+    s.initialize()
+    for k in range(200):
+        s.set_inputs(0.0, [0.0, 0.0])
+        s.step(k * 0.01, 0.01)
+        outputs_are_flagged(s, k * 0.01)
+    status, last_error, when, identifications = s.get("status", "last_error", "identification_time", "identifications")
+    assert status == 2 and last_error < 0 and math.isnan(when) and identifications == 0
+    assert all(math.isnan(v) for v in s.get(*mode_outputs()))
+    s.close()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_failure_after_success_keeps_the_model_with_its_time(version):
+    """Identified, then the forgetting factor forgets everything (zero data): the failure is
+    reported (status failed, last_error) while the mode outputs keep the last successful
+    identification and identification_time says when that was."""
+    _, u, y = paper_data(400)
+    s = identifier(version)
+    s.set(**{**PAPER_SETTINGS, "forgetting_factor": 0.5, "observer_order": 4, "hankel_rows": 10, "hankel_cols": 10})
+    s.initialize()
+    last_good = None
+    for k in range(4000):
+        uk, yk = (u[k], y[k]) if k < 400 else (0.0, [0.0, 0.0])
+        s.set_inputs(uk, yk)
+        s.step(k * 0.01, 0.01)
+        status, _, when = outputs_are_flagged(s, k * 0.01)
+        if status == 1:
+            last_good = (when, s.get(*mode_outputs()))
+        elif status == 2 and last_good is not None:
+            assert s.get("last_error")[0] < 0 and when == last_good[0] < k * 0.01
+            assert s.get(*mode_outputs()) == last_good[1]
+            break
+    else:
+        pytest.fail("no identification failed after a success")
+    s.close()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_model_description_is_honest(version):
+    """Variable steps are not claimed (the identifier samples once per step of dt); every ranged
+    parameter has min and max; booleans are Boolean; enumerations are FMI 3 enumerations and, in
+    FMI 2, integers whose description lists the values; parameter names are okid_config's."""
+    from fmpy import read_model_description
+    md = read_model_description(fmu(version))
+    assert md.coSimulation.canHandleVariableCommunicationStepSize is False
+    v = {x.name: x for x in md.modelVariables}
+    for name in ("observer_order", "order", "hankel_rows", "hankel_cols", "block_rows", "decimation",
+                 "instrument_lags", "forgetting_factor", "rank_tolerance"):
+        assert v[name].min is not None and v[name].max is not None, name
+    assert v["dt"].min is not None
+    assert v["zero_initial_state"].type == "Boolean"
+    enum_type = "Enumeration" if version == 3 else "Integer"
+    for name, items in [("sensing", "displacement velocity acceleration"), ("realization", "system combined"),
+                        ("scaling", "none auto"), ("estimator", "least_squares instrumental")]:
+        assert v[name].type == enum_type
+        if version == 3:
+            assert [i.name for i in v[name].declaredType.items] == items.split()
+        else:
+            assert all(item.split("_")[0] in v[name].description for item in items.split())
+    # the parameters are okid_config's fields (their defaults: tests/python/test_vocabulary.py)
+    assert {"dt", "observer_order", "order", "hankel_rows", "hankel_cols", "block_rows", "forgetting_factor",
+            "rank_tolerance", "sensing", "realization", "zero_initial_state", "decimation", "scaling", "estimator",
+            "instrument_lags"} <= {x.name for x in md.modelVariables if x.causality == "parameter"}
+    assert v["order"].start in ("0", 0) and v["zero_initial_state"].start in ("false", False, 0)
+
+
+# ---- issue 16: the configurable FMI 3 identifier, through fmpy's low-level calls ----
+
+CHAIN = dict(masses=(2.0, 3.0, 2.5), dampers=(2.0, 4.0, 3.0, 2.0), springs=(20.0, 40.0, 30.0, 25.0))
+
+
+def chain_case(samples=1001, seed=7):
+    from okid_tools.reference import chain_reference
+    ref = chain_reference(0.01, CHAIN["masses"], CHAIN["dampers"], CHAIN["springs"], forces_on=(0, 2))
+    u = np.random.default_rng(seed).standard_normal((samples, 2))
+    y, _ = ref.simulate(u)
+    return ref, u, y
+
+
+def assert_modes_match(s, ref, tolerance=1e-9):
+    m = ref.C.shape[0]
+    got = modes_from(dict(zip(mode_outputs(len(ref.modes), m), s.get(*mode_outputs(len(ref.modes), m)))),
+                     len(ref.modes), m)
+    from okid_tools.reference import mac
+    for g, want in zip(got, ref.modes):
+        assert abs(g["frequency_hz"] - want.frequency_hz) / want.frequency_hz < tolerance
+        assert abs(g["damping_ratio"] - want.damping_ratio) / want.damping_ratio < tolerance
+        assert abs(g["eigenvalue"] - want.eigenvalue) < tolerance
+        assert mac(g["shape"], want.shape) > 1 - tolerance
+
+
+def test_fmi3_structural_parameters_two_inputs_three_outputs():
+    """Configuration mode: num_inputs 2, num_outputs 3, max_modes 3; the 3-DOF chain with forces on
+    masses 1 and 3 identified to 1e-9 against the numpy reference."""
+    ref, u, y = chain_case()
+    s = identifier(3)
+    s.configure(num_inputs=2, num_outputs=3, max_modes=3)
+    s.set(dt=0.01, observer_order=10, order=6, hankel_rows=20, hankel_cols=20, identify_every=1001,
+          zero_initial_state=1)
+    s.initialize()
+    assert len(s.fmu.getFloat64([s.vr("u")], nValues=2)) == 2
+    for k in range(len(u)):
+        s.set_inputs(u[k], y[k])
+        s.step(k * 0.01, 0.01)
+    assert s.get("status", "num_modes", "identifications") == [1, 3, 1]
+    assert_modes_match(s, ref)
+    s.close()
+
+
+def test_fmi3_start_values_are_the_paper_case():
+    """An importer that ignores structural parameters gets the paper's FMU (r 1, m 2, 4 modes)."""
+    ref, u, y = paper_data()
+    s = identifier(3)
+    run(s, u, y, {**PAPER_SETTINGS, "identify_every": 1001})
+    assert_modes_match(s, ref)
+    assert math.isnan(s.get("mode3_frequency_hz")[0])  # 2 modes identified, 4 published: the rest NaN
+    s.close()
+
+
+def test_fmi3_structural_parameter_rules():
+    log = Log()
+    s = identifier(3, log)
+    assert status_of(s.fmu.setUInt64, [s.vr("num_inputs")], [2]) == 3  # outside configuration mode
+    assert "ConfigurationMode only" in log.text()
+    s.fmu.enterConfigurationMode()
+    s.fmu.setUInt64([s.vr("num_outputs")], [65])
+    assert status_of(s.fmu.exitConfigurationMode) == 3
+    assert "num_outputs = 65 refused: this build allows 1..64" in log.text()
+    s.fmu.setUInt64([s.vr("num_outputs")], [3])
+    s.fmu.exitConfigurationMode()
+    s.structural["num_outputs"] = 3
+    assert len(s.get("y_hat")[0]) == 3
+    assert status_of(s.fmu.getFloat64, [s.vr("y_hat")], nValues=2) == 3  # nValues must match the size
+    s.fmu.freeInstance()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_sources_build_with_fmpy(tmp_path, version):
+    """fmpy's source build (FMI 2: <SourceFiles> of modelDescription.xml; FMI 3: buildDescription.xml)
+    compiles sources/ into a shared object exporting the FMI functions. fmpy links no libraries:
+    the binary leaves LAPACKE/LAPACK/BLAS and libm to the loading process (docs/fmu.md)."""
+    import zipfile
+    from fmpy.build import build_platform_binary
+    with zipfile.ZipFile(fmu(version)) as z:
+        z.extractall(tmp_path)
+    shutil.rmtree(tmp_path / "binaries")
+    build_platform_binary(str(tmp_path.resolve()))
+    so = next((tmp_path / "binaries").glob("*/okid_identifier.so"))
+    out = subprocess.run(["nm", "-D", "--defined-only", str(so)], capture_output=True, text=True).stdout
+    assert {line.split()[-1] for line in out.splitlines() if line.split()[-1].startswith("fmi")} == fmi_functions(version)
+
+
+# ---- issue 16: FMI 2 FMUs for any configuration from the one prebuilt binary (okid-fmu) ----
+
+def generated_chain_fmu(tmp_path, **extra):
+    from okid_tools.fmu_generator import generate
+    out = tmp_path / "chain.fmu"
+    settings = [("num_inputs", 2), ("num_outputs", 3), ("max_modes", 3), ("observer_order", 10), ("order", 6),
+                ("zero_initial_state", 1), *extra.items()]
+    text = generate(fmu(2), out, settings)
+    return out, text
+
+
+def test_generated_fmi2_description_is_the_c_generators(tmp_path):
+    """okid-fmu's modelDescription.xml is byte for byte the C generator's for the same resources/ file."""
+    import zipfile
+    out, text = generated_chain_fmu(tmp_path, dt=0.005, identify_every=500)
+    with zipfile.ZipFile(out) as z:
+        (tmp_path / "chain.cfg").write_bytes(z.read("resources/okid_identifier.cfg"))
+    sources = re.findall(r'<File name="([^"]+)"/>', text)
+    c_text = subprocess.run([str(FMU_DIR / "okid_identifier_describe"), "2", str(tmp_path / "chain.cfg"), *sources],
+                            capture_output=True, text=True, check=True).stdout
+    assert text == c_text
+
+
+def test_generated_fmi2_fmu_identifies_the_chain(tmp_path):
+    """A 2-input, 3-output FMI 2 FMU written by okid-fmu: validated by fmpy and fmutool, then the
+    3-DOF chain identified to 1e-9 through fmpy's FMI 2 calls (the defaults come from resources/)."""
+    from fmpy.validation import validate_fmu
+    from okid_tools.verify_fmu import fmutool_problems
+    out, _ = generated_chain_fmu(tmp_path, identify_every=1001)
+    assert validate_fmu(str(out)) == [] and fmutool_problems(out) == []
+    ref, u, y = chain_case()
+    s = Slave(str(out), "chain").instantiate()
+    s.set(dt=0.01, hankel_rows=20, hankel_cols=20)  # observer_order, order, zero_initial_state: the FMU's defaults
+    s.initialize()
+    for k in range(len(u)):
+        s.set_inputs(u[k], y[k])
+        s.step(k * 0.01, 0.01)
+    assert s.get("status", "num_modes", "identifications", "num_inputs", "num_outputs") == [1, 3, 1, 2, 3]
+    assert_modes_match(s, ref)
+    s.close()
+
+
+def test_generated_fmi2_configuration_is_bound_and_checked(tmp_path):
+    """The GUID binds the resources/ file (an edited file is refused); sizes beyond the binary's
+    limits are refused by the generator and by the binary, with the numbers."""
+    import zipfile
+    from okid_tools.fmu_generator import generate
+    with pytest.raises(SystemExit, match="num_outputs = 65 is outside this binary's range 1..64"):
+        generate(fmu(2), tmp_path / "big.fmu", [("num_inputs", 1), ("num_outputs", 65), ("max_modes", 1)])
+    out, _ = generated_chain_fmu(tmp_path)
+    for edit, message in [(lambda c: c.replace("max_modes 3", "max_modes 2"), "is not this FMU's"),
+                          (lambda c: c.replace("num_outputs 3", "num_outputs 65"), "num_outputs = 65 refused: this build allows 1..64"),
+                          (lambda c: c + "observer_order ten\n", "is not '<structural parameter or parameter> <number>'")]:
+        edited = tmp_path / "edited.fmu"
+        with zipfile.ZipFile(out) as zin, zipfile.ZipFile(edited, "w") as zout:
+            for item in zin.infolist():
+                data = zin.read(item)
+                if item.filename == "resources/okid_identifier.cfg":
+                    data = edit(data.decode()).encode()
+                zout.writestr(item, data)
+        log = Log()
+        with pytest.raises(Exception):
+            Slave(str(edited), "edited", logger=log).instantiate(logging_on=True)
+        assert message in log.text()

@@ -159,8 +159,9 @@ def fmu_starts(description):
         start = v.get("start")
         if start is None:
             start = next((child.get("start") for child in v if child.get("start") is not None), None)
-        if v.get("name") and v.get("valueReference") is not None and start is not None:
-            starts[v.get("name")] = float(start)
+        # scalars only (an FMI 3 array's start lists its elements); Booleans as 0/1
+        if v.get("name") and v.get("valueReference") is not None and start is not None and " " not in start:
+            starts[v.get("name")] = {"true": 1.0, "false": 0.0}[start] if start in ("true", "false") else float(start)
     return starts
 
 
