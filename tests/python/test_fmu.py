@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 from fmpy.fmi1 import FMICallException
 
-from okid_tools.fmu_runs import PAPER_SETTINGS, Slave, modes_from, mode_outputs
-from okid_tools.reference import paper_reference
-from okid_tools.verify_fmu import main as verify_main
+from okid.tools.fmu_runs import PAPER_SETTINGS, Slave, modes_from, mode_outputs
+from okid.tools.reference import paper_reference
+from okid.tools.verify_fmu import main as verify_main
 
 FMU_DIR = Path(os.environ.get("OKID_FMU_DIR", "build/fmu"))
 VERSIONS = [2, 3]
