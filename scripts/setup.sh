@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-APT_PACKAGES=(build-essential cmake ninja-build pkg-config liblapacke-dev liblapack-dev libblas-dev libeigen3-dev
+APT_PACKAGES=(build-essential cmake ninja-build pkg-config liblapacke-dev liblapack-dev libblas-dev libopenblas-dev libeigen3-dev
               libcmocka-dev python3-venv python3-pip valgrind clang libclang-rt-dev llvm
               gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm)
 

@@ -3,9 +3,10 @@ OKID/ERA, mdof (OKID + ERA, SRIM) and python-control (markov + eigensys_realizat
 data made by okid's simulator, plus okid's C speed benchmark with the reference BLAS and with
 OpenBLAS, and the Python package's overhead and speed-up on the paper and the 5 % case.
 
-    okid-bench [--quick] [--build build] [--out docs]
+    okid-bench [--quick] [--build build] [--out docs] [--python-only]
 
-Writes docs/benchmarks.md, docs/img/benchmark.png and bench/results.json.
+Writes docs/benchmarks.md, docs/img/benchmark.png and bench/results.json (--python-only: only the
+Python figures, into the existing files).
 """
 import argparse
 import json
@@ -280,8 +281,9 @@ SPEED_CASES = {"paper": (CASES[0], dict(p=20, h=20)), "5pct": (CASES[3], dict(p=
 
 def python_speed(cli, quick):
     """Per case, on the same data in one run: the fastest of interleaved calls of the numpy OKID/ERA
-    and okid.identify (in process), `okid identify --json` (the whole process, CSV parsing
-    included), and okid's C API time inside that process (init to modes, fastest of 20)."""
+    and okid.identify (in process) and `okid identify --json` (the whole process, CSV parsing
+    included); okid.identify also back to back, as okid's C API time inside the CLI is measured
+    (init to modes, fastest of 20)."""
     repeats = 5 if quick else 30
     out = {}
     for key, ((case, dt, samples, noise), params) in SPEED_CASES.items():
@@ -297,6 +299,11 @@ def python_speed(cli, quick):
                 t0 = time.perf_counter()
                 found[name] = call()
                 best[name] = min(best[name], time.perf_counter() - t0)
+        # The C API figure is the fastest of 20 back to back (warm caches): so is the Python one here.
+        for _ in range(20):
+            t0 = time.perf_counter()
+            methods["python"]()
+            best["python"] = min(best["python"], time.perf_counter() - t0)
         c_api = okid_cli(cli, path, dt, params, timing=True)[2]
         os.unlink(path)
         out[key] = dict(case=case, params=params, numpy_seconds=best["numpy"], python_seconds=best["python"],
@@ -489,6 +496,55 @@ def behind(rows, cbench):
     return out
 
 
+def python_section(speed):
+    """The markdown section of python_speed()'s figures, with the arithmetic of a missed target."""
+    lines = ["## okid from Python", "",
+             "The same data and settings, one run, the fastest of interleaved calls: numpy OKID/ERA and "
+             "`okid.identify` on arrays in memory, `okid identify --json` as a whole process (start, CSV "
+             "parsing, JSON); okid's C API time inside that process (init to modes, fastest of 20 back to "
+             "back) and `okid.identify` also back to back for python_overhead.", "",
+             "| case | settings | numpy OKID/ERA | okid.identify (Python) | okid C API | `okid identify` process "
+             "| python_overhead (goal <= 1.2) | speedup_vs_numpy_inprocess (goal >= 5) | max error numpy / okid |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for s in speed.values():
+        lines.append(f"| {s['case']} | p={s['params']['p']}, h={s['params']['h']} | {1e3 * s['numpy_seconds']:.2f} ms |"
+                     f" {1e3 * s['python_seconds']:.2f} ms | {1e3 * s['c_api_seconds']:.2f} ms |"
+                     f" {1e3 * s['cli_process_seconds']:.2f} ms | {s['python_overhead']:.2f} |"
+                     f" {s['speedup_vs_numpy_inprocess']:.2f} | {s['numpy_error']:.1e} / {s['okid_error']:.1e} |")
+    five = speed["5pct"]
+    if five["speedup_vs_numpy_inprocess"] < 5:
+        rest = five["cli_process_seconds"] - five["c_api_seconds"]
+        lines += ["", f"The whole `okid identify` process on the 5 % case is {five['speedup_vs_numpy_inprocess']:.2f}x "
+                  f"the numpy OKID/ERA, short of 5x: 5x needs {1e3 * five['numpy_seconds'] / 5:.2f} ms for the "
+                  f"process, and the identification alone (C API) takes {1e3 * five['c_api_seconds']:.2f} ms of it; "
+                  f"the other {1e3 * rest:.2f} ms are the process start, reading the CSV and writing the JSON. "
+                  f"In process, from Python, okid is {five['python_speedup_vs_numpy']:.1f}x the numpy OKID/ERA "
+                  "(docs/python.md, \"Performance\")."]
+    return lines
+
+
+def update_python_figures(cli, quick, results_path, markdown_path):
+    """--python-only: measure python_speed() again and replace its figures in results.json and its
+    section of benchmarks.md, leaving the rest of an earlier full run as it was."""
+    speed = python_speed(cli, quick)
+    results = json.loads(Path(results_path).read_text()) if Path(results_path).exists() else {}
+    results.update(python_overhead={k: v["python_overhead"] for k, v in speed.items()},
+                   speedup_vs_numpy_inprocess=speed["5pct"]["speedup_vs_numpy_inprocess"], python=speed)
+    Path(results_path).write_text(json.dumps(results, indent=2) + "\n")
+    text = Path(markdown_path).read_text()
+    section = "\n".join(python_section(speed)) + "\n\n"
+    if "## okid from Python" in text:
+        start = text.index("## okid from Python")
+        end = text.index("\n## ", start + 1) + 1
+        text = text[:start] + section + text[end:]
+    else:
+        end = text.index("## Where okid is behind")
+        text = text[:end] + section + text[end:]
+    Path(markdown_path).write_text(text)
+    for s in speed.values():
+        print(json.dumps(s))
+
+
 def markdown(rows, cbench, results, quick):
     lines = ["# Benchmarks", "", f"Generated by `.venv/bin/okid-bench{' --quick' if quick else ''}` "
              f"on {platform.node() or 'this machine'}: {platform.processor() or platform.machine()}, "
@@ -509,28 +565,7 @@ def markdown(rows, cbench, results, quick):
               "![benchmark](img/benchmark.png)", "", "## Targets of the benchmark issue", "",
               "| target | measured | goal | verdict |", "|---|---|---|---|"]
     lines += [f"| {what} | {measured} | {goal} | {verdict} |" for what, measured, goal, verdict in targets(rows, results)]
-    speed = results["python"]
-    lines += ["", "## okid from Python", "",
-              "The same data and settings, one run, the fastest of interleaved calls: numpy OKID/ERA and "
-              "`okid.identify` on arrays in memory, `okid identify --json` as a whole process (start, CSV "
-              "parsing, JSON), and okid's C API time inside that process.", "",
-              "| case | settings | numpy OKID/ERA | okid.identify (Python) | okid C API | `okid identify` process "
-              "| python_overhead (goal <= 1.2) | speedup_vs_numpy_inprocess (goal >= 5) | max error numpy / okid |",
-              "|---|---|---|---|---|---|---|---|---|"]
-    for s in speed.values():
-        lines.append(f"| {s['case']} | p={s['params']['p']}, h={s['params']['h']} | {1e3 * s['numpy_seconds']:.2f} ms |"
-                     f" {1e3 * s['python_seconds']:.2f} ms | {1e3 * s['c_api_seconds']:.2f} ms |"
-                     f" {1e3 * s['cli_process_seconds']:.2f} ms | {s['python_overhead']:.2f} |"
-                     f" {s['speedup_vs_numpy_inprocess']:.2f} | {s['numpy_error']:.1e} / {s['okid_error']:.1e} |")
-    five = speed["5pct"]
-    if five["speedup_vs_numpy_inprocess"] < 5:
-        rest = five["cli_process_seconds"] - five["c_api_seconds"]
-        lines += ["", f"The whole `okid identify` process on the 5 % case is {five['speedup_vs_numpy_inprocess']:.2f}x "
-                  f"the numpy OKID/ERA, short of 5x: 5x needs {1e3 * five['numpy_seconds'] / 5:.2f} ms for the "
-                  f"process, and the identification alone (C API) takes {1e3 * five['c_api_seconds']:.2f} ms of it; "
-                  f"the other {1e3 * rest:.2f} ms are the process start, reading the CSV and writing the JSON. "
-                  f"In process, from Python, okid is {five['python_speedup_vs_numpy']:.1f}x the numpy OKID/ERA "
-                  "(docs/python.md, \"Performance\")."]
+    lines += [""] + python_section(results["python"])
     notes = behind(rows, cbench)
     lines += ["", "## Where okid is behind, and why", ""] + (notes or ["- Nowhere in this run."])
     lines += ["", "## Speed of the C core", ""]
@@ -546,8 +581,13 @@ def main(argv=None):
     parser.add_argument("--build", default="build", help="the CMake build folder (default build)")
     parser.add_argument("--out", default="docs", help="where benchmarks.md and img/benchmark.png go")
     parser.add_argument("--results", default="bench/results.json")
+    parser.add_argument("--python-only", action="store_true",
+                        help="only the Python package's figures, into the existing results and benchmarks.md")
     args = parser.parse_args(argv)
     cli = str(Path(args.build) / "host_tools/cli/okid")
+    if args.python_only:
+        update_python_figures(cli, args.quick, args.results, Path(args.out) / "benchmarks.md")
+        return 0
     bench = str(Path(args.build) / "bench/okid_bench")
     t0 = time.perf_counter()
     cbench = c_benchmark(bench, args.quick)
