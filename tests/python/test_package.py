@@ -76,6 +76,18 @@ def test_model_side_matches_the_reference():
     np.testing.assert_allclose(y_sim, y, rtol=0, atol=1e-11 * np.abs(y).max())
 
 
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="ldd")
+def test_the_extension_needs_no_system_lapack():
+    """The extension's LAPACK is scipy-openblas32's, loaded by `import okid`: ldd lists only libc, libm
+    and the loader, and the LAPACK symbols it uses are the prefixed scipy_LAPACKE_* ones."""
+    extension = okid._core.__file__
+    libraries = subprocess.run(["ldd", extension], capture_output=True, text=True, check=True).stdout
+    assert not re.search(r"lapack|blas|gfortran|libstdc\+\+", libraries), libraries
+    undefined = subprocess.run(["nm", "-D", "--undefined-only", extension], capture_output=True, text=True).stdout
+    lapack = re.findall(r"\b\w*LAPACKE_\w+", undefined)
+    assert lapack and all(name.startswith("scipy_LAPACKE_d") for name in lapack), lapack
+
+
 # ---- the vocabulary: keywords from the C header, warning bits from status.h ----
 
 def header_with(pattern):
@@ -324,6 +336,36 @@ def test_nan_rows_are_rejected_and_nothing_learned_is_lost():
         assert ref_idf.identify().to_dict() == after.to_dict()
     assert after.rows > before.rows
     assert np.all(np.isfinite(after.A))
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.integers(0, 599), min_size=1, max_size=6, unique=True), st.sampled_from([np.nan, np.inf, -np.inf]),
+       st.integers(0, 2))
+def test_nan_rows_anywhere_are_rejected_as_sample_by_sample(bad_rows, bad_value, column):
+    """A block with non-finite rows anywhere: those rows are rejected, the others accepted, and the
+    identifier ends as if the block had been pushed one sample at a time (okid_push_block's contract)."""
+    _, u, y = paper_data(samples=600, noise=0.01, seed=9)
+    u, y = u.copy(), y.copy()
+    (u if column == 0 else y)[bad_rows, max(column - 1, 0)] = bad_value
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", okid.NonFiniteSampleWarning)
+        with okid.Identifier(1, 2, 0.01, observer_order=4, order=4, block_rows=8) as block:
+            assert block.push(u, y) == 600 - len(bad_rows)
+            p = block.progress
+            assert (p.samples, p.rejected) == (600 - len(bad_rows), len(bad_rows))
+            try:
+                expected = block.identify().to_dict()
+            except okid.NotEnoughDataError:
+                expected = None
+        with okid.Identifier(1, 2, 0.01, observer_order=4, order=4, block_rows=8) as single:
+            for k in range(600):
+                single.push(u[k], y[k])
+            try:
+                got = single.identify().to_dict()
+            except okid.NotEnoughDataError:
+                got = None
+    assert got == expected
+    assert expected is None or all(np.isfinite(v) for row in expected["A"] for v in row)
 
 
 def test_the_callers_arrays_are_never_written():
