@@ -11,8 +11,8 @@ import numpy as np
 
 from . import _config, _core
 from ._config import DEFAULTS
-from ._errors import (E_NONFINITE_SAMPLE, E_NOT_ENOUGH_DATA, OK, BadSizeError, NonFiniteSampleWarning, check,
-                      error_for)
+from ._errors import (E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_ENOUGH_DATA, OK, BadSizeError, NonFiniteSampleWarning,
+                      check, error_for)
 from ._result import Result
 
 
@@ -32,14 +32,14 @@ def _block(values: Any, channels: int, name: str) -> np.ndarray:
         a = a.reshape(-1, 1)
     if a.ndim != 2 or a.shape[1] != channels:
         raise BadSizeError(f"{name} has shape {np.shape(values)}: expected (samples, {channels}) with time along "
-                           f"axis 0{' or (samples,)' if channels == 1 else ''}", -2)
+                           f"axis 0{' or (samples,)' if channels == 1 else ''}", E_BAD_SIZE)
     return np.ascontiguousarray(a)
 
 
 def _sample(values: Any, channels: int, name: str) -> np.ndarray:
     a = np.ascontiguousarray(np.asarray(values, dtype=np.float64).reshape(-1))
     if a.shape[0] != channels:
-        raise BadSizeError(f"{name} has {a.shape[0]} values: one sample has {channels}", -2)
+        raise BadSizeError(f"{name} has {a.shape[0]} values: one sample has {channels}", E_BAD_SIZE)
     return a
 
 
@@ -86,7 +86,7 @@ class Identifier:
             ub = _block(u, self.num_inputs, "u")
             yb = _block(y, self.num_outputs, "y")
             if ub.shape[0] != yb.shape[0]:
-                raise BadSizeError(f"u has {ub.shape[0]} samples and y {yb.shape[0]}: push equal counts", -2)
+                raise BadSizeError(f"u has {ub.shape[0]} samples and y {yb.shape[0]}: push equal counts", E_BAD_SIZE)
             status, accepted = core.push_block(ub, yb)
             count = ub.shape[0]
         else:
@@ -134,7 +134,8 @@ class Identifier:
         return Progress(samples, rejected, rows, needed)
 
     def close(self) -> None:
-        """Free the workspace (results already returned stay valid)."""
+        """Let go of the workspace: it is freed once no Result of this identifier refers to it
+        (results keep it for stabilization()). Any later call raises ValueError."""
         self._core = None
 
     def __enter__(self) -> "Identifier":
@@ -197,11 +198,11 @@ def identify(u: Any, y: Any, dt: float, *,
     r = 1 if ua.ndim == 1 else (ua.shape[1] if ua.ndim == 2 else -1)
     m = 1 if ya.ndim == 1 else (ya.shape[1] if ya.ndim == 2 else -1)
     if r < 0 or m < 0:
-        raise BadSizeError(f"u has shape {ua.shape} and y {ya.shape}: expected (samples, channels) or (samples,)", -2)
+        raise BadSizeError(f"u has shape {ua.shape} and y {ya.shape}: expected (samples, channels) or (samples,)", E_BAD_SIZE)
     identifier = Identifier(r, m, dt, **options)
     ub, yb = _block(ua, r, "u"), _block(ya, m, "y")
     if ub.shape[0] != yb.shape[0]:
-        raise BadSizeError(f"u has {ub.shape[0]} samples and y {yb.shape[0]}: time along axis 0 must match", -2)
+        raise BadSizeError(f"u has {ub.shape[0]} samples and y {yb.shape[0]}: time along axis 0 must match", E_BAD_SIZE)
     status, accepted = identifier._core.push_block(ub, yb)
     if status == E_NONFINITE_SAMPLE:
         warnings.warn(f"{ub.shape[0] - accepted} of {ub.shape[0]} samples held NaN or Inf and were rejected",

@@ -96,7 +96,9 @@ _FIELDS = ("order", "A", "B", "C", "D", "G", "singular_values", "markov", "obser
 @dataclass(frozen=True, eq=False)
 class Result:
     """An identified model: state space, Markov parameters, modes and diagnostics. Immutable; every
-    array is a read-only copy (time-independent of later pushes or identifications)."""
+    array is a read-only copy that later pushes and identifications leave as it is. A Result keeps
+    the workspace of the identifier that made it (okid_workspace_size() bytes) for stabilization():
+    to collect many records, keep the numbers you need rather than the Results."""
     order: int                          #: n, the realized order (states)
     A: np.ndarray                       #: (n, n) discrete state matrix
     B: np.ndarray                       #: (n, r)

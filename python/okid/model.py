@@ -8,7 +8,7 @@ from typing import Optional, Tuple
 import numpy as np
 
 from . import _core
-from ._errors import BadSizeError, check
+from ._errors import E_BAD_SIZE, BadSizeError, check
 
 __all__ = ["chain_model", "state_space", "discretize_zoh", "simulate", "paper_system"]
 
@@ -16,7 +16,7 @@ __all__ = ["chain_model", "state_space", "discretize_zoh", "simulate", "paper_sy
 def _f(a, name: str, shape=None) -> np.ndarray:
     a = np.asfortranarray(np.atleast_2d(np.asarray(a, dtype=np.float64)))
     if shape is not None and a.shape != shape:
-        raise BadSizeError(f"{name} has shape {a.shape}, expected {shape}", -2)
+        raise BadSizeError(f"{name} has shape {a.shape}, expected {shape}", E_BAD_SIZE)
     return a
 
 
@@ -30,7 +30,7 @@ def chain_model(masses, dampers, springs) -> Tuple[np.ndarray, np.ndarray, np.nd
     springs = np.ascontiguousarray(springs, dtype=np.float64).reshape(-1)
     if dampers.size != masses.size + 1 or springs.size != masses.size + 1:
         raise BadSizeError(f"{masses.size} masses need {masses.size + 1} dampers and springs "
-                           f"(got {dampers.size} and {springs.size})", -2)
+                           f"(got {dampers.size} and {springs.size})", E_BAD_SIZE)
     status, mrk = _core.chain_model(masses, dampers, springs)
     check(status, f"chain_model (1..{_core.MAX_ORDER // 2} masses > 0, dampers and springs >= 0, finite)")
     return mrk
@@ -48,13 +48,13 @@ def state_space(mass, damping, stiffness, input_matrix, *, acceleration=None, ve
             ((acceleration, "acceleration"), (velocity, "velocity"), (displacement, "displacement"))]
     given = [c for c in outs if c is not None]
     if not given:
-        raise BadSizeError("state_space needs at least one of acceleration, velocity, displacement", -2)
+        raise BadSizeError("state_space needs at least one of acceleration, velocity, displacement", E_BAD_SIZE)
     m = given[0].shape[0]
     for c in given:
         if c.shape != (m, n2):
-            raise BadSizeError(f"output matrices must all be ({m}, {n2}), got {c.shape}", -2)
+            raise BadSizeError(f"output matrices must all be ({m}, {n2}), got {c.shape}", E_BAD_SIZE)
     if b2.shape[0] != n2:
-        raise BadSizeError(f"input_matrix has shape {b2.shape}, expected ({n2}, r)", -2)
+        raise BadSizeError(f"input_matrix has shape {b2.shape}, expected ({n2}, r)", E_BAD_SIZE)
     status, mats = _core.state_space(mass, damping, stiffness, b2, outs[0], outs[1], outs[2], m)
     check(status, "state_space (finite entries, M invertible)")
     return mats

@@ -7,7 +7,9 @@
 
 #include <complex>
 #include <cstddef>
-#include <cstring>
+#include <cstdio>
+#include <cstdlib>
+#include <new>
 #include <vector>
 
 extern "C" {

@@ -177,11 +177,10 @@ struct StabilizationCore {
     okid_stabilization st{};
     int max_order = 0, step = 0, m = 0;
 
+    // ',\n  "stabilization": {...}' as json_stabilization writes it (okid.Stabilization keeps the object).
     nb::str to_json() const
     {
-        // json_stabilization writes ',\n  "stabilization": {...}': keep the object only.
-        nb::str text = write_to_string([this](FILE *out) { json_stabilization(out, &st, max_order, step, m); });
-        return text;
+        return write_to_string([this](FILE *out) { json_stabilization(out, &st, max_order, step, m); });
     }
 
     nb::list orders() const
