@@ -203,6 +203,11 @@ def test_to_dict_equals_the_cli_json(options):
     _, u, y = paper_data(samples=1500, noise=0.02, seed=5)
     res = okid.identify(u, y, 0.01, **options)
     assert_same_json(res.to_dict(), cli_json(u, y, 0.01, options))
+    config = res.to_dict().get("config")  # the JSON's settings object (docs/cli.md), where the CLI writes one
+    if config is not None:
+        assert list(config) == ["num_inputs", "num_outputs", "observer_order", "order", "hankel_rows", "hankel_cols",
+                                "block_rows", "dt", *okid.OPTION_NAMES[5:]]
+        assert all(config[k] == res.config[k] for k in okid.OPTION_NAMES), (config, res.config)
 
 
 # ---- property tests ----
