@@ -41,7 +41,16 @@ class StabilityFlag(enum.IntFlag):
 
 @dataclass(frozen=True)
 class Mode:
-    """One mode; a complex-conjugate pair is reported once (Im(eigenvalue) > 0)."""
+    """One mode of the identified model; a complex-conjugate pair is reported once (Im(eigenvalue) > 0).
+
+    eigenvalue: discrete-time eigenvalue of A (complex); pole: continuous-time pole ln(eigenvalue)/dt
+    [1/s]; frequency_hz: undamped natural frequency |pole|/2 pi [Hz]; damping_ratio: -Re(pole)/|pole|
+    [-]; is_pair: a complex pair (two states); sensor_shape: C psi at the m sensors, (m,) complex,
+    unit norm, largest component real positive; shape: eq. 64 with continuous poles, (2 m,) complex,
+    displacements then velocities; emac, emac_output, emac_input: extended modal amplitude
+    coherence [0, 1]; mpc: modal phase collinearity [0, 1]; msv: mode singular value (units of the
+    Hankel singular values); cmi: consistent mode indicator EMAC x MPC [0, 1].
+    """
     eigenvalue: complex       #: discrete-time eigenvalue of A
     pole: complex             #: continuous-time pole ln(eigenvalue) / dt [1/s]
     frequency_hz: float       #: undamped natural frequency |pole| / 2 pi [Hz]

@@ -319,6 +319,16 @@ def test_samples_blocks_and_one_shot_agree_bit_for_bit():
         assert idf.identify().to_dict() == one_shot
 
 
+def test_predict_is_the_next_sample_on_noise_free_data():
+    _, u, y = paper_data(samples=1001)
+    with okid.Identifier(1, 2, 0.01, observer_order=20, order=4, zero_initial_state=1) as idf:
+        idf.push(u[:900], y[:900])
+        idf.identify()
+        for k in range(900, 1001):
+            np.testing.assert_allclose(idf.predict(u[k]), y[k], rtol=0, atol=1e-9 * np.abs(y).max())
+            idf.push(u[k], y[k])
+
+
 def test_nan_rows_are_rejected_and_nothing_learned_is_lost():
     _, u, y = paper_data(samples=900, noise=0.01)
     y_bad = y.copy()
