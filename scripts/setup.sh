@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs what is missing, and only that: Debian packages (apt, as root or through sudo) and the
-# Python packages of host_tools/requirements.txt and the host_tools package itself in .venv. Safe to run again.
+# Python packages of host_tools/requirements.txt and the okid package (pip install .) in .venv. Safe to run again.
 #   bash scripts/setup.sh          everything scripts/test.sh needs
 #   bash scripts/setup.sh --demo   only what scripts/demo.sh needs: a C compiler, CMake, Ninja, LAPACKE
 set -euo pipefail
@@ -15,8 +15,8 @@ esac
 
 # The library and examples/paper_2dof (the demo preset): compiler, build tools, LAPACKE.
 DEMO_PACKAGES=(build-essential cmake ninja-build pkg-config liblapacke-dev liblapack-dev libblas-dev)
-# The rest of the test suite: Eigen, cmocka, Python, memory checkers, fuzzing, the firmware targets.
-TEST_PACKAGES=(libeigen3-dev libcmocka-dev python3-venv python3-pip valgrind clang libclang-rt-dev llvm
+# The rest of the test suite: OpenBLAS (the CLI links it statically), Eigen, cmocka, Python, memory checkers, fuzzing, the firmware targets.
+TEST_PACKAGES=(libopenblas-dev libeigen3-dev libcmocka-dev python3-venv python3-pip valgrind clang libclang-rt-dev llvm
                gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
                # the FMUs' other platforms (fmu/platforms) and the importers that run them
                gcc-mingw-w64-x86-64 g++-mingw-w64-x86-64 wine64 qemu-user lld
@@ -45,11 +45,20 @@ if [[ ! -x .venv/bin/python ]]; then
     python3 -m venv .venv
 fi
 stamp=.venv/.requirements.sha256
-want=$(cat host_tools/requirements.txt host_tools/pyproject.toml | sha256sum | cut -d' ' -f1)
+want=$(cat host_tools/requirements.txt | sha256sum | cut -d' ' -f1)
 if [[ ! -f $stamp || $(cat "$stamp") != "$want" ]]; then
     echo "setup: installing Python packages into .venv"
     .venv/bin/python -m pip install -q --upgrade pip
     .venv/bin/python -m pip install -q -r host_tools/requirements.txt
-    .venv/bin/python -m pip install -q -e host_tools   # okid_tools: the FMU verification
     echo "$want" > "$stamp"
+fi
+# The okid package (pyproject.toml: the C core, its binding, okid.tools and the console scripts),
+# rebuilt when a file it is built from changes.
+package_stamp=.venv/.okid-package.sha256
+want=$(find pyproject.toml CMakeLists.txt cmake lib python host_tools/cli -type f -not -name '*.pyc' -print0 \
+       | sort -z | xargs -0 sha256sum | sha256sum | cut -d' ' -f1)
+if [[ ! -f $package_stamp || $(cat "$package_stamp") != "$want" ]]; then
+    echo "setup: building and installing the okid Python package into .venv"
+    .venv/bin/python -m pip install -q .
+    echo "$want" > "$package_stamp"
 fi

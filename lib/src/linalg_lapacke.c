@@ -13,10 +13,17 @@
 
 _Static_assert(sizeof(lapack_int) == sizeof(int), "okid passes int arrays as lapack_int (LP64 LAPACK)");
 
+/* OKID_LAPACKE_PREFIX: the symbol prefix of a renamed LAPACKE (scipy_ for the Python package's
+   scipy-openblas32, whose lapacke.h declares scipy_LAPACKE_*); empty for the system's. */
+#ifndef OKID_LAPACKE_PREFIX
+#define OKID_LAPACKE_PREFIX
+#endif
+#define LA_NAME(prefix, type, name) prefix##LAPACKE_##type##name##_work
+#define LA_EXPAND(prefix, type, name) LA_NAME(prefix, type, name)
 #if OKID_REAL_IS_FLOAT
-#define LA(name) LAPACKE_s##name##_work
+#define LA(name) LA_EXPAND(OKID_LAPACKE_PREFIX, s, name)
 #else
-#define LA(name) LAPACKE_d##name##_work
+#define LA(name) LA_EXPAND(OKID_LAPACKE_PREFIX, d, name)
 #endif
 
 static okid_status from_info(lapack_int info)

@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from fmpy.fmi1 import FMICallException
 
-from okid_tools.fmu_runs import PAPER_SETTINGS, Slave, modes_from, mode_outputs
-from okid_tools.reference import paper_reference
-from okid_tools.verify_fmu import main as verify_main
+from okid.tools.fmu_runs import PAPER_SETTINGS, Slave, modes_from, mode_outputs
+from okid.tools.reference import paper_reference
+from okid.tools.verify_fmu import main as verify_main
 
 FMU_DIR = Path(os.environ.get("OKID_FMU_DIR", "build/fmu"))
 VERSIONS = [2, 3]
@@ -449,7 +449,7 @@ CHAIN = dict(masses=(2.0, 3.0, 2.5), dampers=(2.0, 4.0, 3.0, 2.0), springs=(20.0
 
 
 def chain_case(samples=1001, seed=7):
-    from okid_tools.reference import chain_reference
+    from okid.tools.reference import chain_reference
     ref = chain_reference(0.01, CHAIN["masses"], CHAIN["dampers"], CHAIN["springs"], forces_on=(0, 2))
     u = np.random.default_rng(seed).standard_normal((samples, 2))
     y, _ = ref.simulate(u)
@@ -460,7 +460,7 @@ def assert_modes_match(s, ref, tolerance=1e-9):
     m = ref.C.shape[0]
     got = modes_from(dict(zip(mode_outputs(len(ref.modes), m), s.get(*mode_outputs(len(ref.modes), m)))),
                      len(ref.modes), m)
-    from okid_tools.reference import mac
+    from okid.tools.reference import mac
     for g, want in zip(got, ref.modes):
         assert abs(g["frequency_hz"] - want.frequency_hz) / want.frequency_hz < tolerance
         assert abs(g["damping_ratio"] - want.damping_ratio) / want.damping_ratio < tolerance
@@ -532,7 +532,7 @@ def test_sources_build_with_fmpy(tmp_path, version):
 # ---- issue 16: FMI 2 FMUs for any configuration from the one prebuilt binary (okid-fmu) ----
 
 def generated_chain_fmu(tmp_path, **extra):
-    from okid_tools.fmu_generator import generate
+    from okid.tools.fmu_generator import generate
     out = tmp_path / "chain.fmu"
     settings = [("num_inputs", 2), ("num_outputs", 3), ("max_modes", 3), ("observer_order", 10), ("order", 6),
                 ("zero_initial_state", 1), *extra.items()]
@@ -556,7 +556,7 @@ def test_generated_fmi2_fmu_identifies_the_chain(tmp_path):
     """A 2-input, 3-output FMI 2 FMU written by okid-fmu: validated by fmpy and fmutool, then the
     3-DOF chain identified to 1e-9 through fmpy's FMI 2 calls (the defaults come from resources/)."""
     from fmpy.validation import validate_fmu
-    from okid_tools.verify_fmu import fmutool_problems
+    from okid.tools.verify_fmu import fmutool_problems
     out, _ = generated_chain_fmu(tmp_path, identify_every=1001)
     assert validate_fmu(str(out)) == [] and fmutool_problems(out) == []
     ref, u, y = chain_case()
@@ -575,7 +575,7 @@ def test_generated_fmi2_configuration_is_bound_and_checked(tmp_path):
     """The GUID binds the resources/ file (an edited file is refused); sizes beyond the binary's
     limits are refused by the generator and by the binary, with the numbers."""
     import zipfile
-    from okid_tools.fmu_generator import generate
+    from okid.tools.fmu_generator import generate
     with pytest.raises(SystemExit, match="num_outputs = 65 is outside this binary's range 1..64"):
         generate(fmu(2), tmp_path / "big.fmu", [("num_inputs", 1), ("num_outputs", 65), ("max_modes", 1)])
     out, _ = generated_chain_fmu(tmp_path)

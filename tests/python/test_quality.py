@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from okid_tools.stabilization import main as stabilization_main
-from okid_tools.stabilization import plot_stabilization, poles
+from okid.tools.stabilization import main as stabilization_main
+from okid.tools.stabilization import plot_stabilization, poles
 from test_cli import PAPER, PAPER_SETTINGS, chain_matrices, continuous_matrix, exact_eigenvalues, run
 
 NOISY = ("--observer-order", 60, "--hankel-rows", 100, "--hankel-cols", 100, "--zero-initial-state")

@@ -1,15 +1,18 @@
-"""Side-by-side benchmark: okid (CLI and C API) against a plain numpy/scipy OKID/ERA, mdof
-(OKID + ERA, SRIM) and python-control (markov + eigensys_realization), on identical data made by
-okid's simulator, plus okid's C speed benchmark with the reference BLAS and with OpenBLAS.
+"""Side-by-side benchmark: okid (CLI, C API and the Python package) against a plain numpy/scipy
+OKID/ERA, mdof (OKID + ERA, SRIM) and python-control (markov + eigensys_realization), on identical
+data made by okid's simulator, plus okid's C speed benchmark with the reference BLAS and with
+OpenBLAS, and the Python package's overhead and speed-up on the paper and the 5 % case.
 
-    okid-bench [--quick] [--build build] [--out docs]
+    okid-bench [--quick] [--build build] [--out docs] [--python-only]
 
-Writes docs/benchmarks.md, docs/img/benchmark.png and bench/results.json.
+Writes docs/benchmarks.md, docs/img/benchmark.png and bench/results.json (--python-only: only the
+Python figures, into the existing files).
 """
 import argparse
 import json
 import os
 import platform
+import resource
 import subprocess
 import sys
 import tempfile
@@ -18,6 +21,8 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+
+import okid
 
 from .reference import paper_reference
 
@@ -160,6 +165,15 @@ def okid_cli(cli, path, dt, params, timing=False, repeat=20):
     return (freq, zeta), wall, res.get("elapsed_seconds")
 
 
+def okid_python(u, y, dt, params):
+    """okid in-process through the Python package, with the CLI's settings for params."""
+    res = okid.identify(u, y, dt, observer_order=params["p"], order=4, hankel_rows=params["h"],
+                        hankel_cols=params["h"], zero_initial_state=1, decimation=params.get("k", 1),
+                        estimator="instrumental" if params.get("iv") else "least_squares")
+    pairs = [md for md in res.modes if md.is_pair]
+    return np.array([md.frequency_hz for md in pairs]), np.array([md.damping_ratio for md in pairs])
+
+
 def errors(result, ref):
     freq, zeta = result
     if len(freq) != len(ref.modes):
@@ -173,9 +187,11 @@ def call_method(name, params, cli, path, u, y, dt, in_process=False):
     """One identification: (frequencies, damping ratios) and the seconds it took (okid with in_process:
     the C API's time inside the CLI process, without the process start and the CSV parsing)."""
     t0 = time.perf_counter()
+    if name.startswith("okid") and in_process:  # the C core in this process, through the Python package
+        return okid_python(u, y, dt, params), time.perf_counter() - t0
     if name.startswith("okid"):
-        result, wall, elapsed = okid_cli(cli, path, dt, params, timing=in_process, repeat=3)
-        return result, elapsed if in_process else wall
+        result, wall, _ = okid_cli(cli, path, dt, params)
+        return result, wall
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         if name == "numpy OKID/ERA":
@@ -246,10 +262,70 @@ def compare(cli, quick):
                 api = dict(rows[-1], seconds=float(np.median(api_times)))
                 if name == "okid (CLI)":
                     rows.append(dict(api, method="okid (C API)"))
+                    python_times = []
+                    for seed in seeds:  # the same settings from Python, on arrays in memory
+                        path, u, y = simulate(cli, dt, samples, noise, seed)
+                        python_times.append(run_method(name, best, cli, path, u, y, dt, PEER_REPEATS,
+                                                       in_process=True)[1])
+                        os.unlink(path)
+                    rows.append(dict(api, method="okid (Python)", seconds=float(np.median(python_times))))
                 else:  # the options' rows give the C API time only
                     rows[-1] = api
         os.unlink(tune_path)
     return rows
+
+
+# The Python package's figures (issue 14): its overhead over the C API on the paper case and the 5 %
+# case, and `okid identify` as a whole process against the numpy OKID/ERA in process on the 5 % case.
+SPEED_CASES = {"paper": (CASES[0], dict(p=20, h=20)), "5pct": (CASES[3], dict(p=20, h=40))}
+
+
+def children_cpu():
+    """User + system CPU seconds of the finished child processes."""
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+def python_speed(cli, quick):
+    """Per case, on the same data in one run: the fastest of interleaved calls of the numpy OKID/ERA
+    and okid.identify (in process) and `okid identify --json` (the whole process, CSV parsing
+    included); okid.identify also back to back, as okid's C API time inside the CLI is measured
+    (init to modes, fastest of 20)."""
+    repeats = 5 if quick else 30
+    out = {}
+    for key, ((case, dt, samples, noise), params) in SPEED_CASES.items():
+        path, u, y = simulate(cli, dt, samples, noise, seed=11)
+        ref = paper_reference(dt)
+        methods = {"numpy": lambda: numpy_okid_era(u, y, dt, params["p"], params["h"]),
+                   "python": lambda: okid_python(u, y, dt, params),
+                   "cli_process": lambda: okid_cli(cli, path, dt, params)[0]}
+        best = {name: np.inf for name in methods}
+        cpu = dict(best)  # CPU seconds (this process's, or the child's): what a loaded machine does not inflate
+        found = {}
+        for _ in range(repeats):
+            for name, call in methods.items():
+                t0, c0, k0 = time.perf_counter(), time.process_time(), children_cpu()
+                found[name] = call()
+                best[name] = min(best[name], time.perf_counter() - t0)
+                used = children_cpu() - k0 if name == "cli_process" else time.process_time() - c0
+                cpu[name] = min(cpu[name], used)
+        # The C API figure is the fastest of 20 back to back (warm caches): so is the Python one here.
+        for _ in range(20):
+            t0 = time.perf_counter()
+            methods["python"]()
+            best["python"] = min(best["python"], time.perf_counter() - t0)
+        c_api = okid_cli(cli, path, dt, params, timing=True)[2]
+        os.unlink(path)
+        out[key] = dict(case=case, params=params, numpy_seconds=best["numpy"], python_seconds=best["python"],
+                        cli_process_seconds=best["cli_process"], c_api_seconds=c_api,
+                        python_overhead=best["python"] / c_api,
+                        speedup_vs_numpy_inprocess=best["numpy"] / best["cli_process"],
+                        python_speedup_vs_numpy=best["numpy"] / best["python"],
+                        numpy_cpu_seconds=cpu["numpy"], cli_process_cpu_seconds=cpu["cli_process"],
+                        speedup_vs_numpy_inprocess_cpu=cpu["numpy"] / cpu["cli_process"],
+                        numpy_error=max(errors(found["numpy"], ref)), okid_error=max(errors(found["python"], ref)),
+                        openblas_num_threads=os.environ.get("OPENBLAS_NUM_THREADS", "OpenBLAS's default"))
+    return out
 
 
 def c_benchmark(bench, quick):
@@ -433,6 +509,61 @@ def behind(rows, cbench):
     return out
 
 
+def python_section(speed):
+    """The markdown section of python_speed()'s figures, with the arithmetic of a missed target."""
+    lines = ["## okid from Python", "",
+             "The same data and settings, one run, the fastest of interleaved calls: numpy OKID/ERA and "
+             "`okid.identify` on arrays in memory, `okid identify --json` as a whole process (start, CSV "
+             "parsing, JSON); okid's C API time inside that process (init to modes, fastest of 20 back to "
+             "back) and `okid.identify` also back to back for python_overhead. OPENBLAS_NUM_THREADS: "
+             f"{next(iter(speed.values()))['openblas_num_threads']} (numpy's OpenBLAS and okid's alike; the "
+             "CLI runs with one thread).", "",
+             "| case | settings | numpy OKID/ERA | okid.identify (Python) | okid C API | `okid identify` process "
+             "| python_overhead (goal <= 1.2) | speedup_vs_numpy_inprocess (goal >= 5), wall / CPU "
+             "| max error numpy / okid |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for s in speed.values():
+        lines.append(f"| {s['case']} | p={s['params']['p']}, h={s['params']['h']} | {1e3 * s['numpy_seconds']:.2f} ms "
+                     f"(CPU {1e3 * s['numpy_cpu_seconds']:.2f}) | {1e3 * s['python_seconds']:.2f} ms |"
+                     f" {1e3 * s['c_api_seconds']:.2f} ms | {1e3 * s['cli_process_seconds']:.2f} ms (CPU "
+                     f"{1e3 * s['cli_process_cpu_seconds']:.2f}) | {s['python_overhead']:.2f} |"
+                     f" {s['speedup_vs_numpy_inprocess']:.2f} / {s['speedup_vs_numpy_inprocess_cpu']:.2f} |"
+                     f" {s['numpy_error']:.1e} / {s['okid_error']:.1e} |")
+    five = speed["5pct"]
+    if five["speedup_vs_numpy_inprocess"] < 5:
+        rest = five["cli_process_seconds"] - five["c_api_seconds"]
+        lines += ["", f"The whole `okid identify` process on the 5 % case is {five['speedup_vs_numpy_inprocess']:.2f}x "
+                  f"the numpy OKID/ERA ({five['speedup_vs_numpy_inprocess_cpu']:.2f}x in CPU time), short of 5x: 5x "
+                  f"leaves the process {1e3 * five['numpy_seconds'] / 5:.2f} ms, and the identification alone (C API) "
+                  f"takes {1e3 * five['c_api_seconds']:.2f} ms; the other {1e3 * rest:.2f} ms of the process are its "
+                  "start, reading the CSV and writing the JSON. "
+                  f"In process, from Python, okid is {five['python_speedup_vs_numpy']:.1f}x the numpy OKID/ERA "
+                  "(docs/python.md, \"Performance\")."]
+    return lines
+
+
+def update_python_figures(cli, quick, results_path, markdown_path):
+    """--python-only: measure python_speed() again and replace its figures in results.json and its
+    section of benchmarks.md, leaving the rest of an earlier full run as it was."""
+    speed = python_speed(cli, quick)
+    results = json.loads(Path(results_path).read_text()) if Path(results_path).exists() else {}
+    results.update(python_overhead={k: v["python_overhead"] for k, v in speed.items()},
+                   speedup_vs_numpy_inprocess=speed["5pct"]["speedup_vs_numpy_inprocess"], python=speed)
+    Path(results_path).write_text(json.dumps(results, indent=2) + "\n")
+    text = Path(markdown_path).read_text()
+    section = "\n".join(python_section(speed)) + "\n\n"
+    if "## okid from Python" in text:
+        start = text.index("## okid from Python")
+        end = text.index("\n## ", start + 1) + 1
+        text = text[:start] + section + text[end:]
+    else:
+        end = text.index("## Where okid is behind")
+        text = text[:end] + section + text[end:]
+    Path(markdown_path).write_text(text)
+    for s in speed.values():
+        print(json.dumps(s))
+
+
 def markdown(rows, cbench, results, quick):
     lines = ["# Benchmarks", "", f"Generated by `.venv/bin/okid-bench{' --quick' if quick else ''}` "
              f"on {platform.node() or 'this machine'}: {platform.processor() or platform.machine()}, "
@@ -453,6 +584,7 @@ def markdown(rows, cbench, results, quick):
               "![benchmark](img/benchmark.png)", "", "## Targets of the benchmark issue", "",
               "| target | measured | goal | verdict |", "|---|---|---|---|"]
     lines += [f"| {what} | {measured} | {goal} | {verdict} |" for what, measured, goal, verdict in targets(rows, results)]
+    lines += [""] + python_section(results["python"])
     notes = behind(rows, cbench)
     lines += ["", "## Where okid is behind, and why", ""] + (notes or ["- Nowhere in this run."])
     lines += ["", "## Speed of the C core", ""]
@@ -468,12 +600,18 @@ def main(argv=None):
     parser.add_argument("--build", default="build", help="the CMake build folder (default build)")
     parser.add_argument("--out", default="docs", help="where benchmarks.md and img/benchmark.png go")
     parser.add_argument("--results", default="bench/results.json")
+    parser.add_argument("--python-only", action="store_true",
+                        help="only the Python package's figures, into the existing results and benchmarks.md")
     args = parser.parse_args(argv)
     cli = str(Path(args.build) / "host_tools/cli/okid")
+    if args.python_only:
+        update_python_figures(cli, args.quick, args.results, Path(args.out) / "benchmarks.md")
+        return 0
     bench = str(Path(args.build) / "bench/okid_bench")
     t0 = time.perf_counter()
     cbench = c_benchmark(bench, args.quick)
     rows = compare(cli, args.quick)
+    speed = python_speed(cli, args.quick)
     paper = [r for r in rows if r["case"] == CASES[0][0]]
     ours = next(r for r in paper if r["method"] == "okid (C API)")
     peers = [r for r in paper if not r["method"].startswith("okid")]
@@ -484,7 +622,9 @@ def main(argv=None):
                    dgemm_fraction=best_push["dgemm_fraction"], blas="OpenBLAS" if "OpenBLAS" in cbench else "reference",
                    paper_e2e_seconds=ours["seconds"],
                    paper_e2e_seconds_best_peer=min(r["seconds"] for r in peers),
-                   rows=rows)
+                   python_overhead={k: v["python_overhead"] for k, v in speed.items()},
+                   speedup_vs_numpy_inprocess=speed["5pct"]["speedup_vs_numpy_inprocess"],
+                   python=speed, rows=rows)
     for r in rows:
         print(f"{r['case']:30s} {r['method']:16s} f {r['freq_error']:.2e}  zeta {r['damping_error']:.2e}  "
               f"{r['seconds']:.2e} s  {r['params']}")

@@ -1,30 +1,25 @@
 """The paper's figures (exact and identified Markov parameters, force, accelerations, Hankel singular
 values) and the convergence of the identifier FMU's frequencies and damping ratios, as PNG files."""
-import json
-import subprocess
-import tempfile
-from pathlib import Path
-
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+import okid  # noqa: E402
 
-def _identified(cli, t, force, y):
-    """Markov parameters and Hankel singular values identified by the okid CLI from the same data
-    (the FMU publishes modes, not Markov parameters)."""
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "data.csv"
-        np.savetxt(path, np.column_stack([t, force, y]), delimiter=",", header="t,force,acc1,acc2", comments="")
-        out = subprocess.run([cli, "identify", "--json", "--order", "4", "--zero-initial-state", str(path)],
-                             capture_output=True, text=True, check=True).stdout
-    res = json.loads(out)
-    return np.array(res["markov"]).T, res["singular_values"]
+
+def _identified(t, force, y):
+    """Markov parameters and Hankel singular values identified by okid (in-process) from the same
+    data, with the CLI's paper settings (the FMU publishes modes, not Markov parameters)."""
+    dt = float(t[1] - t[0])
+    res = okid.identify(np.reshape(force, (-1, 1)), y, dt, observer_order=20, order=4, zero_initial_state=1)
+    return res.markov.T, res.singular_values
 
 
 def paper_plots(folder, ref, cs, noisy, noisy_ref, cli=None):
+    """The paper's figures in folder; with cli (okid-verify-fmu --cli) also okid's identified Markov
+    parameters, which now come from the okid package in-process."""
     folder.mkdir(parents=True, exist_ok=True)
     markov = np.array([Y[:, 0] for Y in ref.markov(60)])  # D, CB, CAB, ...: m = 2 per block
     fig, ax = plt.subplots(2, 1, figsize=(7, 5), sharex=True)
@@ -51,7 +46,7 @@ def paper_plots(folder, ref, cs, noisy, noisy_ref, cli=None):
 
     sv = [cs.final[f"singular_value{i}"] for i in range(1, 9)]
     if cli:
-        identified, sv = _identified(cli, cs.t, cs.force, cs.y)
+        identified, sv = _identified(cs.t, cs.force, cs.y)
         count = min(len(identified), len(markov))
         fig, ax = plt.subplots(2, 1, figsize=(7, 5), sharex=True)
         for i in range(2):

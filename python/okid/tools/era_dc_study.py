@@ -1,19 +1,19 @@
 """Output-noise bias remedies at equal observer order p on the benchmark data (okid's simulator,
 paper 2-DOF system, dt 0.05 s, 100 s, 5 % and 20 % output noise): plain OKID + ERA and OKID + ERA/DC
-(Juang, Cooper, Wright 1987) in numpy, and okid's least squares and instrumental variables (CLI).
+(Juang, Cooper, Wright 1987) in numpy, and okid's least squares and instrumental variables (the okid package).
 The measurement behind docs/quality.md section 6 (why okid implements instrumental variables).
 
-    python -m okid_tools.era_dc_study [--cli build/host_tools/cli/okid]
+    python -m okid.tools.era_dc_study [--cli build/host_tools/cli/okid]   (the CLI simulates the data)
 
 Prints a markdown table of the relative error of the worse of the two frequencies, mean / worst
 over seeds 11-15, alpha = beta = 20, n = 4.
 """
 import argparse
-import json
 import os
-import subprocess
 
 import numpy as np
+
+import okid
 
 from .bench_compare import era_A, modal, numpy_okid_markov, simulate
 from .reference import paper_reference
@@ -42,12 +42,13 @@ def frequency_error(freqs, exact):
     return float(np.max(np.abs(freqs - exact) / exact)) if len(freqs) == 2 else np.inf
 
 
-def okid_cli(cli, path, p, estimator):
-    out = subprocess.run([cli, "identify", "--json", "--order", "4", "--zero-initial-state", "--observer-order", str(p),
-                          "--estimator", estimator, path], capture_output=True, text=True)
-    if out.returncode != 0:
+def okid_frequencies(u, y, p, estimator):
+    """okid's frequencies (in-process) at observer order p, or none when it fails."""
+    try:
+        res = okid.identify(u, y, DT, order=4, zero_initial_state=1, observer_order=p, estimator=estimator)
+    except okid.OkidError:
         return np.array([])
-    return np.array([md["frequency_hz"] for md in json.loads(out.stdout)["modes"] if md["is_pair"]])
+    return np.array([md.frequency_hz for md in res.modes if md.is_pair])
 
 
 def main(argv=None):
@@ -66,8 +67,8 @@ def main(argv=None):
                 Y = numpy_okid_markov(u, y, p, count)
                 errors["era"].append(frequency_error(modal(era_A(Y, HANKEL, HANKEL, 4), DT)[0], exact))
                 errors["dc"].append(frequency_error(modal(era_dc_A(Y, HANKEL, HANKEL, 4), DT)[0], exact))
-                errors["ls"].append(frequency_error(okid_cli(args.cli, path, p, "least_squares"), exact))
-                errors["iv"].append(frequency_error(okid_cli(args.cli, path, p, "instrumental"), exact))
+                errors["ls"].append(frequency_error(okid_frequencies(u, y, p, "least_squares"), exact))
+                errors["iv"].append(frequency_error(okid_frequencies(u, y, p, "instrumental"), exact))
                 os.unlink(path)
             cells = [f"{100 * np.mean(e):.2f} / {100 * np.max(e):.2f} %" if np.all(np.isfinite(e)) else "no two modes"
                      for e in errors.values()]

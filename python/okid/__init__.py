@@ -1,0 +1,30 @@
+"""okid: OKID/ERA system identification of structures from measured forces and responses.
+
+    import okid
+    res = okid.identify(u, y, dt=0.01, order=4)     # u (N, r) forces, y (N, m) responses
+    for mode in res.modes:
+        print(mode.frequency_hz, mode.damping_ratio)
+
+The C core runs in-process; its LAPACK is SciPy's prefixed OpenBLAS (scipy-openblas32), loaded
+here before the extension so that no system LAPACK is needed.
+"""
+import scipy_openblas32 as _scipy_openblas32  # noqa: F401  (loads libscipy_openblas RTLD_GLOBAL first)
+
+from . import _core
+from ._config import DEFAULTS, OPTION_NAMES
+from ._errors import (BadOrderError, BadParameterError, BadSizeError, ConcurrentUseError, ConfigurationError,
+                      DecompositionError, InternalError, NonFiniteSampleError, NonFiniteSampleWarning,
+                      NotAvailableError, NotEnoughDataError, NotPersistentlyExcitingError, OkidError)
+from ._identifier import Identifier, Progress, identify
+from ._result import Mode, Result, StabilityFlag, Stabilization, StabilizationOrder, WarningFlag
+from . import model
+
+__version__ = _core.VERSION
+
+__all__ = [
+    "identify", "Identifier", "Progress", "Result", "Mode", "WarningFlag", "Stabilization", "StabilizationOrder",
+    "StabilityFlag", "model", "DEFAULTS", "OPTION_NAMES",
+    "OkidError", "ConfigurationError", "BadSizeError", "BadOrderError", "BadParameterError", "NotEnoughDataError",
+    "NotPersistentlyExcitingError", "DecompositionError", "NotAvailableError", "NonFiniteSampleError",
+    "ConcurrentUseError", "InternalError", "NonFiniteSampleWarning",
+]

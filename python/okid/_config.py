@@ -1,0 +1,122 @@
+"""okid_config from keywords: the C field names, okid_config_default()'s defaults (asked from the
+library at import, so they cannot drift), enumerations by their C suffix in lower case, and
+messages that name the setting and its valid range."""
+from __future__ import annotations
+
+import math
+from typing import Any, Dict
+
+from . import _core
+from ._errors import E_BAD_ORDER, E_BAD_PARAMETER, E_BAD_SIZE, BadOrderError, BadParameterError, BadSizeError, OK
+
+SENSING = {"displacement": 0, "velocity": 1, "acceleration": 2}
+REALIZATION = {"system": 0, "combined": 1}
+SCALING = {"none": 0, "auto": 1}
+ESTIMATOR = {"least_squares": 0, "instrumental": 1}
+ENUMS = {"sensing": SENSING, "realization": REALIZATION, "scaling": SCALING, "estimator": ESTIMATOR}
+
+#: The settings of okid_config a caller gives by keyword, in the struct's order (num_inputs,
+#: num_outputs and dt are positional or come from the arrays).
+OPTION_NAMES = ("observer_order", "order", "hankel_rows", "hankel_cols", "block_rows", "forgetting_factor",
+                "rank_tolerance", "sensing", "realization", "zero_initial_state", "decimation", "scaling",
+                "estimator", "instrument_lags")
+_INT_OPTIONS = ("observer_order", "order", "hankel_rows", "hankel_cols", "block_rows", "decimation",
+                "instrument_lags")
+_REAL_OPTIONS = ("forgetting_factor", "rank_tolerance")
+
+
+def _defaults() -> Dict[str, Any]:
+    c = _core.config_default(1, 1)
+    out = {}
+    for name in OPTION_NAMES:
+        value = c[name]
+        if name in ENUMS:
+            value = next(k for k, v in ENUMS[name].items() if v == value)
+        out[name] = value
+    return out
+
+
+#: okid_config_default()'s values of the keyword settings (enumerations by name).
+DEFAULTS: Dict[str, Any] = _defaults()
+
+
+def _integer(name: str, value: Any) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int,)) and not hasattr(value, "__index__"):
+        raise BadParameterError(f"{name} must be an integer, not {value!r}", E_BAD_PARAMETER)
+    return int(value.__index__())
+
+
+def _real(name: str, value: Any) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise BadParameterError(f"{name} must be a real number, not {value!r}", E_BAD_PARAMETER) from None
+
+
+def build(num_inputs: int, num_outputs: int, dt: float, options: Dict[str, Any]) -> Dict[str, Any]:
+    """The okid_config dict for _core (enumerations as C values), checked by okid_workspace_size()."""
+    unknown = sorted(set(options) - set(OPTION_NAMES))
+    if unknown:
+        raise TypeError(f"unknown okid option(s) {', '.join(unknown)}; the options are {', '.join(OPTION_NAMES)}")
+    cfg: Dict[str, Any] = {"num_inputs": _integer("num_inputs", num_inputs),
+                           "num_outputs": _integer("num_outputs", num_outputs)}
+    dt = _real("dt", dt)
+    if not (math.isfinite(dt) and dt > 0):
+        raise BadParameterError(f"dt = {dt!r} s: the sample interval must be finite and > 0", E_BAD_PARAMETER)
+    cfg["dt"] = dt
+    for name in OPTION_NAMES:
+        value = options.get(name, DEFAULTS[name])
+        if name in ENUMS:
+            if value not in ENUMS[name]:
+                raise BadParameterError(f"{name} = {value!r}: one of {', '.join(map(repr, ENUMS[name]))}",
+                                        E_BAD_PARAMETER)
+            value = ENUMS[name][value]
+        elif name == "zero_initial_state":
+            if value not in (0, 1, False, True):
+                raise BadParameterError(f"zero_initial_state = {value!r}: 0 or 1 (False or True)", E_BAD_PARAMETER)
+            value = int(value)
+        elif name in _INT_OPTIONS:
+            value = _integer(name, value)
+        else:
+            value = _real(name, value)
+        cfg[name] = value
+    status, _ = _core.workspace_size(cfg)
+    if status != OK:
+        raise _explain(cfg, status)
+    return cfg
+
+
+def _explain(cfg: Dict[str, Any], status: int) -> Exception:
+    """The first setting out of its range, as the exception of status."""
+    r, m, p = cfg["num_inputs"], cfg["num_outputs"], cfg["observer_order"]
+    alpha, beta = cfg["hankel_rows"], cfg["hankel_cols"]
+    columns = r + m if cfg["realization"] == REALIZATION["combined"] else r
+    q = r + (r + m) * p
+    checks = [
+        (E_BAD_SIZE, "num_inputs", 1 <= r <= _core.MAX_DIMENSION, f"1..{_core.MAX_DIMENSION}"),
+        (E_BAD_SIZE, "num_outputs", 1 <= m <= _core.MAX_DIMENSION, f"1..{_core.MAX_DIMENSION}"),
+        (E_BAD_SIZE, "observer_order", 1 <= p <= _core.MAX_HORIZON, f"1..{_core.MAX_HORIZON}"),
+        (E_BAD_SIZE, "hankel_rows", 1 <= alpha <= _core.MAX_HORIZON, f"1..{_core.MAX_HORIZON}"),
+        (E_BAD_SIZE, "hankel_cols", 1 <= beta <= _core.MAX_HORIZON, f"1..{_core.MAX_HORIZON}"),
+        (E_BAD_SIZE, "decimation", 0 <= cfg["decimation"] <= _core.MAX_DECIMATION,
+         f"1..{_core.MAX_DECIMATION} (0 reads as 1)"),
+        (E_BAD_SIZE, "block_rows", cfg["block_rows"] >= 0, "0 (= 32) or more"),
+        (E_BAD_ORDER, "order", 0 <= cfg["order"] <= min(alpha * m, beta * columns, m * p, _core.MAX_ORDER),
+         f"0 (automatic) or 1..min(hankel_rows m, hankel_cols columns, m observer_order) = "
+         f"{min(alpha * m, beta * columns, m * p, _core.MAX_ORDER)} here"),
+        (E_BAD_PARAMETER, "forgetting_factor", 0 <= cfg["forgetting_factor"] <= 1, "(0, 1] (0 reads as 1)"),
+        (E_BAD_PARAMETER, "rank_tolerance", cfg["rank_tolerance"] == 0 or 2.2e-16 <= cfg["rank_tolerance"] < 1,
+         "0 (default) or [machine epsilon, 1)"),
+        (E_BAD_SIZE, "instrument_lags", 0 <= cfg["instrument_lags"] <= _core.MAX_INSTRUMENT_LAGS,
+         f"0 (automatic) or observer_order..{_core.MAX_INSTRUMENT_LAGS} with r (L + 1) >= q = {q}"),
+    ]
+    classes = {E_BAD_SIZE: BadSizeError, E_BAD_ORDER: BadOrderError, E_BAD_PARAMETER: BadParameterError}
+    for code, name, ok, valid in checks:
+        if not ok:
+            return classes[code](f"{name} = {cfg[name]}: valid range {valid}", status)
+    if cfg["estimator"] == ESTIMATOR["instrumental"] and status == E_BAD_SIZE:
+        return BadSizeError(f"instrument_lags = {cfg['instrument_lags']}: instrumental variables need "
+                            f"r (L + 1) >= q = {q}, L >= observer_order = {p} and L <= {_core.MAX_INSTRUMENT_LAGS}",
+                            status)
+    settings = ", ".join(f"{k} = {v}" for k, v in cfg.items())
+    return classes.get(status, BadParameterError)(f"invalid settings ({settings}): {_core.status_str(status)}", status)

@@ -1,0 +1,212 @@
+"""okid.identify() and okid.Identifier: the C identifier in-process. Time runs along axis 0; the
+caller's arrays are read, never written; a C-contiguous float64 block goes to okid_push_block()
+without a copy."""
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from typing import Any, Optional
+
+import numpy as np
+
+from . import _config, _core
+from ._config import DEFAULTS
+from ._errors import (E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_ENOUGH_DATA, OK, BadSizeError, NonFiniteSampleWarning,
+                      check, error_for)
+from ._result import Result
+
+
+@dataclass(frozen=True)
+class Progress:
+    """Counters of an Identifier."""
+    samples: int      #: samples accepted since creation or reset
+    rejected: int     #: samples rejected as non-finite
+    rows: int         #: regressor rows folded into the least squares
+    rows_needed: int  #: rows needed before identify() can succeed (the unknowns q)
+
+
+def _block(values: Any, channels: int, name: str) -> np.ndarray:
+    """values as a C-contiguous float64 (count, channels) array: no copy when it is one already."""
+    a = np.asarray(values, dtype=np.float64)
+    if a.ndim == 1 and channels == 1:
+        a = a.reshape(-1, 1)
+    if a.ndim != 2 or a.shape[1] != channels:
+        raise BadSizeError(f"{name} has shape {np.shape(values)}: expected (samples, {channels}) with time along "
+                           f"axis 0{' or (samples,)' if channels == 1 else ''}", E_BAD_SIZE)
+    return np.ascontiguousarray(a)
+
+
+def _sample(values: Any, channels: int, name: str) -> np.ndarray:
+    a = np.ascontiguousarray(np.asarray(values, dtype=np.float64).reshape(-1))
+    if a.shape[0] != channels:
+        raise BadSizeError(f"{name} has {a.shape[0]} values: one sample has {channels}", E_BAD_SIZE)
+    return a
+
+
+class Identifier:
+    """A streaming OKID/ERA identifier: push samples or blocks as they come, identify at any time.
+
+    ``Identifier(num_inputs, num_outputs, dt, **options)`` takes the okid_config options by their C
+    names (see :func:`okid.identify`). One Identifier serves one thread at a time: a call from a
+    second thread while one runs raises :class:`okid.ConcurrentUseError`. push() and identify()
+    release the GIL, so identifiers in different threads run in parallel. Usable as a context
+    manager (the workspace is freed at exit).
+    """
+
+    def __init__(self, num_inputs: int, num_outputs: int, dt: float, **options: Any):
+        self._config = _config.build(num_inputs, num_outputs, dt, options)
+        self.num_inputs: int = self._config["num_inputs"]
+        self.num_outputs: int = self._config["num_outputs"]
+        self.dt: float = dt  #: sample interval of the pushed data [s]
+        self._core: Optional[Any] = _core.IdentifierCore()
+        check(self._core.init(self._config), "okid_init")
+
+    @property
+    def config(self) -> dict:
+        """The okid_config in use: keyword names, enumerations by name."""
+        out = dict(self._config)
+        for name, values in _config.ENUMS.items():
+            out[name] = next(k for k, v in values.items() if v == out[name])
+        return out
+
+    def _live(self):
+        if self._core is None:
+            raise ValueError("this Identifier is closed")
+        return self._core
+
+    def push(self, u: Any, y: Any) -> int:
+        """Push one sample (u: r values, y: m values) or a block (u: (count, r), y: (count, m)).
+
+        A 2-D y is a block, anything else one sample. Samples holding NaN or Inf are rejected (a
+        NonFiniteSampleWarning says how many), the regressor window restarts after them and
+        everything learned before is kept. Returns the number of samples accepted.
+        """
+        core = self._live()
+        if np.ndim(y) == 2:
+            ub = _block(u, self.num_inputs, "u")
+            yb = _block(y, self.num_outputs, "y")
+            if ub.shape[0] != yb.shape[0]:
+                raise BadSizeError(f"u has {ub.shape[0]} samples and y {yb.shape[0]}: push equal counts", E_BAD_SIZE)
+            status, accepted = core.push_block(ub, yb)
+            count = ub.shape[0]
+        else:
+            status = core.push(_sample(u, self.num_inputs, "u"), _sample(y, self.num_outputs, "y"))
+            count, accepted = 1, 1 if status == OK else 0
+        if status == E_NONFINITE_SAMPLE:
+            warnings.warn(f"{count - accepted} of {count} samples held NaN or Inf and were rejected",
+                          NonFiniteSampleWarning, stacklevel=2)
+        elif status != OK:
+            raise error_for(status, "push")
+        return int(accepted)
+
+    def identify(self) -> Result:
+        """Identify from everything pushed so far; pushing can go on afterwards."""
+        core = self._live()
+        status, result = core.identify()
+        if status == E_NOT_ENOUGH_DATA:
+            p = self.progress
+            raise error_for(status, f"{p.rows} regressor rows from {p.samples} samples, {p.rows_needed} needed "
+                                    f"(q = r + (r + m) observer_order)")
+        check(status, "identify")
+        return Result._from_core(result, self.config, core, core.generation)
+
+    def predict(self, u: Any) -> np.ndarray:
+        """One-step-ahead prediction of y(k) (m values) from u(k) and the last observer_order samples,
+        with the model of the last identify(). Call it before pushing sample k."""
+        status, y = self._live().predict(_sample(u, self.num_inputs, "u"))
+        check(status, "predict")
+        return y
+
+    def set_scales(self, input_scales: Any, output_scales: Any) -> None:
+        """Channel scales of scaling="auto" given by the caller, before the first block is folded."""
+        check(self._live().set_scales(_sample(input_scales, self.num_inputs, "input_scales"),
+                                      _sample(output_scales, self.num_outputs, "output_scales")), "set_scales")
+
+    def reset(self) -> None:
+        """Forget every sample (the configuration stays)."""
+        check(self._live().reset(), "reset")
+
+    @property
+    def progress(self) -> Progress:
+        """Samples accepted and rejected, regressor rows and the rows needed."""
+        status, samples, rejected, rows, needed = self._live().progress()
+        check(status, "progress")
+        return Progress(samples, rejected, rows, needed)
+
+    def close(self) -> None:
+        """Let go of the workspace: it is freed once no Result of this identifier refers to it
+        (results keep it for stabilization()). Any later call raises ValueError."""
+        self._core = None
+
+    def __enter__(self) -> "Identifier":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def __repr__(self) -> str:
+        return (f"Identifier(num_inputs={self.num_inputs}, num_outputs={self.num_outputs}, dt={self.dt!r}, "
+                f"observer_order={self._config['observer_order']}, order={self._config['order']})")
+
+
+def identify(u: Any, y: Any, dt: float, *,
+             observer_order: int = DEFAULTS["observer_order"],
+             order: int = DEFAULTS["order"],
+             hankel_rows: int = DEFAULTS["hankel_rows"],
+             hankel_cols: int = DEFAULTS["hankel_cols"],
+             block_rows: int = DEFAULTS["block_rows"],
+             forgetting_factor: float = DEFAULTS["forgetting_factor"],
+             rank_tolerance: float = DEFAULTS["rank_tolerance"],
+             sensing: str = DEFAULTS["sensing"],
+             realization: str = DEFAULTS["realization"],
+             zero_initial_state: int = DEFAULTS["zero_initial_state"],
+             decimation: int = DEFAULTS["decimation"],
+             scaling: str = DEFAULTS["scaling"],
+             estimator: str = DEFAULTS["estimator"],
+             instrument_lags: int = DEFAULTS["instrument_lags"]) -> Result:
+    """Identify a state-space model and its modes from one record (OKID/ERA).
+
+    u: forces, (N, r) or (N,) for one input; y: responses, (N, m) or (N,); time along axis 0.
+    dt: sample interval [s]. The keywords are okid_config's fields with okid_config_default()'s
+    defaults (docs/cli.md):
+
+    observer_order: p, observer Markov parameters (1..1000; m p >= order)
+    order: model order n (states); 0 picks the largest gap of the Hankel singular values
+    hankel_rows, hankel_cols: alpha, beta block rows/columns of the ERA Hankel matrix (1..1000)
+    block_rows: regressor rows folded per update (0 = 32)
+    forgetting_factor: lambda in (0, 1] (0 reads as 1): a row k samples old weighs lambda^k
+    rank_tolerance: relative tolerance of the rank-revealing least squares (0 = 1e-10)
+    sensing: what y measures: "acceleration", "velocity" or "displacement" (sets the mode shapes' c)
+    realization: "system" (robust default) or "combined" (also the observer gain G)
+    zero_initial_state: 1 when the record starts at rest (uses its first samples with zero history)
+    decimation: K, anti-alias filter and every K-th sample (1..64); the model's dt is K dt
+    scaling: "none" or "auto" (each channel divided by its RMS over the first block)
+    estimator: "least_squares" or "instrumental" (removes the bias of output noise)
+    instrument_lags: L of the instrumental estimator (0 = automatic)
+
+    Returns an immutable :class:`okid.Result`. Raises a :class:`okid.ConfigurationError` (a
+    ValueError) naming a setting out of range, :class:`okid.NotEnoughDataError`,
+    :class:`okid.NotPersistentlyExcitingError` for a force that does not excite the system.
+    Samples with NaN or Inf are rejected with a NonFiniteSampleWarning.
+    """
+    options = dict(observer_order=observer_order, order=order, hankel_rows=hankel_rows, hankel_cols=hankel_cols,
+                   block_rows=block_rows, forgetting_factor=forgetting_factor, rank_tolerance=rank_tolerance,
+                   sensing=sensing, realization=realization, zero_initial_state=zero_initial_state,
+                   decimation=decimation, scaling=scaling, estimator=estimator, instrument_lags=instrument_lags)
+    ua = np.asarray(u, dtype=np.float64)
+    ya = np.asarray(y, dtype=np.float64)
+    r = 1 if ua.ndim == 1 else (ua.shape[1] if ua.ndim == 2 else -1)
+    m = 1 if ya.ndim == 1 else (ya.shape[1] if ya.ndim == 2 else -1)
+    if r < 0 or m < 0:
+        raise BadSizeError(f"u has shape {ua.shape} and y {ya.shape}: expected (samples, channels) or (samples,)", E_BAD_SIZE)
+    identifier = Identifier(r, m, dt, **options)
+    ub, yb = _block(ua, r, "u"), _block(ya, m, "y")
+    if ub.shape[0] != yb.shape[0]:
+        raise BadSizeError(f"u has {ub.shape[0]} samples and y {yb.shape[0]}: time along axis 0 must match", E_BAD_SIZE)
+    status, accepted = identifier._core.push_block(ub, yb)
+    if status == E_NONFINITE_SAMPLE:
+        warnings.warn(f"{ub.shape[0] - accepted} of {ub.shape[0]} samples held NaN or Inf and were rejected",
+                      NonFiniteSampleWarning, stacklevel=2)
+    elif status != OK:
+        raise error_for(status, "push")
+    return identifier.identify()

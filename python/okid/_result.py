@@ -1,0 +1,185 @@
+"""Result, Mode, the warning flags and the stabilization diagram: immutable views of an
+identification, copied out of the C workspace."""
+from __future__ import annotations
+
+import enum
+import json
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any, Dict, Mapping, Optional, Tuple
+
+import numpy as np
+
+from . import _core
+from ._errors import check
+
+
+class WarningFlag(enum.IntFlag):
+    """okid_result.warnings (lib/include/okid/status.h): the result is usable but deserves a look."""
+    REGRESSOR_RANK_DEFICIENT = 1 << 0
+    UNSTABLE_POLE = 1 << 1
+    NONPHYSICAL_POLE = 1 << 2
+    ORDER_AT_LIMIT = 1 << 3
+    RANK_BELOW_MODEL = 1 << 4
+    WEAK_EXCITATION = 1 << 5
+    OBSERVER_ORDER_ABOVE_MINIMUM = 1 << 6
+    HANKEL_SPAN_SHORT = 1 << 7
+    REALIZATION_ILL_CONDITIONED = 1 << 8
+
+    def describe(self) -> Tuple[str, ...]:
+        """The library's sentence for each bit set."""
+        return tuple(_core.warning_str(int(bit)) for bit in WarningFlag if bit & self)
+
+
+class StabilityFlag(enum.IntFlag):
+    """A mode's stability against the previous order of a stabilization diagram."""
+    FREQUENCY = 1 << 0
+    DAMPING = 1 << 1
+    SHAPE = 1 << 2
+    ALL = 7
+
+
+@dataclass(frozen=True)
+class Mode:
+    """One mode of the identified model; a complex-conjugate pair is reported once (Im(eigenvalue) > 0).
+
+    eigenvalue: discrete-time eigenvalue of A (complex); pole: continuous-time pole ln(eigenvalue)/dt
+    [1/s]; frequency_hz: undamped natural frequency |pole|/2 pi [Hz]; damping_ratio: -Re(pole)/|pole|
+    [-]; is_pair: a complex pair (two states); sensor_shape: C psi at the m sensors, (m,) complex,
+    unit norm, largest component real positive; shape: eq. 64 with continuous poles, (2 m,) complex,
+    displacements then velocities; emac, emac_output, emac_input: extended modal amplitude
+    coherence [0, 1]; mpc: modal phase collinearity [0, 1]; msv: mode singular value (units of the
+    Hankel singular values); cmi: consistent mode indicator EMAC x MPC [0, 1].
+    """
+    eigenvalue: complex       #: discrete-time eigenvalue of A
+    pole: complex             #: continuous-time pole ln(eigenvalue) / dt [1/s]
+    frequency_hz: float       #: undamped natural frequency |pole| / 2 pi [Hz]
+    damping_ratio: float      #: -Re(pole) / |pole| [-]
+    is_pair: bool             #: True for a complex pair (two states), False for a real eigenvalue
+    sensor_shape: np.ndarray  #: C psi, (m,) complex, unit norm
+    shape: np.ndarray         #: eq. 64 with continuous poles: (2 m,) complex, displacements then velocities
+    emac: float               #: extended modal amplitude coherence, [0, 1]
+    emac_output: float        #: output (C-side) EMAC, [0, 1]
+    emac_input: float         #: input (B-side) EMAC, [0, 1]
+    mpc: float                #: modal phase collinearity of sensor_shape, [0, 1]
+    msv: float                #: mode singular value (units of the Hankel singular values)
+    cmi: float                #: consistent mode indicator EMAC * MPC, [0, 1]
+
+
+def _modes(dicts) -> Tuple[Mode, ...]:
+    return tuple(Mode(**d) for d in dicts)
+
+
+@dataclass(frozen=True)
+class StabilizationOrder:
+    """The modes of one model order of a stabilization diagram, with their stability flags."""
+    order: int
+    modes: Tuple[Mode, ...]
+    stability: Tuple[StabilityFlag, ...]
+
+
+class Stabilization:
+    """Stabilization diagram data: the modes of orders step, 2 step, ..., max_order from one SVD."""
+
+    def __init__(self, core, max_order: int, step: int):
+        self._core = core
+        self.max_order = max_order
+        self.step = step
+        self.rank_limit: int = core.rank_limit  #: largest order the Hankel matrix supports
+        self.orders: Tuple[StabilizationOrder, ...] = tuple(
+            StabilizationOrder(order, _modes(modes), tuple(StabilityFlag(f) for f in flags))
+            for order, modes, flags in core.orders())
+
+    def to_dict(self) -> Dict[str, Any]:
+        """The "stabilization" object of ``okid identify --json --stabilization`` (the CLI's writer)."""
+        text = self._core.to_json()
+        return json.loads(text[text.index("{"):])
+
+
+_FIELDS = ("order", "A", "B", "C", "D", "G", "singular_values", "markov", "observer_gain_markov", "dt", "samples",
+           "rows", "regressor_rank", "regressor_columns", "input_rank", "regressor_rank_expected", "lsq_condition",
+           "input_condition", "realization_condition", "decimation", "instrument_lags", "input_scales",
+           "output_scales")
+
+
+@dataclass(frozen=True, eq=False)
+class Result:
+    """An identified model: state space, Markov parameters, modes and diagnostics. Immutable; every
+    array is a read-only copy that later pushes and identifications leave as it is. A Result keeps
+    the workspace of the identifier that made it (okid_workspace_size() bytes) for stabilization():
+    to collect many records, keep the numbers you need rather than the Results."""
+    order: int                          #: n, the realized order (states)
+    A: np.ndarray                       #: (n, n) discrete state matrix
+    B: np.ndarray                       #: (n, r)
+    C: np.ndarray                       #: (m, n)
+    D: np.ndarray                       #: (m, r)
+    G: Optional[np.ndarray]             #: (n, m) observer gain (realization="combined"), else None
+    singular_values: np.ndarray         #: Hankel singular values, decreasing
+    markov: np.ndarray                  #: [Y_0 Y_1 ... Y_L], (m, r (L + 1)), eq. 51
+    observer_gain_markov: Optional[np.ndarray]  #: [Y°_1 ... Y°_L], (m, m L) (combined), else None
+    dt: float                           #: the model's sample interval [s] (decimation times the data's)
+    samples: int                        #: samples accepted
+    rows: int                           #: regressor rows in the least squares
+    regressor_rank: int                 #: numerical rank of the regressor
+    regressor_columns: int              #: q = r + (r + m) p
+    input_rank: int                     #: rank of the input part: r (p + 1) when persistently exciting
+    regressor_rank_expected: int        #: min(q, r (p + 1) + n), the rank of noise-free data
+    lsq_condition: float                #: condition number of the equilibrated regressor factor
+    input_condition: float              #: the same for the input columns alone
+    realization_condition: float        #: sigma_1 / sigma_n of H(0)
+    decimation: int                     #: K
+    instrument_lags: int                #: L of the instrumental estimator (0 for least squares)
+    input_scales: Optional[np.ndarray]  #: (r,) with scaling="auto", else None
+    output_scales: Optional[np.ndarray] #: (m,) with scaling="auto", else None
+    modes: Tuple[Mode, ...]             #: sorted by frequency, then damping
+    warnings: WarningFlag               #: what deserves a look
+    config: Mapping[str, Any]           #: the okid_config used (keyword names and values)
+    _core: Any = field(repr=False)
+    _identifier: Any = field(repr=False)
+    _generation: int = field(repr=False)
+
+    @classmethod
+    def _from_core(cls, core, config: Mapping[str, Any], identifier, generation: int) -> "Result":
+        f = core.fields()
+        values = {name: f[name] for name in _FIELDS}
+        return cls(**values, modes=_modes(f["modes"]), warnings=WarningFlag(f["warnings"]),
+                   config=MappingProxyType(dict(config)), _core=core, _identifier=identifier,
+                   _generation=generation)
+
+    @property
+    def frequencies_hz(self) -> np.ndarray:
+        """Natural frequency of every mode [Hz]."""
+        return np.array([md.frequency_hz for md in self.modes])
+
+    @property
+    def damping_ratios(self) -> np.ndarray:
+        """Damping ratio of every mode [-]."""
+        return np.array([md.damping_ratio for md in self.modes])
+
+    def to_dict(self) -> Dict[str, Any]:
+        """The object ``okid identify --json`` prints for the same data and options, written by the
+        CLI's own JSON writer (without the CLI-only "inputs", "outputs" and "elapsed_seconds")."""
+        return json.loads(self._core.to_json())
+
+    def to_frame(self):
+        """The modes as a pandas DataFrame, one row per mode (needs pandas)."""
+        try:
+            import pandas as pd
+        except ImportError as e:
+            raise ImportError("Result.to_frame() needs pandas (pip install pandas)") from e
+        columns = ("frequency_hz", "damping_ratio", "emac", "emac_output", "emac_input", "mpc", "msv", "cmi",
+                   "eigenvalue", "pole", "is_pair")
+        return pd.DataFrame({c: [getattr(md, c) for md in self.modes] for c in columns},
+                            index=pd.RangeIndex(1, len(self.modes) + 1, name="mode"))
+
+    def stabilization(self, max_order: int, step: int = 2, *, frequency_tolerance: float = 0.01,
+                      damping_tolerance: float = 0.05, mac_min: float = 0.98) -> Stabilization:
+        """Stabilization diagram data for orders step, 2 step, ..., max_order (at most the Hankel
+        size), from this result's Markov parameters. Available until the identifier that made this
+        result identifies again or is reset (NotAvailableError afterwards)."""
+        status, core = self._identifier.stabilization(self._generation, int(max_order), int(step),
+                                                      float(frequency_tolerance), float(damping_tolerance),
+                                                      float(mac_min))
+        check(status, f"stabilization(max_order={max_order}, step={step}) (max_order 1.."
+                      f"{len(self.singular_values)}, step 1..max_order; only for the identifier's latest result)")
+        return Stabilization(core, int(max_order), int(step))

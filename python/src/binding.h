@@ -1,0 +1,79 @@
+// Shared helpers of the okid._core binding: numpy arrays out of okid's column-major views, and the
+// status a call returns to the Python layer (okid/_errors.py turns it into an exception).
+#pragma once
+
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+
+#include <complex>
+#include <cstddef>
+#include <cstdio>
+#include <cstdlib>
+#include <new>
+#include <vector>
+
+extern "C" {
+#include "okid/okid.h"
+}
+
+namespace nb = nanobind;
+
+namespace okid_py {
+
+// A read-only numpy array that owns a copy of the data.
+using RealArray = nb::ndarray<nb::numpy, const double>;
+using ComplexArray = nb::ndarray<nb::numpy, const std::complex<double>>;
+
+// Status of a call refused because another thread is using the same identifier.
+constexpr int STATUS_BUSY = 1000;
+
+template <class T> nb::ndarray<nb::numpy, const T> owned_array(std::vector<T> &&values, std::initializer_list<size_t> shape)
+{
+    auto *store = new std::vector<T>(std::move(values));
+    nb::capsule owner(store, [](void *p) noexcept { delete static_cast<std::vector<T> *>(p); });
+    return nb::ndarray<nb::numpy, const T>(store->data(), shape.size(), shape.begin(), owner);
+}
+
+// A column-major okid_matrix view as a (rows, cols) C-order numpy array (copied).
+inline RealArray matrix_array(okid_matrix m)
+{
+    std::vector<double> v((size_t)m.rows * (size_t)m.cols);
+    for (int i = 0; i < m.rows; ++i)
+        for (int j = 0; j < m.cols; ++j) v[(size_t)i * (size_t)m.cols + (size_t)j] = (double)okid_matrix_at(m, i, j);
+    return owned_array(std::move(v), {(size_t)m.rows, (size_t)m.cols});
+}
+
+inline RealArray vector_array(const okid_real *values, int count)
+{
+    std::vector<double> v(values, values + count);
+    return owned_array(std::move(v), {(size_t)count});
+}
+
+inline ComplexArray complex_array(const okid_complex *values, int count)
+{
+    std::vector<std::complex<double>> v((size_t)count);
+    for (int i = 0; i < count; ++i) v[(size_t)i] = {(double)values[i].re, (double)values[i].im};
+    return owned_array(std::move(v), {(size_t)count});
+}
+
+// One mode as a dict of the okid_mode fields (m outputs).
+nb::dict mode_dict(const okid_mode &md, int m);
+
+// Text written by a C writer into memory (open_memstream), as a Python str.
+template <class Writer> nb::str write_to_string(Writer &&write)
+{
+    char *text = nullptr;
+    size_t size = 0;
+    FILE *out = open_memstream(&text, &size);
+    if (out == nullptr) throw std::bad_alloc();
+    write(out);
+    std::fclose(out);
+    nb::str s(text, size);
+    std::free(text);
+    return s;
+}
+
+void bind_identifier(nb::module_ &m);
+void bind_model(nb::module_ &m);
+
+}  // namespace okid_py

@@ -1,0 +1,403 @@
+// okid._core.Identifier, Result and Stabilization: the identifier over a workspace it owns, each
+// result copied out of the workspace (a Result outlives the next identify()), and the CLI's JSON
+// writer for to_dict(). Every call returns its okid_status; okid/_identifier.py raises.
+#include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <memory>
+#include <new>
+
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/complex.h>
+#include <nanobind/stl/tuple.h>
+
+#include "binding.h"
+
+extern "C" {
+#include "json_writer.h"
+}
+
+namespace okid_py {
+
+static_assert(sizeof(okid_real) == sizeof(double), "the Python package needs the double build of the core");
+
+namespace {
+
+struct AlignedFree {
+    void operator()(void *p) const noexcept { std::free(p); }
+};
+using Workspace = std::unique_ptr<void, AlignedFree>;
+
+Workspace allocate_workspace(size_t bytes)
+{
+    void *p = std::aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16);
+    if (p == nullptr) throw std::bad_alloc();
+    return Workspace(p);
+}
+
+// Refuses a second thread instead of letting two calls corrupt one identifier.
+class UseGuard {
+public:
+    explicit UseGuard(std::atomic<bool> &busy) : busy_(busy), acquired_(!busy.exchange(true)) {}
+    ~UseGuard()
+    {
+        if (acquired_) busy_.store(false);
+    }
+    bool acquired() const { return acquired_; }
+
+private:
+    std::atomic<bool> &busy_;
+    bool acquired_;
+};
+
+// A matrix view copied to column-major storage with leading dimension rows.
+std::vector<okid_real> compact(okid_matrix m)
+{
+    std::vector<okid_real> v((size_t)m.rows * (size_t)m.cols);
+    for (int j = 0; j < m.cols; ++j)
+        for (int i = 0; i < m.rows; ++i) v[(size_t)i + (size_t)j * (size_t)m.rows] = okid_matrix_at(m, i, j);
+    return v;
+}
+
+}  // namespace
+
+nb::dict mode_dict(const okid_mode &md, int m)
+{
+    nb::dict d;
+    d["eigenvalue"] = std::complex<double>(md.eigenvalue.re, md.eigenvalue.im);
+    d["pole"] = std::complex<double>(md.pole.re, md.pole.im);
+    d["frequency_hz"] = (double)md.frequency_hz;
+    d["damping_ratio"] = (double)md.damping_ratio;
+    d["is_pair"] = md.is_pair != 0;
+    d["sensor_shape"] = complex_array(md.sensor_shape, m);
+    d["shape"] = complex_array(md.shape, 2 * m);
+    d["emac"] = (double)md.emac;
+    d["emac_output"] = (double)md.emac_output;
+    d["emac_input"] = (double)md.emac_input;
+    d["mpc"] = (double)md.mpc;
+    d["msv"] = (double)md.msv;
+    d["cmi"] = (double)md.cmi;
+    return d;
+}
+
+// An okid_result copied out of the workspace, with its views pointing into its own storage.
+struct ResultCore {
+    okid_config cfg{};
+    okid_result res{};
+    std::vector<okid_real> a, b, c, d, g, sv, markov, markov_obs, in_scales, out_scales;
+    std::vector<okid_mode> modes;
+    std::vector<okid_complex> shapes;
+
+    ResultCore(const okid_config &config, const okid_result &r) : cfg(config), res(r)
+    {
+        auto copy = [](okid_matrix m, std::vector<okid_real> &store, okid_matrix &view) {
+            if (m.data == nullptr) {
+                view = okid_matrix{nullptr, m.rows, m.cols, m.ld};
+                return;
+            }
+            store = compact(m);
+            view = okid_matrix{store.data(), m.rows, m.cols, m.rows > 0 ? m.rows : 1};
+        };
+        copy(r.A, a, res.A);
+        copy(r.B, b, res.B);
+        copy(r.C, c, res.C);
+        copy(r.D, d, res.D);
+        copy(r.G, g, res.G);
+        copy(r.markov, markov, res.markov);
+        copy(r.observer_gain_markov, markov_obs, res.observer_gain_markov);
+        sv.assign(r.singular_values, r.singular_values + r.num_singular_values);
+        res.singular_values = sv.data();
+        if (r.input_scales != nullptr) {
+            in_scales.assign(r.input_scales, r.input_scales + cfg.num_inputs);
+            out_scales.assign(r.output_scales, r.output_scales + cfg.num_outputs);
+            res.input_scales = in_scales.data();
+            res.output_scales = out_scales.data();
+        }
+        const size_t m = (size_t)cfg.num_outputs;
+        modes.assign(r.modes, r.modes + r.num_modes);
+        shapes.resize(modes.size() * 3 * m);
+        for (size_t i = 0; i < modes.size(); ++i) {
+            okid_complex *sensor = &shapes[i * 3 * m], *shape = sensor + m;
+            std::copy(r.modes[i].sensor_shape, r.modes[i].sensor_shape + m, sensor);
+            std::copy(r.modes[i].shape, r.modes[i].shape + 2 * m, shape);
+            modes[i].sensor_shape = sensor;
+            modes[i].shape = shape;
+        }
+        res.modes = modes.data();
+    }
+
+    nb::str to_json() const
+    {
+        return write_to_string([this](FILE *out) {
+            json_result(out, &cfg, &res, nullptr, nullptr, -1);
+            std::fputs("\n}\n", out);
+        });
+    }
+
+    // Everything but the JSON, for okid.Result.
+    nb::dict fields() const
+    {
+        nb::dict f;
+        f["order"] = res.order;
+        f["A"] = matrix_array(res.A);
+        f["B"] = matrix_array(res.B);
+        f["C"] = matrix_array(res.C);
+        f["D"] = matrix_array(res.D);
+        f["G"] = res.G.data ? nb::cast(matrix_array(res.G)) : nb::none();
+        f["singular_values"] = vector_array(res.singular_values, res.num_singular_values);
+        f["markov"] = matrix_array(res.markov);
+        f["observer_gain_markov"] =
+            res.observer_gain_markov.data ? nb::cast(matrix_array(res.observer_gain_markov)) : nb::none();
+        f["dt"] = (double)res.dt;
+        f["samples"] = res.samples;
+        f["rows"] = res.rows;
+        f["regressor_rank"] = res.regressor_rank;
+        f["regressor_columns"] = res.regressor_columns;
+        f["input_rank"] = res.input_rank;
+        f["regressor_rank_expected"] = res.regressor_rank_expected;
+        f["warnings"] = res.warnings;
+        f["lsq_condition"] = (double)res.lsq_condition;
+        f["input_condition"] = (double)res.input_condition;
+        f["realization_condition"] = (double)res.realization_condition;
+        f["decimation"] = res.decimation;
+        f["instrument_lags"] = res.instrument_lags;
+        f["input_scales"] = res.input_scales ? nb::cast(vector_array(res.input_scales, cfg.num_inputs)) : nb::none();
+        f["output_scales"] =
+            res.output_scales ? nb::cast(vector_array(res.output_scales, cfg.num_outputs)) : nb::none();
+        nb::list ms;
+        for (const okid_mode &md : modes) ms.append(mode_dict(md, cfg.num_outputs));
+        f["modes"] = ms;
+        return f;
+    }
+};
+
+// A stabilization diagram with the workspace its views point into.
+struct StabilizationCore {
+    Workspace ws;
+    okid_stabilization st{};
+    int max_order = 0, step = 0, m = 0;
+
+    // ',\n  "stabilization": {...}' as json_stabilization writes it (okid.Stabilization keeps the object).
+    nb::str to_json() const
+    {
+        return write_to_string([this](FILE *out) { json_stabilization(out, &st, max_order, step, m); });
+    }
+
+    nb::list orders() const
+    {
+        nb::list out;
+        for (int i = 0; i < st.num_orders; ++i) {
+            const okid_stabilization_order &o = st.orders[i];
+            nb::list modes, flags;
+            for (int k = 0; k < o.num_modes; ++k) {
+                modes.append(mode_dict(st.modes[o.first + k], m));
+                flags.append(st.stability[o.first + k]);
+            }
+            out.append(nb::make_tuple(o.order, modes, flags));
+        }
+        return out;
+    }
+};
+
+struct IdentifierCore {
+    okid_config cfg{};
+    Workspace ws;
+    okid_identifier id{};
+    std::atomic<bool> busy{false};
+    uint64_t generation = 0;  // changes at every successful identify() and reset()
+
+    // okid_workspace_size() and okid_init(); the status says why not.
+    int init(const okid_config &config)
+    {
+        cfg = config;
+        size_t bytes = 0;
+        okid_status s = okid_workspace_size(&cfg, &bytes);
+        if (s != OKID_OK) return s;
+        ws = allocate_workspace(bytes);
+        return okid_init(&id, &cfg, ws.get(), bytes, nullptr);
+    }
+};
+
+using CBlock = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+using CVector = nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+
+static okid_config config_from_dict(const nb::dict &d)
+{
+    okid_config c{};
+    okid_config_default(&c, 1, 1);
+#define OKID_INT_FIELD(name) c.name = nb::cast<int>(d[#name])
+#define OKID_REAL_FIELD(name) c.name = (okid_real)nb::cast<double>(d[#name])
+    OKID_INT_FIELD(num_inputs);
+    OKID_INT_FIELD(num_outputs);
+    OKID_INT_FIELD(observer_order);
+    OKID_INT_FIELD(order);
+    OKID_INT_FIELD(hankel_rows);
+    OKID_INT_FIELD(hankel_cols);
+    OKID_INT_FIELD(block_rows);
+    OKID_REAL_FIELD(dt);
+    OKID_REAL_FIELD(forgetting_factor);
+    OKID_REAL_FIELD(rank_tolerance);
+    c.sensing = (okid_sensing)nb::cast<int>(d["sensing"]);
+    c.realization = (okid_realization)nb::cast<int>(d["realization"]);
+    OKID_INT_FIELD(zero_initial_state);
+    OKID_INT_FIELD(decimation);
+    c.scaling = (okid_scaling)nb::cast<int>(d["scaling"]);
+    c.estimator = (okid_estimator)nb::cast<int>(d["estimator"]);
+    OKID_INT_FIELD(instrument_lags);
+#undef OKID_INT_FIELD
+#undef OKID_REAL_FIELD
+    return c;
+}
+
+static nb::dict config_to_dict(const okid_config &c)
+{
+    nb::dict d;
+    d["num_inputs"] = c.num_inputs;
+    d["num_outputs"] = c.num_outputs;
+    d["observer_order"] = c.observer_order;
+    d["order"] = c.order;
+    d["hankel_rows"] = c.hankel_rows;
+    d["hankel_cols"] = c.hankel_cols;
+    d["block_rows"] = c.block_rows;
+    d["dt"] = (double)c.dt;
+    d["forgetting_factor"] = (double)c.forgetting_factor;
+    d["rank_tolerance"] = (double)c.rank_tolerance;
+    d["sensing"] = (int)c.sensing;
+    d["realization"] = (int)c.realization;
+    d["zero_initial_state"] = c.zero_initial_state;
+    d["decimation"] = c.decimation;
+    d["scaling"] = (int)c.scaling;
+    d["estimator"] = (int)c.estimator;
+    d["instrument_lags"] = c.instrument_lags;
+    return d;
+}
+
+void bind_identifier(nb::module_ &m)
+{
+    m.def(
+        "config_default",
+        [](int r, int mo) {
+            okid_config c{};
+            okid_config_default(&c, r, mo);
+            return config_to_dict(c);
+        },
+        "okid_config_default(r, m) as a dict of the okid_config fields (enumerations as their C values).");
+    m.def(
+        "workspace_size",
+        [](const nb::dict &d) {
+            okid_config c = config_from_dict(d);
+            size_t bytes = 0;
+            const int s = okid_workspace_size(&c, &bytes);
+            return nb::make_tuple(s, bytes);
+        },
+        "okid_workspace_size: (status, bytes).");
+
+    nb::class_<ResultCore>(m, "ResultCore")
+        .def("to_json", &ResultCore::to_json, "The CLI's `okid identify --json` object for this result.")
+        .def("fields", &ResultCore::fields);
+
+    nb::class_<StabilizationCore>(m, "StabilizationCore")
+        .def("to_json", &StabilizationCore::to_json)
+        .def("orders", &StabilizationCore::orders)
+        .def_prop_ro("rank_limit", [](const StabilizationCore &s) { return s.st.rank_limit; });
+
+    nb::class_<IdentifierCore>(m, "IdentifierCore")
+        .def(nb::init<>())
+        .def("init", [](IdentifierCore &self, const nb::dict &d) { return self.init(config_from_dict(d)); })
+        .def_prop_ro("generation", [](const IdentifierCore &self) { return self.generation; })
+        .def(
+            "push_block",
+            [](IdentifierCore &self, CBlock u, CBlock y) {
+                UseGuard guard(self.busy);
+                if (!guard.acquired()) return nb::make_tuple(STATUS_BUSY, (size_t)0);
+                size_t accepted = 0;
+                int s;
+                {
+                    nb::gil_scoped_release release;
+                    s = okid_push_block(&self.id, u.shape(0), u.data(), u.shape(1), y.data(), y.shape(1), &accepted);
+                }
+                return nb::make_tuple(s, accepted);
+            },
+            "okid_push_block on a (count, r) and a (count, m) C-contiguous block, no copy: (status, accepted).")
+        .def("push",
+             [](IdentifierCore &self, CVector u, CVector y) {
+                 UseGuard guard(self.busy);
+                 if (!guard.acquired()) return STATUS_BUSY;
+                 return (int)okid_push(&self.id, u.data(), y.data());
+             })
+        .def("identify",
+             [](IdentifierCore &self) {
+                 UseGuard guard(self.busy);
+                 if (!guard.acquired()) return nb::make_tuple(STATUS_BUSY, nb::none());
+                 okid_result res;
+                 int s;
+                 std::unique_ptr<ResultCore> copy;
+                 {
+                     nb::gil_scoped_release release;
+                     s = okid_identify(&self.id, &res);
+                     if (s == OKID_OK) copy = std::make_unique<ResultCore>(self.cfg, res);
+                 }
+                 if (s != OKID_OK) return nb::make_tuple(s, nb::none());
+                 ++self.generation;
+                 return nb::make_tuple(s, nb::cast(copy.release(), nb::rv_policy::take_ownership));
+             })
+        .def("predict",
+             [](IdentifierCore &self, CVector u) {
+                 UseGuard guard(self.busy);
+                 if (!guard.acquired()) return nb::make_tuple(STATUS_BUSY, nb::none());
+                 std::vector<double> y((size_t)self.cfg.num_outputs);
+                 const int s = okid_predict(&self.id, u.data(), y.data());
+                 if (s != OKID_OK) return nb::make_tuple(s, nb::none());
+                 const size_t mo = y.size();
+                 return nb::make_tuple(s, nb::cast(owned_array(std::move(y), {mo})));
+             })
+        .def("reset",
+             [](IdentifierCore &self) {
+                 UseGuard guard(self.busy);
+                 if (!guard.acquired()) return STATUS_BUSY;
+                 ++self.generation;
+                 return (int)okid_reset(&self.id);
+             })
+        .def("set_scales",
+             [](IdentifierCore &self, CVector in, CVector out) {
+                 UseGuard guard(self.busy);
+                 if (!guard.acquired()) return STATUS_BUSY;
+                 return (int)okid_set_scales(&self.id, in.data(), out.data());
+             })
+        .def("progress",
+             [](IdentifierCore &self) {
+                 UseGuard guard(self.busy);
+                 if (!guard.acquired()) return nb::make_tuple(STATUS_BUSY, 0, 0, 0, 0);
+                 okid_progress p{};
+                 const int s = okid_get_progress(&self.id, &p);
+                 return nb::make_tuple(s, p.samples, p.rejected, p.rows, p.rows_needed);
+             })
+        .def(
+            "stabilization",
+            [](IdentifierCore &self, uint64_t generation, int max_order, int step, double frequency_tolerance,
+               double damping_tolerance, double mac_min) {
+                UseGuard guard(self.busy);
+                if (!guard.acquired()) return nb::make_tuple(STATUS_BUSY, nb::none());
+                if (generation != self.generation) return nb::make_tuple((int)OKID_E_NOT_AVAILABLE, nb::none());
+                size_t bytes = 0;
+                int s = okid_stabilization_workspace_size(&self.id, max_order, step, &bytes);
+                if (s != OKID_OK) return nb::make_tuple(s, nb::none());
+                auto core = std::make_unique<StabilizationCore>();
+                core->ws = allocate_workspace(bytes);
+                core->max_order = max_order;
+                core->step = step;
+                core->m = self.cfg.num_outputs;
+                const okid_stabilization_criteria criteria{(okid_real)frequency_tolerance,
+                                                           (okid_real)damping_tolerance, (okid_real)mac_min};
+                {
+                    nb::gil_scoped_release release;
+                    s = okid_stabilization_compute(&self.id, max_order, step, &criteria, core->ws.get(), bytes,
+                                                   &core->st);
+                }
+                if (s != OKID_OK) return nb::make_tuple(s, nb::none());
+                return nb::make_tuple(s, nb::cast(core.release(), nb::rv_policy::take_ownership));
+            },
+            "okid_stabilization_compute for the result of the given generation: (status, StabilizationCore).");
+}
+
+}  // namespace okid_py
