@@ -4,78 +4,70 @@
 #include "dense.h"
 #include "real_math.h"
 
-okid_real okid_channel_scale(const okid_identifier *id, int channel)
-{
-    return (id->at_.scales != NULL && id->scales_known_) ? id->at_.scales[channel] : 1;
-}
-
 /* The channel (input i, or r + output a) of regressor column col. */
-static int regressor_channel(const okid_dims_ *d, int col)
+static int regressor_channel(int r, int m, int p, int col)
 {
-    const int r = d->r, m = d->m, past_inputs_end = r * (d->p + 1);
+    const int past_inputs_end = r * (p + 1), q = r + (r + m) * p;
     if (col < past_inputs_end) {
         return col % r; /* u(k), then u(k-1) .. u(k-p) */
     }
-    if (col < d->q) {
+    if (col < q) {
         return r + (col - past_inputs_end) % m; /* y(k-1) .. y(k-p) */
     }
-    return r + (col - d->q); /* y(k) */
+    return r + (col - q); /* y(k) */
 }
 
-/* RMS of column col of the pending rows; 1 when it is zero there (the channel keeps its units). */
-static okid_real pending_rms(const okid_identifier *id, int col)
+/* RMS of column col of the rows; 1 when it is zero there (the channel keeps its units). */
+static okid_real column_rms(int nrows, const okid_real *rows, int ld, int col)
 {
-    const int rows = id->block_fill_, ld = id->dims_.block_rows;
     okid_real s = 0;
-    for (int i = 0; i < rows; ++i) {
-        const okid_real v = OKID_AT(id->at_.block, ld, i, col);
+    for (int i = 0; i < nrows; ++i) {
+        const okid_real v = OKID_AT(rows, ld, i, col);
         s += v * v;
     }
-    s = okid_sqrt(s / (okid_real)rows);
+    s = okid_sqrt(s / (okid_real)nrows);
     return (s > 0 && okid_is_finite(s)) ? s : 1;
 }
 
-void okid_scaling_apply_pending(okid_identifier *id)
+void okid_scaling_measure(int r, int m, int p, int nrows, const okid_real *rows, int ld, okid_real *scales)
 {
-    const okid_dims_ *d = &id->dims_;
-    okid_views_ *v = &id->at_;
-    const int rows = id->block_fill_, ld = d->block_rows;
-    if (v->scales == NULL || rows == 0) {
-        return;
+    const int q = r + (r + m) * p;
+    for (int i = 0; i < r; ++i) {
+        scales[i] = column_rms(nrows, rows, ld, i); /* u(k) */
     }
-    if (!id->scales_known_) {
-        for (int i = 0; i < d->r; ++i) {
-            v->scales[i] = pending_rms(id, i); /* u(k) */
-        }
-        for (int a = 0; a < d->m; ++a) {
-            v->scales[d->r + a] = pending_rms(id, d->q + a); /* y(k) */
-        }
-        id->scales_known_ = 1;
+    for (int a = 0; a < m; ++a) {
+        scales[r + a] = column_rms(nrows, rows, ld, q + a); /* y(k) */
     }
-    for (int col = 0; col < d->w; ++col) {
-        const okid_real inv = 1 / v->scales[regressor_channel(d, col)];
-        for (int i = 0; i < rows; ++i) {
-            OKID_AT(v->block, ld, i, col) *= inv;
+}
+
+void okid_scaling_apply(int r, int m, int p, const okid_real *scales, int nrows, okid_real *rows, int ld,
+                        okid_real *zrows, int nz, int ldz)
+{
+    const int w = r + (r + m) * p + m;
+    for (int col = 0; col < w; ++col) {
+        const okid_real inv = 1 / scales[regressor_channel(r, m, p, col)];
+        for (int i = 0; i < nrows; ++i) {
+            OKID_AT(rows, ld, i, col) *= inv;
         }
     }
-    for (int col = 0; col < d->nz; ++col) { /* instruments: u(k - j), input col % r */
-        const okid_real inv = 1 / v->scales[col % d->r];
-        for (int i = 0; i < rows; ++i) {
-            OKID_AT(v->iv_block, ld, i, col) *= inv;
+    for (int col = 0; col < nz; ++col) { /* instruments: u(k - j), input col % r */
+        const okid_real inv = 1 / scales[col % r];
+        for (int i = 0; i < nrows; ++i) {
+            OKID_AT(zrows, ldz, i, col) *= inv;
         }
     }
 }
 
-void okid_scaling_unscale_solution(okid_identifier *id)
+void okid_scaling_unscale_solution(int r, int m, int p, const okid_real *scales, okid_real *x, int ldx)
 {
-    const okid_dims_ *d = &id->dims_;
-    if (id->at_.scales == NULL || !id->scales_known_) {
+    const int q = r + (r + m) * p;
+    if (scales == NULL) {
         return;
     }
-    for (int a = 0; a < d->m; ++a) {
-        const okid_real out = id->at_.scales[d->r + a];
-        for (int i = 0; i < d->q; ++i) {
-            OKID_AT(id->at_.x, d->q, i, a) *= out / id->at_.scales[regressor_channel(d, i)];
+    for (int a = 0; a < m; ++a) {
+        const okid_real out = scales[r + a];
+        for (int i = 0; i < q; ++i) {
+            OKID_AT(x, ldx, i, a) *= out / scales[regressor_channel(r, m, p, i)];
         }
     }
 }

@@ -1,4 +1,5 @@
-/* The public identifier API: argument checks, state, and the identify pipeline (DESIGN.md data flow). */
+/* The public identifier API: argument checks, state, and okid_identify() as a sequence of the
+   stages of docs/design.md's data flow, each called with its own inputs, scratch and outputs. */
 #include "okid/identifier.h"
 
 #include "channel_scaling.h"
@@ -130,6 +131,7 @@ static void clear_samples(okid_identifier *id)
     id->rejected_ = 0;
     id->rows_ = 0;
     id->has_model_ = 0;
+    id->result_ = 0;
 }
 
 okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspace, size_t bytes,
@@ -174,6 +176,42 @@ okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspa
     return OKID_OK;
 }
 
+/* Fold the pending rows (push): the scales from them first if still unknown (OKID_SCALING_AUTO),
+   then into R, or into the instruments' cross-product M; the block is empty afterwards. */
+static okid_status fold_pending(okid_identifier *id)
+{
+    const okid_dims_ *d = &id->dims_;
+    okid_views_ *v = &id->at_;
+    const int rows = id->block_fill_, ld = d->block_rows;
+    if (rows == 0) {
+        return OKID_OK;
+    }
+    if (v->scales != NULL) {
+        if (!id->scales_known_) {
+            okid_scaling_measure(d->r, d->m, d->p, rows, v->block, ld, v->scales);
+            id->scales_known_ = 1;
+        }
+        okid_scaling_apply(d->r, d->m, d->p, v->scales, rows, v->block, ld, v->iv_block, d->nz, ld);
+    }
+    okid_status st = OKID_OK;
+    if (d->nz > 0) {
+        okid_real decay = 1; /* the cross-product takes root^age from each side */
+        if (id->forgetting_ < 1) {
+            const okid_real rscale = okid_lsq_decay(rows, id->forgetting_);
+            decay = rscale * rscale;
+            okid_lsq_weigh_rows(rows, d->w, v->block, ld, id->forgetting_);
+            okid_lsq_weigh_rows(rows, d->nz, v->iv_block, ld, id->forgetting_);
+        }
+        okid_iv_cross_product(0, d->nz, d->w, rows, v->iv_block, ld, v->block, ld, decay, v->iv_m, d->nz, v->iv_m,
+                              d->nz);
+    } else {
+        st = okid_lsq_fold(d->w, v->r, d->w, rows, v->block, ld, id->forgetting_, d->block_tile, v->fold_t,
+                           v->fold_work);
+    }
+    id->block_fill_ = 0;
+    return st;
+}
+
 /* One kept sample into the window and, once the window is full, one regressor row into the block. */
 static okid_status accept_sample(okid_identifier *id, const okid_real *u, const okid_real *y)
 {
@@ -186,7 +224,7 @@ static okid_status accept_sample(okid_identifier *id, const okid_real *u, const 
         ++id->block_fill_;
         ++id->rows_;
         if (id->block_fill_ == id->dims_.block_rows) {
-            st = okid_lsq_fold_pending(id);
+            st = fold_pending(id);
         }
     }
     okid_buffer_append(id, u, y);
@@ -273,6 +311,100 @@ static okid_matrix view(const okid_real *data, int rows, int cols, int ld)
     return v;
 }
 
+/* The scales this identification uses, copied into its result: the known ones, or (OKID_SCALING_AUTO
+   before the first fold, when every row is still pending) those of the pending rows, for this
+   identification only. NULL without scaling. */
+static const okid_real *identify_scales(const okid_identifier *id, okid_real *copy)
+{
+    const okid_dims_ *d = &id->dims_;
+    if (id->at_.scales == NULL) {
+        return NULL;
+    }
+    if (id->scales_known_) {
+        okid_copy_matrix(d->r + d->m, 1, id->at_.scales, d->r + d->m, copy, d->r + d->m);
+    } else {
+        okid_scaling_measure(d->r, d->m, d->p, id->block_fill_, id->at_.block, d->block_rows, copy);
+    }
+    return copy;
+}
+
+/*
+ * The factor identify solves on (*factor, w x w, leading dimension w): R itself when no row is
+ * pending, else a copy of R with the pending rows folded in from a copy of them (the same
+ * operations a fold at push makes), so that R, the pending rows and the counters stay as they
+ * are and an identification changes no later result. Instruments: R rebuilt from M and the
+ * pending rows, M left alone.
+ */
+static okid_status identify_factor(const okid_identifier *id, const okid_real *scales, okid_real **factor)
+{
+    const okid_dims_ *d = &id->dims_;
+    const okid_views_ *v = &id->at_;
+    const int rows = id->block_fill_, ld = d->block_rows, w = d->w, nz = d->nz;
+    okid_real *phi = NULL, *z = NULL;
+    if (rows > 0) {
+        phi = v->pending;
+        z = v->iv_pending;
+        okid_copy_matrix(rows, w, v->block, ld, phi, ld);
+        if (nz > 0) {
+            okid_copy_matrix(rows, nz, v->iv_block, ld, z, ld);
+        }
+        if (scales != NULL) {
+            okid_scaling_apply(d->r, d->m, d->p, scales, rows, phi, ld, z, nz, ld);
+        }
+    }
+    if (nz > 0) {
+        okid_real decay = 1;
+        if (rows > 0 && id->forgetting_ < 1) {
+            const okid_real rscale = okid_lsq_decay(rows, id->forgetting_);
+            decay = rscale * rscale;
+            okid_lsq_weigh_rows(rows, w, phi, ld, id->forgetting_);
+            okid_lsq_weigh_rows(rows, nz, z, ld, id->forgetting_);
+        }
+        *factor = v->r; /* not kept between calls with instruments: M is the accumulation */
+        return okid_iv_factor(nz, w, v->iv_m, nz, rows, z, ld, phi, ld, decay, v->r, w,
+                              rows > 0 ? v->iv_chunk : v->block, ld, d->block_tile, v->fold_t, v->fold_work);
+    }
+    if (rows == 0) {
+        *factor = v->r;
+        return OKID_OK;
+    }
+    okid_copy_matrix(w, w, v->r, w, v->factor, w);
+    *factor = v->factor;
+    return okid_lsq_fold(w, v->factor, w, rows, phi, ld, id->forgetting_, d->block_tile, v->fold_t, v->fold_work);
+}
+
+static void fill_result(const okid_identifier *id, const okid_result_views_ *out, int n, int num_modes,
+                        okid_result *result)
+{
+    const okid_dims_ *d = &id->dims_;
+    const int r = d->r, m = d->m, L = d->markov_count;
+    result->order = n;
+    result->num_modes = num_modes;
+    result->modes = out->modes;
+    result->A = view(out->a, n, n, n);
+    result->B = view(out->b, n, r, n);
+    result->C = view(out->c, m, n, m);
+    result->D = view(out->d, m, r, m);
+    result->G = view(out->g, out->g ? n : 0, out->g ? m : 0, n);
+    result->singular_values = out->sv;
+    result->num_singular_values = d->svd_size;
+    result->markov = view(out->markov, m, r * (L + 1), m);
+    result->observer_gain_markov = view(out->markov_obs, m, out->markov_obs ? m * L : 0, m);
+    result->dt = id->cfg_.dt;
+    result->samples = id->samples_;
+    result->rows = id->rows_;
+    result->regressor_columns = d->q;
+    result->decimation = d->decimation;
+    result->instrument_lags = d->instrument_lags;
+    result->input_scales = out->scales;
+    result->output_scales = out->scales != NULL ? out->scales + r : NULL;
+}
+
+/*
+ * The stages of docs/design.md on the accumulated factor, into the result the last good one is
+ * not: a failure anywhere leaves every observable as it was (last result, okid_predict(), the
+ * counters, the accumulation); success makes the new result the last good one.
+ */
 okid_status okid_identify(okid_identifier *id, okid_result *result)
 {
     if (id == NULL || result == NULL) {
@@ -282,85 +414,78 @@ okid_status okid_identify(okid_identifier *id, okid_result *result)
         return OKID_E_NOT_INITIALIZED;
     }
     const okid_dims_ *d = &id->dims_;
+    const okid_views_ *v = &id->at_;
     if (id->rows_ < (uint64_t)d->q) {
         return OKID_E_NOT_ENOUGH_DATA;
     }
-    okid_status st = okid_lsq_fold_pending(id);
-    if (st == OKID_OK && d->nz > 0) {
-        st = okid_iv_factor(id); /* the factor R is rebuilt from the instruments' cross-product */
-    }
+    const int q = d->q, m = d->m, r = d->r, nu = r * (d->p + 1);
+    const okid_result_views_ *out = &v->result[1 - id->result_];
+    const okid_real *scales = identify_scales(id, out->scales);
+    okid_real *factor = NULL;
+    okid_status st = identify_factor(id, scales, &factor);
     if (st != OKID_OK) {
         return st;
     }
-    id->has_model_ = 0; /* the solution X is rewritten below */
-    int regressor_rank = 0, input_rank = 0;
-    st = okid_lsq_solve(id, &regressor_rank, &input_rank);
-    if (st != OKID_OK) {
-        return st;
-    }
-    okid_scaling_unscale_solution(id);
-    okid_markov_recover(id);
 
-    unsigned warnings = (regressor_rank < d->q) ? OKID_W_REGRESSOR_RANK_DEFICIENT : 0u;
+    /* observer Markov parameters (eq. 50), then system and observer-gain Markov parameters (eq. 51, 53) */
+    const okid_lsq_scratch lsq = {v->lsq_scale, v->lsq_column, v->lsq_perm, v->lsq_work};
+    int regressor_rank = 0, input_rank = 0;
+    st = okid_lsq_solve(q, m, nu, factor, d->w, id->rank_tolerance_, out->x, q, &lsq, &regressor_rank, &input_rank);
+    if (st != OKID_OK) {
+        return st;
+    }
+    okid_scaling_unscale_solution(r, m, d->p, scales, out->x, q);
+    okid_markov_recover(r, m, d->p, d->markov_count, out->x, q, out->markov, out->markov_obs);
+
+    /* ERA (eq. 57-61) and the blocks of its factors the indicators compare */
+    unsigned warnings = (regressor_rank < q) ? OKID_W_REGRESSOR_RANK_DEFICIENT : 0u;
+    okid_era_problem era;
+    okid_era_scratch era_scratch;
+    okid_layout_era(id, out, factor, &era, &era_scratch);
+    const okid_era_output realization = {out->sv, out->a, out->b, out->c, out->d, out->g};
     int n = 0;
-    st = okid_era_realize(id, &n, &warnings);
+    st = okid_era_realize(&era, &era_scratch, &realization, &n, &warnings);
     if (st != OKID_OK) {
         return st;
     }
-    okid_indicators_capture(id, n, id->at_.obs_last, id->at_.ctrl_last);
+    okid_indicators_capture(&era, &era_scratch, out->sv, n, out->obs_last, out->ctrl_last);
+
+    /* identifiability of the regressor (its solves overwrite the Hankel matrix in the factor's triangle) */
     okid_regressor_diagnostics diag;
-    st = okid_diagnose_regressor(id, n, regressor_rank, &diag, &warnings);
+    st = okid_diagnose_regressor(q, nu, factor, d->w, id->rank_tolerance_, n, regressor_rank, &lsq, &diag,
+                                 &warnings);
     if (st != OKID_OK) {
         return st;
     }
-    const okid_modal_scratch scratch = {id->at_.modal_a, id->at_.modal_vr, id->at_.modal_wr, id->at_.modal_wi,
-                                        id->at_.modal_work};
+
+    /* modes (eq. 63-64), their indicators, the realization's diagnostics */
+    const okid_modal_scratch modal = {v->modal_a, v->modal_vr, v->modal_wr, v->modal_wi, v->modal_work};
     int num_modes = 0;
-    st = okid_modal_compute(n, d->m, id->at_.a, n, id->at_.c, d->m, id->cfg_.dt, id->cfg_.sensing, &scratch,
-                            id->at_.shapes, id->at_.modes, &num_modes, &warnings);
+    st = okid_modal_compute(n, m, out->a, n, out->c, m, id->cfg_.dt, id->cfg_.sensing, &modal, out->shapes,
+                            out->modes, &num_modes, &warnings);
     if (st != OKID_OK) {
         return st;
     }
-    const okid_indicator_inputs ind = {n, d->m, d->r, id->cfg_.hankel_rows, id->cfg_.hankel_cols,
-                                       id->at_.b, n, id->at_.c, d->m, id->at_.obs_last, d->m, id->at_.ctrl_last, n};
-    const okid_indicator_scratch ind_scratch = {id->at_.modal_a, id->at_.ind_rhs, id->at_.ind_jpvt, id->at_.ind_work};
-    st = okid_modal_indicators(&ind, id->at_.modal_vr, id->at_.modal_wr, id->at_.modal_wi, &ind_scratch,
-                               id->at_.modes, num_modes);
+    const okid_indicator_inputs ind = {n, m, r, id->cfg_.hankel_rows, id->cfg_.hankel_cols,
+                                       out->b, n, out->c, m, out->obs_last, m, out->ctrl_last, n};
+    const okid_indicator_scratch ind_scratch = {v->modal_a, v->ind_rhs, v->ind_jpvt, v->ind_work};
+    st = okid_modal_indicators(&ind, v->modal_vr, v->modal_wr, v->modal_wi, &ind_scratch, out->modes, num_modes);
     if (st != OKID_OK) {
         return st;
     }
     okid_real realization_condition = 0;
-    okid_diagnose_realization(id, n, id->at_.modes, num_modes, &realization_condition, &warnings);
+    const okid_real span = (okid_real)(id->cfg_.hankel_rows + id->cfg_.hankel_cols) * id->cfg_.dt;
+    okid_diagnose_realization(out->sv, n, span, out->modes, num_modes, &realization_condition, &warnings);
 
-    const int r = d->r, m = d->m, L = d->markov_count;
-    result->order = n;
-    result->num_modes = num_modes;
-    result->modes = id->at_.modes;
-    result->A = view(id->at_.a, n, n, n);
-    result->B = view(id->at_.b, n, r, n);
-    result->C = view(id->at_.c, m, n, m);
-    result->D = view(id->at_.d, m, r, m);
-    result->G = view(id->at_.g, id->at_.g ? n : 0, id->at_.g ? m : 0, n);
-    result->singular_values = id->at_.sv;
-    result->num_singular_values = d->svd_size;
-    result->markov = view(id->at_.markov, m, r * (L + 1), m);
-    result->observer_gain_markov = view(id->at_.markov_obs, m, id->at_.markov_obs ? m * L : 0, m);
-    result->dt = id->cfg_.dt;
-    result->samples = id->samples_;
-    result->rows = id->rows_;
+    fill_result(id, out, n, num_modes, result);
     result->regressor_rank = regressor_rank;
-    result->regressor_columns = d->q;
     result->input_rank = input_rank;
     result->warnings = warnings;
     result->regressor_rank_expected = diag.expected_rank;
     result->lsq_condition = diag.lsq_condition;
     result->input_condition = diag.input_condition;
     result->realization_condition = realization_condition;
-    result->decimation = d->decimation;
-    result->instrument_lags = d->instrument_lags;
-    const int scaled = id->at_.scales != NULL && id->scales_known_;
-    result->input_scales = scaled ? id->at_.scales : NULL;
-    result->output_scales = scaled ? id->at_.scales + r : NULL;
+    id->result_ = 1 - id->result_;
     id->has_model_ = 1;
     return OKID_OK;
 }
@@ -382,7 +507,7 @@ okid_status okid_predict(const okid_identifier *id, const okid_real *u, okid_rea
     if (!okid_all_finite(id->dims_.r, 1, u, id->dims_.r)) {
         return OKID_E_NONFINITE_SAMPLE;
     }
-    okid_buffer_predict(id, u, id->at_.x, y_hat);
+    okid_buffer_predict(id, u, id->at_.result[id->result_].x, y_hat);
     return OKID_OK;
 }
 

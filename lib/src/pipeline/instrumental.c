@@ -49,33 +49,35 @@ void okid_iv_append(okid_identifier *id, const okid_real *u)
     }
 }
 
-void okid_iv_accumulate(okid_identifier *id, okid_real decay)
+void okid_iv_cross_product(int first, int count, int w, int nrows, const okid_real *z, int ldz, const okid_real *phi,
+                           int ldphi, okid_real decay, const okid_real *mat, int ldm, okid_real *out, int ldout)
 {
-    const int nz = id->dims_.nz, w = id->dims_.w, rows = id->block_fill_, ld = id->dims_.block_rows;
-    okid_real *mat = id->at_.iv_m;
     for (int j = 0; j < w; ++j) {
-        const okid_real *phi = id->at_.block + (size_t)j * (size_t)ld;
-        for (int i = 0; i < nz; ++i) {
-            const okid_real *z = id->at_.iv_block + (size_t)i * (size_t)ld;
+        const okid_real *phi_j = phi + (size_t)j * (size_t)ldphi;
+        for (int i = first; i < first + count; ++i) {
+            const okid_real *z_i = z + (size_t)i * (size_t)ldz;
             okid_real s = 0;
-            for (int k = 0; k < rows; ++k) {
-                s += z[k] * phi[k];
+            for (int k = 0; k < nrows; ++k) {
+                s += z_i[k] * phi_j[k];
             }
-            OKID_AT(mat, nz, i, j) = decay * OKID_AT(mat, nz, i, j) + s;
+            OKID_AT(out, ldout, i - first, j) = decay * OKID_AT(mat, ldm, i, j) + s;
         }
     }
 }
 
-okid_status okid_iv_factor(okid_identifier *id)
+okid_status okid_iv_factor(int nz, int w, const okid_real *mat, int ldm, int nrows, const okid_real *z, int ldz,
+                           const okid_real *phi, int ldphi, okid_real decay, okid_real *r, int ldr, okid_real *chunk,
+                           int ldc, int nbt, okid_real *t, okid_real *work)
 {
-    const okid_dims_ *d = &id->dims_;
-    const int nz = d->nz, w = d->w, ld = d->block_rows;
-    okid_zero_matrix(w, w, id->at_.r, w);
-    for (int first = 0; first < nz; first += ld) {
-        const int rows = (nz - first < ld) ? nz - first : ld;
-        okid_copy_matrix(rows, w, id->at_.iv_m + first, nz, id->at_.block, ld);
-        const okid_status st = okid_la_fold_rows(w, id->at_.r, w, rows, id->at_.block, ld, d->block_tile,
-                                                 id->at_.fold_t, id->at_.fold_work);
+    okid_zero_matrix(w, w, r, ldr);
+    for (int first = 0; first < nz; first += ldc) {
+        const int rows = (nz - first < ldc) ? nz - first : ldc;
+        if (nrows > 0) {
+            okid_iv_cross_product(first, rows, w, nrows, z, ldz, phi, ldphi, decay, mat, ldm, chunk, ldc);
+        } else {
+            okid_copy_matrix(rows, w, mat + first, ldm, chunk, ldc);
+        }
+        const okid_status st = okid_la_fold_rows(w, r, ldr, rows, chunk, ldc, nbt, t, work);
         if (st != OKID_OK) {
             return st;
         }

@@ -9,7 +9,7 @@
 #ifndef OKID_INSTRUMENTAL_H
 #define OKID_INSTRUMENTAL_H
 
-#include "okid/identifier.h"
+#include "okid/identifier.h" /* the ring of past inputs (okid_identifier) */
 
 /* Empty the ring of past inputs (zero_history: zeros, as a record that starts at rest). */
 void okid_iv_restart(okid_identifier *id, int zero_history);
@@ -23,10 +23,22 @@ void okid_iv_write_row(const okid_identifier *id, const okid_real *u, int row);
 /* Append u(k) to the ring (no-op without instruments). */
 void okid_iv_append(okid_identifier *id, const okid_real *u);
 
-/* M = decay M + Z' B over the pending rows (already weighted and scaled). */
-void okid_iv_accumulate(okid_identifier *id, okid_real decay);
+/*
+ * Rows first .. first + count - 1 of decay M + Z' Phi into out (count x w, leading dimension
+ * ldout; out = M + first with ldout = ldm accumulates in place): M is nz x w (leading dimension
+ * ldm), Z the nrows x nz instrument rows, Phi the nrows x w regressor rows (both already weighted
+ * and scaled).
+ */
+void okid_iv_cross_product(int first, int count, int w, int nrows, const okid_real *z, int ldz, const okid_real *phi,
+                           int ldphi, okid_real decay, const okid_real *mat, int ldm, okid_real *out, int ldout);
 
-/* The triangular factor R (w x w) of M, through the pending block (which must be empty). */
-okid_status okid_iv_factor(okid_identifier *id);
+/*
+ * The triangular factor r (w x w) of M (nz x w), or of decay M + Z' Phi when nrows > 0 (the
+ * pending rows, which stay as they are), folded chunk by chunk of ldc rows through chunk
+ * (ldc x w). t and work as okid_lsq_fold().
+ */
+okid_status okid_iv_factor(int nz, int w, const okid_real *mat, int ldm, int nrows, const okid_real *z, int ldz,
+                           const okid_real *phi, int ldphi, okid_real decay, okid_real *r, int ldr, okid_real *chunk,
+                           int ldc, int nbt, okid_real *t, okid_real *work);
 
 #endif

@@ -1,56 +1,46 @@
 /* Block QR accumulation and rank-revealing solve: see least_squares.h. */
 #include "least_squares.h"
 
-#include "channel_scaling.h"
 #include "dense.h"
-#include "instrumental.h"
 #include "linalg.h"
 #include "real_math.h"
 #include "triangular_lstsq.h"
 
-okid_status okid_lsq_fold_pending(okid_identifier *id)
+void okid_lsq_weigh_rows(int nrows, int ncols, okid_real *rows, int ld, okid_real lambda)
 {
-    const int rows = id->block_fill_, w = id->dims_.w, ld = id->dims_.block_rows, nz = id->dims_.nz;
-    if (rows == 0) {
+    const okid_real root = okid_sqrt(lambda);
+    okid_real weight = 1;
+    for (int i = nrows - 1; i >= 0; --i) {
+        for (int j = 0; j < ncols; ++j) {
+            OKID_AT(rows, ld, i, j) *= weight;
+        }
+        weight *= root;
+    }
+}
+
+okid_real okid_lsq_decay(int nrows, okid_real lambda)
+{
+    return okid_pow(okid_sqrt(lambda), (okid_real)nrows);
+}
+
+okid_status okid_lsq_fold(int w, okid_real *r, int ldr, int nrows, okid_real *rows, int ldrows, okid_real lambda,
+                          int nbt, okid_real *t, okid_real *work)
+{
+    if (nrows == 0) {
         return OKID_OK;
     }
-    okid_scaling_apply_pending(id);
-    const okid_real lambda = id->forgetting_;
-    okid_real decay = 1; /* of what is already accumulated: `rows` samples older than the newest row */
     if (lambda < 1) {
-        /* Row i of the block (0 = oldest) is rows-1-i samples older than the newest one. The factor
-           R weighs rows by root^age (its square by lambda^age); the instruments' cross-product
-           takes root^age from each side. */
-        const okid_real root = okid_sqrt(lambda);
-        const okid_real rscale = okid_pow(root, (okid_real)rows);
-        decay = rscale * rscale;
-        if (nz == 0) {
-            for (int j = 0; j < w; ++j) {
-                for (int i = 0; i <= j; ++i) {
-                    OKID_AT(id->at_.r, w, i, j) *= rscale;
-                }
+        /* R weighs rows by root^age (its square by lambda^age): row i of the block is nrows-1-i
+           samples older than the newest one, what R holds at least nrows. */
+        const okid_real rscale = okid_lsq_decay(nrows, lambda);
+        for (int j = 0; j < w; ++j) {
+            for (int i = 0; i <= j; ++i) {
+                OKID_AT(r, ldr, i, j) *= rscale;
             }
         }
-        okid_real weight = 1;
-        for (int i = rows - 1; i >= 0; --i) {
-            for (int j = 0; j < w; ++j) {
-                OKID_AT(id->at_.block, ld, i, j) *= weight;
-            }
-            for (int j = 0; j < nz; ++j) {
-                OKID_AT(id->at_.iv_block, ld, i, j) *= weight;
-            }
-            weight *= root;
-        }
+        okid_lsq_weigh_rows(nrows, w, rows, ldrows, lambda);
     }
-    okid_status st = OKID_OK;
-    if (nz > 0) {
-        okid_iv_accumulate(id, decay);
-    } else {
-        st = okid_la_fold_rows(w, id->at_.r, w, rows, id->at_.block, ld, id->dims_.block_tile, id->at_.fold_t,
-                               id->at_.fold_work);
-    }
-    id->block_fill_ = 0;
-    return st;
+    return okid_la_fold_rows(w, r, ldr, nrows, rows, ldrows, nbt, t, work);
 }
 
 void okid_lsq_column_norms(const okid_real *r, int ldr, int n, okid_real *scale)
@@ -65,40 +55,36 @@ void okid_lsq_column_norms(const okid_real *r, int ldr, int n, okid_real *scale)
     }
 }
 
-okid_real *okid_lsq_equilibrated_copy(okid_identifier *id, int n, const okid_real *scale)
+okid_real *okid_lsq_equilibrated_copy(okid_real *r, int ldr, int n, const okid_real *scale)
 {
-    const int w = id->dims_.w;
-    okid_real *s = id->at_.r + 1; /* s(i, j) = s[i w + j] is R(j + 1, i): below R's diagonal, as j + 1 <= q < w */
+    okid_real *s = r + 1; /* s(i, j) = s[i ldr + j] is R(j + 1, i): below R's diagonal, as j + 1 <= n < ldr */
     for (int j = 0; j < n; ++j) {
         for (int i = 0; i <= j; ++i) {
-            s[(size_t)i * (size_t)w + (size_t)j] = OKID_AT(id->at_.r, w, i, j) / scale[j];
+            s[(size_t)i * (size_t)ldr + (size_t)j] = OKID_AT(r, ldr, i, j) / scale[j];
         }
     }
     return s;
 }
 
-okid_status okid_lsq_solve(okid_identifier *id, int *regressor_rank, int *input_rank)
+okid_status okid_lsq_solve(int q, int m, int nu, okid_real *r, int ldr, okid_real tol, okid_real *x, int ldx,
+                           const okid_lsq_scratch *scratch, int *regressor_rank, int *input_rank)
 {
-    const okid_dims_ *d = &id->dims_;
-    const int q = d->q, m = d->m, w = d->w, nu = d->r * (d->p + 1);
-    const okid_real tol = id->rank_tolerance_;
-    okid_views_ *v = &id->at_;
-    okid_lsq_column_norms(v->r, w, q, v->lsq_scale);
+    okid_lsq_column_norms(r, ldr, q, scratch->scale);
 
     /* Persistence of excitation: rank of the input-only regressor (leading nu columns). */
-    okid_real *s = okid_lsq_equilibrated_copy(id, nu, v->lsq_scale);
-    *input_rank = okid_triangular_lstsq(nu, 0, s, w, NULL, q, tol, v->lsq_perm, v->lsq_work);
+    okid_real *s = okid_lsq_equilibrated_copy(r, ldr, nu, scratch->scale);
+    *input_rank = okid_triangular_lstsq(nu, 0, s, ldr, NULL, q, tol, scratch->perm, scratch->work);
     if (*input_rank < nu) {
         return OKID_E_RANK_DEFICIENT;
     }
 
     /* Minimum-norm solution of the equilibrated R11 x~ = R12, then x = diag(1/scale) x~. */
-    okid_copy_matrix(q, m, v->r + (size_t)q * (size_t)w, w, v->x, q);
-    s = okid_lsq_equilibrated_copy(id, q, v->lsq_scale);
-    *regressor_rank = okid_triangular_lstsq(q, m, s, w, v->x, q, tol, v->lsq_perm, v->lsq_work);
+    okid_copy_matrix(q, m, r + (size_t)q * (size_t)ldr, ldr, x, ldx);
+    s = okid_lsq_equilibrated_copy(r, ldr, q, scratch->scale);
+    *regressor_rank = okid_triangular_lstsq(q, m, s, ldr, x, ldx, tol, scratch->perm, scratch->work);
     for (int j = 0; j < m; ++j) {
         for (int i = 0; i < q; ++i) {
-            OKID_AT(v->x, q, i, j) /= v->lsq_scale[i];
+            OKID_AT(x, ldx, i, j) /= scratch->scale[i];
         }
     }
     return OKID_OK;

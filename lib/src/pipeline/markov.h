@@ -5,9 +5,14 @@
 #ifndef OKID_MARKOV_H
 #define OKID_MARKOV_H
 
-#include "okid/identifier.h"
+#include "okid/types.h"
 
-/* Fill the markov view with [Y_0 .. Y_L] and, when markov_obs is not NULL, [Y°_1 .. Y°_L], L = alpha + beta. */
-void okid_markov_recover(okid_identifier *id);
+/*
+ * From x (q x m, leading dimension ldx, q = r + (r + m) p, the column order of sample_buffer.h)
+ * fill markov (m x r (L + 1), leading dimension m) with [Y_0 .. Y_L] and, when markov_obs is not
+ * NULL, markov_obs (m x m L, leading dimension m) with [Y°_1 .. Y°_L].
+ */
+void okid_markov_recover(int r, int m, int p, int L, const okid_real *x, int ldx, okid_real *markov,
+                         okid_real *markov_obs);
 
 #endif

@@ -7,7 +7,8 @@
 #ifndef OKID_DIAGNOSTICS_H
 #define OKID_DIAGNOSTICS_H
 
-#include "okid/identifier.h"
+#include "least_squares.h"
+#include "okid/modal.h"
 
 typedef struct okid_regressor_diagnostics {
     int expected_rank;         /* min(q, r (p + 1) + n) */
@@ -16,19 +17,21 @@ typedef struct okid_regressor_diagnostics {
 } okid_regressor_diagnostics;
 
 /*
- * Conditioning of the column-equilibrated regressor factor (the diag views of the scratch; the
- * least-squares solution in the x view is kept). n is the realized order, regressor_rank the
- * numerical rank the solve found. Sets OKID_W_RANK_BELOW_MODEL, OKID_W_WEAK_EXCITATION and
- * OKID_W_OBSERVER_ORDER_ABOVE_MINIMUM in *warnings.
+ * Conditioning of the column-equilibrated regressor factor: r is the w-column factor of the
+ * solve (leading dimension ldr > q, its strict lower triangle scratch as in okid_lsq_solve()), q
+ * its regressor columns, nu = r (p + 1) the inputs', tol the rank tolerance, n the realized order,
+ * regressor_rank the numerical rank the solve found. Sets OKID_W_RANK_BELOW_MODEL,
+ * OKID_W_WEAK_EXCITATION and OKID_W_OBSERVER_ORDER_ABOVE_MINIMUM in *warnings.
  */
-okid_status okid_diagnose_regressor(okid_identifier *id, int n, int regressor_rank, okid_regressor_diagnostics *out,
+okid_status okid_diagnose_regressor(int q, int nu, okid_real *r, int ldr, okid_real tol, int n, int regressor_rank,
+                                    const okid_lsq_scratch *scratch, okid_regressor_diagnostics *out,
                                     unsigned *warnings);
 
 /*
- * sigma_1 / sigma_n of H(0) (sv of the last realization) into *condition; sets
- * OKID_W_REALIZATION_ILL_CONDITIONED and OKID_W_HANKEL_SPAN_SHORT (modes with their indicators).
+ * sigma_1 / sigma_n of H(0) (sv, decreasing) into *condition; sets OKID_W_REALIZATION_ILL_CONDITIONED
+ * and OKID_W_HANKEL_SPAN_SHORT (modes with their indicators; span = (alpha + beta) dt seconds).
  */
-void okid_diagnose_realization(const okid_identifier *id, int n, const okid_mode *modes, int num_modes,
+void okid_diagnose_realization(const okid_real *sv, int n, okid_real span, const okid_mode *modes, int num_modes,
                                okid_real *condition, unsigned *warnings);
 
 #endif
