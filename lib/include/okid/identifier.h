@@ -69,8 +69,8 @@ typedef enum okid_scaling {
     OKID_SCALING_NONE = 0,
     /**
      * Each input and output channel is divided by its RMS over the first block of regressor rows
-     * (block_rows samples after the first p, at the decimated rate, or the rows pending at the
-     * first okid_identify() if that comes first; a channel that is zero there keeps scale 1), or
+     * (block_rows samples after the first p, at the decimated rate; an okid_identify() before that
+     * uses the rows pending then, for itself only; a channel that is zero there keeps scale 1), or
      * by scales given with okid_set_scales(). The rows are scaled when the block is folded, so the
      * scales must be known before the first fold. The ERA Hankel is built from the Markov
      * parameters of the scaled data, and A, B, C, D, G, the Markov parameters and the observer
@@ -263,8 +263,8 @@ okid_status okid_push_block(okid_identifier *id, size_t count, const okid_real *
 
 /**
  * Set the channel scales of OKID_SCALING_AUTO yourself (e.g. from the sensors' ranges) instead of
- * the first block's RMS. Only before the first block of rows is folded (after init or reset, and
- * before okid_identify()); okid_reset() forgets them.
+ * the first block's RMS. Only before the first block of rows is folded (after init or reset; an
+ * okid_identify() does not fold); okid_reset() forgets them.
  * \param[in,out] id             identifier configured with OKID_SCALING_AUTO
  * \param[in]     input_scales   r values, finite and > 0
  * \param[in]     output_scales  m values, finite and > 0
@@ -327,9 +327,12 @@ typedef struct okid_result {
  * Identify from everything pushed so far: observer Markov parameters (eq. 50) by rank-revealing
  * least squares, system and observer-gain Markov parameters (eq. 51, 53), ERA (eq. 57-61) and
  * modal parameters (eq. 63-64). Pushing can go on afterwards; calling it twice gives the same
- * result. The views in result stay valid until the next okid_identify(), okid_reset() or okid_init()
- * on this identifier.
- * \param[in,out] id     identifier (pending rows are folded into the factor first)
+ * result. A transaction: on failure every observable stays as it was (the last result and its
+ * views, okid_predict(), the counters, okid_set_scales()'s availability), and no call, failed or
+ * not, changes a later result (rows still pending in the block are folded into a copy of the
+ * factor). The views in result stay valid until the next successful okid_identify(), okid_reset()
+ * or okid_init() on this identifier.
+ * \param[in,out] id     identifier
  * \param[out]    result filled on OKID_OK; untouched otherwise
  * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_NOT_ENOUGH_DATA,
  *         OKID_E_RANK_DEFICIENT, OKID_E_DECOMPOSITION_FAILED, OKID_E_BACKEND_ARGUMENT
