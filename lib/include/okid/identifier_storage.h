@@ -124,8 +124,10 @@ struct okid_identifier {
 /* Two results: the last good one and the one okid_identify() writes (a failed call keeps the first). */
 #define OKID__RESULT_BYTES(r, m, p, alpha, beta, n, k, combined) (2u * OKID__ONE_RESULT_BYTES(r, m, p, alpha, beta, n, k, combined))
 
-#define OKID__PHASE_FOLD_BYTES(r, m, p, block_rows) \
-    (2u * OKID__RB(OKID__NBT(r, m, p, block_rows) * OKID__W(r, m, p)))
+/* The folds: push's tiles, and identify's copy of the pending rows (block_rows > 1). */
+#define OKID__PHASE_FOLD_BYTES(r, m, p, block_rows)                                                 \
+    (2u * OKID__RB(OKID__NBT(r, m, p, block_rows) * OKID__W(r, m, p))                                 \
+     + (OKID__NB(block_rows) > 1u ? OKID__RB(OKID__NB(block_rows) * OKID__W(r, m, p)) : 0u))
 /* Work of the core's rank-revealing solve on a triangle (triangular_lstsq.h), in reals. */
 #define OKID__LWORK_TRIANGULAR_LSTSQ(n) (4u * OKID__Z(n))
 /* The rank-revealing solves (least squares, the diagnostics' noise-free test) run in R's unused
@@ -151,12 +153,10 @@ struct okid_identifier {
 #define OKID__PHASE_INDICATOR_BYTES(n, r)                                                          \
     (OKID__RB(OKID__Z(n) * 2u * OKID__Z(r)) + OKID__RB(OKID__LWORK_GELSY(n, 2u * OKID__Z(r)))        \
      + OKID__ALIGN16(sizeof(int) * OKID__Z(n)))
-/* With block_rows > 1, identify folds the pending rows into a copy of R (w x w) from a copy of the
-   rows (block_rows x w): the accumulation stays as it was, bit for bit. */
-#define OKID__IDENTIFY_FOLD_BYTES(r, m, p, block_rows)                                                     \
-    (OKID__NB(block_rows) > 1u ? OKID__RB(OKID__W(r, m, p) * OKID__W(r, m, p))                               \
-                                     + OKID__RB(OKID__NB(block_rows) * OKID__W(r, m, p))                     \
-                               : 0u)
+/* With block_rows > 1, identify folds the pending rows into a copy of R (w x w), which its later
+   phases use as they would use R: the accumulation stays as it was, bit for bit. */
+#define OKID__IDENTIFY_FOLD_BYTES(r, m, p, block_rows) \
+    (OKID__NB(block_rows) > 1u ? OKID__RB(OKID__W(r, m, p) * OKID__W(r, m, p)) : 0u)
 #define OKID__SCRATCH_BYTES(r, m, p, alpha, beta, n, k, block_rows, combined)                        \
     (OKID__IDENTIFY_FOLD_BYTES(r, m, p, block_rows)                                                  \
      + OKID__MAX(OKID__MAX(OKID__PHASE_FOLD_BYTES(r, m, p, block_rows), OKID__PHASE_SOLVE_BYTES(r, m, p)),   \

@@ -161,11 +161,10 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned
         carve_result(d, combined, scaled, &c, &v->result[i]);
     }
 
-    /* identify's fold of the pending rows (OKID__IDENTIFY_FOLD_BYTES, and OKID__IV_BYTES' copies) */
-    v->factor = v->pending = v->iv_pending = v->iv_chunk = NULL;
+    /* identify's copy of R (OKID__IDENTIFY_FOLD_BYTES) and of the instrument rows (OKID__IV_BYTES) */
+    v->factor = v->iv_pending = v->iv_chunk = NULL;
     if (d->block_rows > 1) {
         v->factor = okid_carve_reals(&c, w * w);
-        v->pending = okid_carve_reals(&c, (size_t)d->block_rows * w);
         if (d->nz > 0) {
             v->iv_pending = okid_carve_reals(&c, (size_t)d->block_rows * (size_t)d->nz);
             v->iv_chunk = okid_carve_reals(&c, (size_t)d->block_rows * w);
@@ -174,9 +173,10 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned
     const size_t phases = c.used;
     size_t end = phases;
 
-    c.used = phases;
+    /* the folds: push's, and identify's of the pending rows (a copy of them) into the factor */
     v->fold_t = okid_carve_reals(&c, (size_t)d->block_tile * w);
     v->fold_work = okid_carve_reals(&c, (size_t)d->block_tile * w);
+    v->pending = (d->block_rows > 1) ? okid_carve_reals(&c, (size_t)d->block_rows * w) : NULL;
     end = MAX(end, c.used);
 
     c.used = phases;
