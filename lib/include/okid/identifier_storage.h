@@ -50,7 +50,16 @@ typedef struct okid_views_ {
     okid_real *iv_ring, *iv_block, *iv_m;      /* past inputs, pending instrument rows, Z'[Phi y] */
 } okid_views_;
 
-/** Sizes derived from the configuration (internal). */
+/* A ring of the last `depth` vectors of `width` values: the sample window (r + m, p) and the
+   instruments' past inputs (r, L; depth 0 without instruments). */
+typedef struct okid_ring_ {
+    okid_real *data;   /* width x depth, in the workspace */
+    int width, depth;
+    int head;          /* slot of the newest vector */
+    int fill;          /* vectors held, up to depth */
+} okid_ring_;
+
+/* Sizes derived from the configuration. */
 typedef struct okid_dims_ {
     int r, m, p, q, w;        /* inputs, outputs, observer order, regressor columns, q + m */
     int ncols;                /* columns of one Hankel block: r, or r + m when combined */
@@ -67,12 +76,13 @@ struct okid_identifier {
     okid_config cfg_;            /* as given, except dt: the model's interval, K times the pushed one */
     okid_dims_ dims_;
     okid_real forgetting_, rank_tolerance_;
-    int block_fill_, window_fill_, ring_head_;
+    okid_ring_ window_;          /* v(k-1) .. v(k-p) */
+    okid_ring_ inputs_;          /* u(k-1) .. u(k-L) for the instruments */
+    int block_fill_;
     int has_model_;              /* 1 after a successful okid_identify(), until init/reset */
     int result_;                 /* at_.result[result_] is the last good result */
     int dec_phase_;              /* pushed samples since the last kept one (decimation) */
     int scales_known_;           /* 1 once the scales are set (OKID_SCALING_AUTO: at the first fold, or okid_set_scales()) */
-    int iv_fill_, iv_head_;      /* inputs in the instrument ring, slot of u(k-1) */
     uint64_t samples_, rejected_, rows_;
     okid_views_ at_;
 };

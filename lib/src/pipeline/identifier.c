@@ -109,8 +109,8 @@ okid_status okid_workspace_size(const okid_config *cfg, size_t *bytes)
 /* Start the sample history again (at init, reset, and after a rejected sample: a gap). */
 static void restart_history(okid_identifier *id, int zero_history)
 {
-    okid_buffer_restart(id, zero_history);
-    okid_iv_restart(id, zero_history);
+    okid_ring_restart(&id->window_, zero_history);
+    okid_ring_restart(&id->inputs_, zero_history);
     if (id->at_.dec_state != NULL) {
         okid_decimator_reset(id->at_.dec_state, id->dims_.r + id->dims_.m);
     }
@@ -168,6 +168,10 @@ okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspa
     id->forgetting_ = (cfg->forgetting_factor > 0) ? cfg->forgetting_factor : 1;
     id->rank_tolerance_ = (cfg->rank_tolerance > 0) ? cfg->rank_tolerance : DEFAULT_RANK_TOLERANCE;
     (void)okid_layout_carve(&dims, combined, scaled, (unsigned char *)workspace, &id->at_);
+    const okid_ring_ window = {id->at_.ring, dims.r + dims.m, dims.p, 0, 0};
+    const okid_ring_ inputs = {id->at_.iv_ring, dims.r, dims.instrument_lags, 0, 0};
+    id->window_ = window;
+    id->inputs_ = inputs;
     if (id->at_.dec_coef != NULL) {
         okid_decimator_design(dims.decimation, id->at_.dec_coef);
     }
@@ -216,10 +220,11 @@ static okid_status fold_pending(okid_identifier *id)
 static okid_status accept_sample(okid_identifier *id, const okid_real *u, const okid_real *y)
 {
     okid_status st = OKID_OK;
-    if (okid_buffer_window_full(id) && okid_iv_ready(id)) {
-        okid_buffer_write_row(id, u, y, id->block_fill_);
+    const size_t ld = (size_t)id->dims_.block_rows;
+    if (okid_ring_full(&id->window_) && okid_ring_full(&id->inputs_)) {
+        okid_buffer_write_row(&id->window_, id->dims_.r, u, y, id->at_.block + id->block_fill_, ld);
         if (id->dims_.nz > 0) {
-            okid_iv_write_row(id, u, id->block_fill_);
+            okid_iv_write_row(&id->inputs_, u, id->at_.iv_block + id->block_fill_, ld);
         }
         ++id->block_fill_;
         ++id->rows_;
@@ -227,8 +232,8 @@ static okid_status accept_sample(okid_identifier *id, const okid_real *u, const 
             st = fold_pending(id);
         }
     }
-    okid_buffer_append(id, u, y);
-    okid_iv_append(id, u);
+    okid_ring_append(&id->window_, u, id->dims_.r, y, id->dims_.m);
+    okid_ring_append(&id->inputs_, u, id->dims_.r, NULL, 0);
     return st;
 }
 
@@ -501,13 +506,13 @@ okid_status okid_predict(const okid_identifier *id, const okid_real *u, okid_rea
     if (!id->has_model_ || id->dims_.decimation > 1) {
         return OKID_E_NOT_AVAILABLE; /* with decimation the window holds filtered samples, not the pushed ones */
     }
-    if (!okid_buffer_window_full(id)) {
+    if (!okid_ring_full(&id->window_)) {
         return OKID_E_NOT_ENOUGH_DATA;
     }
     if (!okid_all_finite(id->dims_.r, 1, u, id->dims_.r)) {
         return OKID_E_NONFINITE_SAMPLE;
     }
-    okid_buffer_predict(id, u, id->at_.result[id->result_].x, y_hat);
+    okid_buffer_predict(&id->window_, id->dims_.r, u, id->at_.result[id->result_].x, id->dims_.q, y_hat);
     return OKID_OK;
 }
 

@@ -3,49 +3,19 @@
 
 #include "dense.h"
 #include "linalg.h"
+#include "sample_buffer.h"
 
-void okid_iv_restart(okid_identifier *id, int zero_history)
+void okid_iv_write_row(const okid_ring_ *inputs, const okid_real *u, okid_real *row, size_t ld)
 {
-    const int lags = id->dims_.instrument_lags;
-    id->iv_head_ = lags > 0 ? lags - 1 : 0;
-    id->iv_fill_ = zero_history ? lags : 0;
-    if (lags > 0) {
-        okid_zero_matrix(id->dims_.r, lags, id->at_.iv_ring, id->dims_.r);
-    }
-}
-
-int okid_iv_ready(const okid_identifier *id)
-{
-    return id->iv_fill_ >= id->dims_.instrument_lags;
-}
-
-void okid_iv_write_row(const okid_identifier *id, const okid_real *u, int row)
-{
-    const int r = id->dims_.r, lags = id->dims_.instrument_lags, ld = id->dims_.block_rows;
-    okid_real *out = id->at_.iv_block + row;
+    const int r = inputs->width, lags = inputs->depth;
     for (int i = 0; i < r; ++i) {
-        out[(size_t)i * (size_t)ld] = u[i];
+        row[(size_t)i * ld] = u[i];
     }
     for (int j = 1; j <= lags; ++j) {
-        const int slot = (id->iv_head_ - (j - 1) + lags) % lags; /* u(k - j) */
+        const okid_real *past = okid_ring_past(inputs, j); /* u(k - j) */
         for (int i = 0; i < r; ++i) {
-            out[(size_t)(j * r + i) * (size_t)ld] = id->at_.iv_ring[(size_t)slot * (size_t)r + (size_t)i];
+            row[(size_t)(j * r + i) * ld] = past[i];
         }
-    }
-}
-
-void okid_iv_append(okid_identifier *id, const okid_real *u)
-{
-    const int r = id->dims_.r, lags = id->dims_.instrument_lags;
-    if (lags == 0) {
-        return;
-    }
-    id->iv_head_ = (id->iv_head_ + 1) % lags;
-    for (int i = 0; i < r; ++i) {
-        id->at_.iv_ring[(size_t)id->iv_head_ * (size_t)r + (size_t)i] = u[i];
-    }
-    if (id->iv_fill_ < lags) {
-        ++id->iv_fill_;
     }
 }
 

@@ -9,19 +9,11 @@
 #ifndef OKID_INSTRUMENTAL_H
 #define OKID_INSTRUMENTAL_H
 
-#include "okid/identifier.h" /* the ring of past inputs (okid_identifier) */
+#include "okid/identifier.h" /* okid_ring_ */
 
-/* Empty the ring of past inputs (zero_history: zeros, as a record that starts at rest). */
-void okid_iv_restart(okid_identifier *id, int zero_history);
-
-/* 1 when the ring holds L past inputs (always 1 without instruments). */
-int okid_iv_ready(const okid_identifier *id);
-
-/* Write z(k) of input u into row `row` of the pending instrument block. */
-void okid_iv_write_row(const okid_identifier *id, const okid_real *u, int row);
-
-/* Append u(k) to the ring (no-op without instruments). */
-void okid_iv_append(okid_identifier *id, const okid_real *u);
+/* Write z(k) = [u(k); u(k-1); ...; u(k-L)] of input u (r values) and the ring of the last L inputs
+   to row (stride ld between columns). */
+void okid_iv_write_row(const okid_ring_ *inputs, const okid_real *u, okid_real *row, size_t ld);
 
 /*
  * Rows first .. first + count - 1 of decay M + Z' Phi into out (count x w, leading dimension
