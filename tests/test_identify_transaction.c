@@ -82,7 +82,7 @@ static void test_failed_identify_keeps_last_model(void **state)
     assert_int_equal(okid_predict(&id, u + SAMPLES - 1, y_hat_after), OKID_OK); /* NOT_AVAILABLE before the fix */
     assert_memory_equal(y_hat_before, y_hat_after, sizeof y_hat_before);
     assert_int_equal(okid_get_progress(&id, &after), OKID_OK);
-    assert_memory_equal(&before, &after, sizeof before);
+    assert_true(before.samples == after.samples && before.rejected == after.rejected && before.rows == after.rows);
     assert_memory_equal(good.A.data, a_before, sizeof(okid_real) * n * n); /* the last result's views */
     size_t bytes = 0;
     assert_int_equal(okid_stabilization_workspace_size(&id, 4, 2, &bytes), OKID_OK);
