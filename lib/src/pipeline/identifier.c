@@ -378,13 +378,87 @@ static okid_status identify_factor(const okid_identifier *id, const okid_real *s
     return okid_lsq_fold(w, v->factor, w, rows, phi, ld, id->forgetting_, d->block_tile, v->fold_t, v->fold_work);
 }
 
-static void fill_result(const okid_identifier *id, const okid_result_views_ *out, int n, int num_modes,
+/* What the stages of one identification report besides the result set. */
+typedef struct identification {
+    int regressor_rank, input_rank, order, num_modes;
+    unsigned warnings;
+    okid_regressor_diagnostics regressor;
+    okid_real realization_condition;
+} identification;
+
+/* Observer Markov parameters (eq. 50) by the rank-revealing solve on the factor, in the data's
+   units, then the system and observer-gain Markov parameters (eq. 51, 53). */
+static okid_status observer_stage(const okid_identifier *id, okid_real *factor, const okid_real *scales,
+                                  const okid_result_views_ *out, identification *info)
+{
+    const okid_dims_ *d = &id->dims_;
+    const okid_views_ *v = &id->at_;
+    const okid_lsq_scratch lsq = {v->lsq_scale, v->lsq_column, v->lsq_perm, v->lsq_work};
+    const okid_status st = okid_lsq_solve(d->q, d->m, d->r * (d->p + 1), factor, d->w, id->rank_tolerance_, out->x,
+                                          d->q, &lsq, &info->regressor_rank, &info->input_rank);
+    if (st != OKID_OK) {
+        return st;
+    }
+    info->warnings = (info->regressor_rank < d->q) ? OKID_W_REGRESSOR_RANK_DEFICIENT : 0u;
+    okid_scaling_unscale_solution(d->r, d->m, d->p, scales, out->x, d->q);
+    okid_markov_recover(d->r, d->m, d->p, d->markov_count, out->x, d->q, out->markov, out->markov_obs);
+    return OKID_OK;
+}
+
+/* ERA (eq. 57-61), the blocks of its factors the indicators compare, then the regressor's
+   diagnostics (their solves overwrite the Hankel matrix in the factor's triangle). */
+static okid_status realization_stage(const okid_identifier *id, okid_real *factor, const okid_result_views_ *out,
+                                     identification *info)
+{
+    const okid_dims_ *d = &id->dims_;
+    const okid_views_ *v = &id->at_;
+    okid_era_problem era;
+    okid_era_scratch scratch;
+    okid_layout_era(id, out, factor, &era, &scratch);
+    const okid_era_output realization = {out->sv, out->a, out->b, out->c, out->d, out->g};
+    okid_status st = okid_era_realize(&era, &scratch, &realization, &info->order, &info->warnings);
+    if (st != OKID_OK) {
+        return st;
+    }
+    okid_indicators_capture(&era, &scratch, out->sv, info->order, out->obs_last, out->ctrl_last);
+    const okid_lsq_scratch lsq = {v->lsq_scale, v->lsq_column, v->lsq_perm, v->lsq_work};
+    return okid_diagnose_regressor(d->q, d->r * (d->p + 1), factor, d->w, id->rank_tolerance_, info->order,
+                                   info->regressor_rank, &lsq, &info->regressor, &info->warnings);
+}
+
+/* Modes (eq. 63-64), their indicators, and the realization's diagnostics. */
+static okid_status modal_stage(const okid_identifier *id, const okid_result_views_ *out, identification *info)
+{
+    const okid_dims_ *d = &id->dims_;
+    const okid_views_ *v = &id->at_;
+    const int n = info->order, m = d->m;
+    const okid_modal_scratch modal = {v->modal_a, v->modal_vr, v->modal_wr, v->modal_wi, v->modal_work};
+    okid_status st = okid_modal_compute(n, m, out->a, n, out->c, m, id->cfg_.dt, id->cfg_.sensing, &modal,
+                                        out->shapes, out->modes, &info->num_modes, &info->warnings);
+    if (st != OKID_OK) {
+        return st;
+    }
+    const okid_indicator_inputs ind = {n, m, d->r, id->cfg_.hankel_rows, id->cfg_.hankel_cols,
+                                       out->b, n, out->c, m, out->obs_last, m, out->ctrl_last, n};
+    const okid_indicator_scratch ind_scratch = {v->modal_a, v->ind_rhs, v->ind_jpvt, v->ind_work};
+    st = okid_modal_indicators(&ind, v->modal_vr, v->modal_wr, v->modal_wi, &ind_scratch, out->modes,
+                               info->num_modes);
+    if (st != OKID_OK) {
+        return st;
+    }
+    const okid_real span = (okid_real)(id->cfg_.hankel_rows + id->cfg_.hankel_cols) * id->cfg_.dt;
+    okid_diagnose_realization(out->sv, n, span, out->modes, info->num_modes, &info->realization_condition,
+                              &info->warnings);
+    return OKID_OK;
+}
+
+static void fill_result(const okid_identifier *id, const okid_result_views_ *out, const identification *info,
                         okid_result *result)
 {
     const okid_dims_ *d = &id->dims_;
-    const int r = d->r, m = d->m, L = d->markov_count;
+    const int r = d->r, m = d->m, L = d->markov_count, n = info->order;
     result->order = n;
-    result->num_modes = num_modes;
+    result->num_modes = info->num_modes;
     result->modes = out->modes;
     result->A = view(out->a, n, n, n);
     result->B = view(out->b, n, r, n);
@@ -398,7 +472,14 @@ static void fill_result(const okid_identifier *id, const okid_result_views_ *out
     result->dt = id->cfg_.dt;
     result->samples = id->samples_;
     result->rows = id->rows_;
+    result->regressor_rank = info->regressor_rank;
     result->regressor_columns = d->q;
+    result->input_rank = info->input_rank;
+    result->warnings = info->warnings;
+    result->regressor_rank_expected = info->regressor.expected_rank;
+    result->lsq_condition = info->regressor.lsq_condition;
+    result->input_condition = info->regressor.input_condition;
+    result->realization_condition = info->realization_condition;
     result->decimation = d->decimation;
     result->instrument_lags = d->instrument_lags;
     result->input_scales = out->scales;
@@ -406,8 +487,8 @@ static void fill_result(const okid_identifier *id, const okid_result_views_ *out
 }
 
 /*
- * The stages of docs/design.md on the accumulated factor, into the result the last good one is
- * not: a failure anywhere leaves every observable as it was (last result, okid_predict(), the
+ * The stages of docs/design.md on the accumulated factor, into the result set the last good one
+ * is not: a failure anywhere leaves every observable as it was (last result, okid_predict(), the
  * counters, the accumulation); success makes the new result the last good one.
  */
 okid_status okid_identify(okid_identifier *id, okid_result *result)
@@ -418,78 +499,27 @@ okid_status okid_identify(okid_identifier *id, okid_result *result)
     if (!is_initialized(id)) {
         return OKID_E_NOT_INITIALIZED;
     }
-    const okid_dims_ *d = &id->dims_;
-    const okid_views_ *v = &id->at_;
-    if (id->rows_ < (uint64_t)d->q) {
+    if (id->rows_ < (uint64_t)id->dims_.q) {
         return OKID_E_NOT_ENOUGH_DATA;
     }
-    const int q = d->q, m = d->m, r = d->r, nu = r * (d->p + 1);
-    const okid_result_views_ *out = &v->result[1 - id->result_];
+    const okid_result_views_ *out = &id->at_.result[1 - id->result_];
     const okid_real *scales = identify_scales(id, out->scales);
     okid_real *factor = NULL;
+    identification info = {0};
     okid_status st = identify_factor(id, scales, &factor);
-    if (st != OKID_OK) {
-        return st;
+    if (st == OKID_OK) {
+        st = observer_stage(id, factor, scales, out, &info);
     }
-
-    /* observer Markov parameters (eq. 50), then system and observer-gain Markov parameters (eq. 51, 53) */
-    const okid_lsq_scratch lsq = {v->lsq_scale, v->lsq_column, v->lsq_perm, v->lsq_work};
-    int regressor_rank = 0, input_rank = 0;
-    st = okid_lsq_solve(q, m, nu, factor, d->w, id->rank_tolerance_, out->x, q, &lsq, &regressor_rank, &input_rank);
-    if (st != OKID_OK) {
-        return st;
+    if (st == OKID_OK) {
+        st = realization_stage(id, factor, out, &info);
     }
-    okid_scaling_unscale_solution(r, m, d->p, scales, out->x, q);
-    okid_markov_recover(r, m, d->p, d->markov_count, out->x, q, out->markov, out->markov_obs);
-
-    /* ERA (eq. 57-61) and the blocks of its factors the indicators compare */
-    unsigned warnings = (regressor_rank < q) ? OKID_W_REGRESSOR_RANK_DEFICIENT : 0u;
-    okid_era_problem era;
-    okid_era_scratch era_scratch;
-    okid_layout_era(id, out, factor, &era, &era_scratch);
-    const okid_era_output realization = {out->sv, out->a, out->b, out->c, out->d, out->g};
-    int n = 0;
-    st = okid_era_realize(&era, &era_scratch, &realization, &n, &warnings);
-    if (st != OKID_OK) {
-        return st;
+    if (st == OKID_OK) {
+        st = modal_stage(id, out, &info);
     }
-    okid_indicators_capture(&era, &era_scratch, out->sv, n, out->obs_last, out->ctrl_last);
-
-    /* identifiability of the regressor (its solves overwrite the Hankel matrix in the factor's triangle) */
-    okid_regressor_diagnostics diag;
-    st = okid_diagnose_regressor(q, nu, factor, d->w, id->rank_tolerance_, n, regressor_rank, &lsq, &diag,
-                                 &warnings);
     if (st != OKID_OK) {
-        return st;
+        return st; /* the last good result is untouched */
     }
-
-    /* modes (eq. 63-64), their indicators, the realization's diagnostics */
-    const okid_modal_scratch modal = {v->modal_a, v->modal_vr, v->modal_wr, v->modal_wi, v->modal_work};
-    int num_modes = 0;
-    st = okid_modal_compute(n, m, out->a, n, out->c, m, id->cfg_.dt, id->cfg_.sensing, &modal, out->shapes,
-                            out->modes, &num_modes, &warnings);
-    if (st != OKID_OK) {
-        return st;
-    }
-    const okid_indicator_inputs ind = {n, m, r, id->cfg_.hankel_rows, id->cfg_.hankel_cols,
-                                       out->b, n, out->c, m, out->obs_last, m, out->ctrl_last, n};
-    const okid_indicator_scratch ind_scratch = {v->modal_a, v->ind_rhs, v->ind_jpvt, v->ind_work};
-    st = okid_modal_indicators(&ind, v->modal_vr, v->modal_wr, v->modal_wi, &ind_scratch, out->modes, num_modes);
-    if (st != OKID_OK) {
-        return st;
-    }
-    okid_real realization_condition = 0;
-    const okid_real span = (okid_real)(id->cfg_.hankel_rows + id->cfg_.hankel_cols) * id->cfg_.dt;
-    okid_diagnose_realization(out->sv, n, span, out->modes, num_modes, &realization_condition, &warnings);
-
-    fill_result(id, out, n, num_modes, result);
-    result->regressor_rank = regressor_rank;
-    result->input_rank = input_rank;
-    result->warnings = warnings;
-    result->regressor_rank_expected = diag.expected_rank;
-    result->lsq_condition = diag.lsq_condition;
-    result->input_condition = diag.input_condition;
-    result->realization_condition = realization_condition;
+    fill_result(id, out, &info, result);
     id->result_ = 1 - id->result_;
     id->has_model_ = 1;
     return OKID_OK;
