@@ -39,7 +39,6 @@ extern "C" {
 
 /* ======== Configuration ======== */
 
-
 /** Largest number of inputs or outputs. */
 #define OKID_MAX_DIMENSION 64
 /** Largest observer order p and largest number of Hankel block rows or columns. */
