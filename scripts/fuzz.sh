@@ -37,4 +37,4 @@ done
 llvm-profdata merge -sparse build-fuzz-cov/*.profraw -o build-fuzz-cov/fuzz.profdata
 echo "=== line coverage of lib/ reached by fuzz_api and fuzz_fmu"
 llvm-cov report build-fuzz-cov/fuzz/fuzz_api -object build-fuzz-cov/fuzz/libokid_identifier_fuzz.so \
-    -instr-profile=build-fuzz-cov/fuzz.profdata "$PWD"/lib/src/*.c | sed 's|'"$PWD"'/||'
+    -instr-profile=build-fuzz-cov/fuzz.profdata "$PWD"/lib/src/*.c "$PWD"/lib/src/*/*.c | sed 's|'"$PWD"'/||'

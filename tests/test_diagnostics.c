@@ -15,7 +15,7 @@ static unsigned identify_paper(okid_config *cfg, double noise, okid_result *res,
     return res->warnings;
 }
 
-/* Noise-free, p = 20: rank exactly r (p + 1) + n = 21 + 4 (DESIGN.md: not unique, but the system
+/* Noise-free, p = 20: rank exactly r (p + 1) + n = 21 + 4 (docs/design.md: not unique, but the system
    Markov parameters are), flagged as an observer order above the minimum; the realization
    condition is sigma_1 / sigma_4 of the exact Hankel matrix (numpy), 4.44e3: below 1 / sqrt(eps)
    in double, above it (2.9e3) in float, where the fourth state keeps only 3.6 of float's 7.2

@@ -211,12 +211,13 @@ static void test_rejected_calls_leave_state_intact(void **state)
 }
 
 /* okid_identify and okid_stabilization_compute use R's unused lower triangle as scratch (the
-   solves' copy, ERA's Hankel matrix and V'): identifying in the middle of a record loses nothing. */
+   solves' copy, ERA's Hankel matrix and V'): identifying in the middle of a record loses nothing.
+   (With rows pending in a larger block: test_identify_transaction.) */
 static void test_identify_midway_leaves_accumulation_intact(void **state)
 {
     fixture *f = *state;
     okid_result res, ref;
-    f->cfg.block_rows = 1; /* identify folds a partly filled block: with 1 row per fold both runs fold alike */
+    f->cfg.block_rows = 1; /* no row pending: identify works in R's own triangle */
     assert_int_equal(okid_init(&f->id, &f->cfg, f->ws, f->bytes, NULL), OKID_OK);
     assert_int_equal(f->id.dims_.era_in_r, 1); /* the paper configuration: the Hankel matrix in R's triangle */
     assert_int_equal(okid_push_block(&f->id, 500, f->u, 1, f->y, 2, NULL), OKID_OK);

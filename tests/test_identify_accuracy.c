@@ -19,7 +19,7 @@ static void test_paper_noise_free(void **state)
     assert_int_equal(res.order, 4);
     assert_modes_match(&REF_PAPER, res.modes, res.num_modes, identify_tol(&REF_PAPER), IDENTIFY_MAC_MIN);
 
-    /* The paper's printed eigenvalues (eq. 87, 94 to four decimals in the text of DESIGN.md/issue). */
+    /* The paper's printed eigenvalues (eq. 87, 94 to four decimals in the paper, docs/design.md). */
     assert_relative(res.modes[1].eigenvalue.re, 0.9767, 0.6e-4, "printed lambda re", 1);
     assert_relative(res.modes[1].eigenvalue.im, 0.0608, 1e-3, "printed lambda im", 1);
     assert_relative(res.modes[0].eigenvalue.re, 0.9945, 0.6e-4, "printed lambda re", 0);

@@ -3,7 +3,8 @@
  * \brief The OKID/ERA identifier: push input/output samples, identify {A, B, C, D, G} and modes.
  *
  * Fixed memory: the caller owns the identifier struct and one workspace buffer whose size
- * okid_workspace_size() (or the compile-time macro OKID_WORKSPACE_BYTES) gives. Nothing is
+ * okid_workspace_size() (or the compile-time macro OKID_WORKSPACE_BYTES) gives. The struct's
+ * members and the size formulas are in okid/identifier_storage.h, which is not API. Nothing is
  * allocated, printed or read from the environment. Two identifiers share nothing. One identifier
  * must not be used from two threads at once.
  *
@@ -19,6 +20,8 @@
  *   okid_result res;
  *   if (okid_identify(&id, &res) == OKID_OK)  // res.modes[i].frequency_hz, .damping_ratio, ...
  * \endcode
+ *
+ * Sections: configuration, lifetime, data, results.
  */
 #ifndef OKID_IDENTIFIER_H
 #define OKID_IDENTIFIER_H
@@ -33,6 +36,8 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* ======== Configuration ======== */
 
 /** Largest number of inputs or outputs. */
 #define OKID_MAX_DIMENSION 64
@@ -63,8 +68,8 @@ typedef enum okid_scaling {
     OKID_SCALING_NONE = 0,
     /**
      * Each input and output channel is divided by its RMS over the first block of regressor rows
-     * (block_rows samples after the first p, at the decimated rate, or the rows pending at the
-     * first okid_identify() if that comes first; a channel that is zero there keeps scale 1), or
+     * (block_rows samples after the first p, at the decimated rate; an okid_identify() before that
+     * uses the rows pending then, for itself only; a channel that is zero there keeps scale 1), or
      * by scales given with okid_set_scales(). The rows are scaled when the block is folded, so the
      * scales must be known before the first fold. The ERA Hankel is built from the Markov
      * parameters of the scaled data, and A, B, C, D, G, the Markov parameters and the observer
@@ -144,6 +149,132 @@ typedef struct okid_config {
     int instrument_lags;
 } okid_config;
 
+/**
+ * Fill a configuration with defaults for r inputs and m outputs: p = 10, automatic order,
+ * alpha = beta = 20, dt = 1, no forgetting, default tolerance, acceleration sensing, system
+ * realization, records not assumed to start at rest, no decimation, no scaling, least squares.
+ * \param[out] cfg  configuration to fill
+ * \param[in]  num_inputs  r
+ * \param[in]  num_outputs m
+ * \return OKID_OK, OKID_E_NULL_POINTER (the sizes are checked by okid_init())
+ */
+okid_status okid_config_default(okid_config *cfg, int num_inputs, int num_outputs);
+
+/**
+ * Set the observer order and the Hankel block rows and columns from horizons in seconds, for the
+ * model's sample interval K dt (cfg->dt and cfg->decimation must be set first): each count is
+ * seconds / (K dt) rounded to the nearest integer (halves up), at least 1. Example: dt = 0.01 s,
+ * K = 5, 1 s gives 20 blocks. The configuration is left as it was on error.
+ * \param[in,out] cfg                  configuration
+ * \param[in]     observer_seconds     p K dt, the observer's memory
+ * \param[in]     hankel_rows_seconds  alpha K dt
+ * \param[in]     hankel_cols_seconds  beta K dt
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_PARAMETER (a horizon or dt not finite or <= 0),
+ *         OKID_E_BAD_SIZE (decimation out of range, or a count above OKID_MAX_HORIZON)
+ */
+okid_status okid_config_horizons(okid_config *cfg, okid_real observer_seconds, okid_real hankel_rows_seconds,
+                                 okid_real hankel_cols_seconds);
+
+/**
+ * Check a configuration and compute the workspace it needs.
+ * \param[in]  cfg   configuration
+ * \param[out] bytes workspace bytes (the same as OKID_WORKSPACE_BYTES_OPTIONS for these values)
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE, OKID_E_BAD_ORDER, OKID_E_BAD_PARAMETER
+ */
+okid_status okid_workspace_size(const okid_config *cfg, size_t *bytes);
+
+/**
+ * Workspace bytes for a configuration, as a constant expression for static buffers:
+ * \code
+ *   static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char ws[OKID_WORKSPACE_BYTES(1, 2, 20, 20, 20, 4, 32, 0)];
+ * \endcode
+ * Arguments: r, m, p, alpha, beta, order (0 = automatic), block_rows (0 = default),
+ * combined (1 for OKID_REALIZATION_COMBINED). Equals okid_workspace_size() for a valid configuration
+ * without the quality options (see OKID_WORKSPACE_BYTES_OPTIONS).
+ */
+#define OKID_WORKSPACE_BYTES(r, m, p, alpha, beta, order, block_rows, combined)                            \
+    (OKID__PERSISTENT_BYTES(r, m, p, block_rows)                                                         \
+     + OKID__RESULT_BYTES(r, m, p, alpha, beta, OKID__N(r, m, p, alpha, beta, order, combined),                \
+                          OKID__K(r, m, alpha, beta, combined), combined)                                 \
+     + OKID__SCRATCH_BYTES(r, m, p, alpha, beta, OKID__N(r, m, p, alpha, beta, order, combined),              \
+                           OKID__K(r, m, alpha, beta, combined), block_rows, combined))
+
+/**
+ * OKID_WORKSPACE_BYTES with the quality options: decimation (K, 0 or 1 = none), scaling
+ * (okid_scaling), estimator (okid_estimator) and instrument_lags (0 = automatic). Equals
+ * okid_workspace_size() for a valid configuration.
+ */
+#define OKID_WORKSPACE_BYTES_OPTIONS(r, m, p, alpha, beta, order, block_rows, combined, decimation, scaling,   \
+                                     estimator, lags)                                                          \
+    (OKID_WORKSPACE_BYTES(r, m, p, alpha, beta, order, block_rows, combined) + OKID__DEC_BYTES(r, m, decimation) \
+     + OKID__SCALE_BYTES(r, m, scaling) + OKID__IV_BYTES(r, m, p, block_rows, estimator, lags))
+
+/* ======== Lifetime ======== */
+
+/**
+ * An identifier: caller-owned (static, stack or heap), complete so that firmware can allocate it
+ * statically; its members are private (okid/identifier_storage.h). Every call below checks it.
+ */
+typedef struct okid_identifier okid_identifier;
+
+/**
+ * Initialise an identifier over a caller-owned workspace. On error the identifier is left
+ * uninitialised (every other call on it returns OKID_E_NOT_INITIALIZED).
+ * \param[out] id            identifier to initialise
+ * \param[in]  cfg           configuration (copied)
+ * \param[in]  workspace     buffer of at least okid_workspace_size() bytes, aligned to OKID_WORKSPACE_ALIGN;
+ *                           it must outlive the identifier and is used by nothing else meanwhile
+ * \param[in]  bytes         size of the buffer
+ * \param[out] bytes_needed  the size needed (also on OKID_E_WORKSPACE_TOO_SMALL); may be NULL
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE, OKID_E_BAD_ORDER, OKID_E_BAD_PARAMETER,
+ *         OKID_E_WORKSPACE_TOO_SMALL, OKID_E_WORKSPACE_ALIGNMENT
+ */
+okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspace, size_t bytes,
+                      size_t *bytes_needed);
+
+/**
+ * Forget every sample (configuration and workspace are kept).
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED
+ */
+okid_status okid_reset(okid_identifier *id);
+
+/* ======== Data ======== */
+
+/**
+ * Push one sample: u(k) (r values) and y(k) (m values). A sample with a NaN or Inf is rejected:
+ * no regressor row containing it is ever used, the regressor window restarts after it, and
+ * everything folded in before is kept.
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_NONFINITE_SAMPLE,
+ *         OKID_E_BAD_SIZE (a dimension too large for the backend), OKID_E_BACKEND_ARGUMENT
+ */
+okid_status okid_push(okid_identifier *id, const okid_real *u, const okid_real *y);
+
+/**
+ * Push count samples: sample k is u[k*ldu .. k*ldu + r - 1] and y[k*ldy .. k*ldy + m - 1]
+ * (column-major r x count and m x count). Exactly equivalent to count calls of okid_push():
+ * a non-finite sample is rejected and the later ones are still used.
+ * \param[out] accepted samples accepted (may be NULL)
+ * \return OKID_OK when all were accepted; OKID_E_NONFINITE_SAMPLE when one or more were rejected;
+ *         OKID_E_NULL_POINTER, OKID_E_BAD_SIZE (ldu < r or ldy < m), OKID_E_NOT_INITIALIZED (nothing pushed)
+ */
+okid_status okid_push_block(okid_identifier *id, size_t count, const okid_real *u, size_t ldu,
+                            const okid_real *y, size_t ldy, size_t *accepted);
+
+/**
+ * Set the channel scales of OKID_SCALING_AUTO yourself (e.g. from the sensors' ranges) instead of
+ * the first block's RMS. Only before the first block of rows is folded (after init or reset; an
+ * okid_identify() does not fold); okid_reset() forgets them.
+ * \param[in,out] id             identifier configured with OKID_SCALING_AUTO
+ * \param[in]     input_scales   r values, finite and > 0
+ * \param[in]     output_scales  m values, finite and > 0
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_BAD_PARAMETER (a scale not
+ *         finite or not > 0: nothing is changed), OKID_E_NOT_AVAILABLE (no scaling configured, or
+ *         rows already folded with other scales)
+ */
+okid_status okid_set_scales(okid_identifier *id, const okid_real *input_scales, const okid_real *output_scales);
+
+/* ======== Results ======== */
+
 /** Counters of an identifier, for progress displays. */
 typedef struct okid_progress {
     uint64_t samples;       /**< samples accepted since init or reset */
@@ -191,250 +322,16 @@ typedef struct okid_result {
     const okid_real *input_scales, *output_scales;
 } okid_result;
 
-/** Views into the workspace (internal: use the functions below). */
-typedef struct okid_views_ {
-    /* persistent accumulation */
-    okid_real *ring, *block, *r;
-    /* results of the last okid_identify() */
-    okid_real *markov, *markov_obs, *sv, *a, *b, *c, *d, *g;
-    okid_real *obs_last, *ctrl_last; /* last block row of U_n S^1/2, last block column of S^1/2 V_n' (indicators) */
-    okid_mode *modes;
-    okid_complex *shapes;
-    /* scratch shared by the phases of okid_push() and okid_identify() */
-    okid_real *x;
-    okid_real *fold_t, *fold_work;
-    okid_real *lsq_scale, *lsq_column, *lsq_work; /* the solves of okid_lsq_solve() and the diagnostics */
-    int *lsq_perm;
-    okid_real *era_h, *era_vt, *era_t, *era_scale, *era_work;
-    okid_real *modal_a, *modal_vr, *modal_wr, *modal_wi, *modal_work;
-    okid_real *ind_rhs, *ind_work;
-    int *ind_jpvt;
-    /* options: NULL when not configured */
-    okid_real *dec_coef, *dec_state, *dec_out; /* anti-alias biquads, their state per channel, the kept sample */
-    okid_real *scales;                         /* r input then m output scales */
-    okid_real *iv_ring, *iv_block, *iv_m;      /* past inputs, pending instrument rows, Z'[Phi y] */
-} okid_views_;
-
-/** Sizes derived from the configuration (internal). */
-typedef struct okid_dims_ {
-    int r, m, p, q, w;        /* inputs, outputs, observer order, regressor columns, q + m */
-    int ncols;                /* columns of one Hankel block: r, or r + m when combined */
-    int hankel_rows, hankel_cols, svd_size, max_order, markov_count;
-    int block_rows, block_tile;
-    int era_in_r;             /* the Hankel matrix and V' in R's unused triangle (OKID__ERA_IN_R) */
-    int era_ldh, era_ldvt;    /* their leading dimensions: w + 1 there, else hankel_rows and svd_size */
-    int decimation, instrument_lags, nz; /* K; L and nz = r (L + 1) (0 for least squares) */
-} okid_dims_;
-
-/** The identifier. Caller-owned; every field is internal (read it through the functions below). */
-typedef struct okid_identifier {
-    uint32_t magic_;
-    okid_config cfg_;            /* as given, except dt: the model's interval, K times the pushed one */
-    okid_dims_ dims_;
-    okid_real forgetting_, rank_tolerance_;
-    int block_fill_, window_fill_, ring_head_;
-    int has_model_;              /* 1 after a successful okid_identify(), until init/reset */
-    int dec_phase_;              /* pushed samples since the last kept one (decimation) */
-    int scales_known_;           /* 1 once the scales are set (OKID_SCALING_AUTO: at the first fold) */
-    int iv_fill_, iv_head_;      /* inputs in the instrument ring, slot of u(k-1) */
-    uint64_t samples_, rejected_, rows_;
-    okid_views_ at_;
-} okid_identifier;
-
-/* ---- Compile-time workspace size (equal to okid_workspace_size(); checked by the tests) ---- */
-
-#define OKID__Z(x) ((size_t)(x))
-#define OKID__MAX(a, b) ((a) > (b) ? (a) : (b))
-#define OKID__MIN(a, b) ((a) < (b) ? (a) : (b))
-#define OKID__RB(count) OKID__ALIGN16(sizeof(okid_real) * (size_t)(count))
-#if OKID_LINALG_EIGEN
-/* The Eigen backend works in place: 7 vectors for the rank-revealing solve, the n x n factor of
-   the QR-preconditioned Jacobi SVD and three vectors (linalg_eigen.cpp). */
-#define OKID__LWORK_GELSY(n, nrhs) (OKID__Z(n) * 7u + OKID__Z(nrhs) * 0u + 1u)
-#define OKID__LWORK_GESVD(m, n) \
-    (OKID__MIN(OKID__Z(m), OKID__Z(n)) * (OKID__MIN(OKID__Z(m), OKID__Z(n)) + 3u) + 1u)
-#else
-#define OKID__LWORK_GELSY(n, nrhs) (OKID__Z(n) * 37u + OKID__Z(nrhs) * 33u + 33u)
-#define OKID__LWORK_GESVD(m, n)                                                                \
-    (OKID__MAX(3u * OKID__MIN(OKID__Z(m), OKID__Z(n)) + OKID__MAX(OKID__Z(m), OKID__Z(n)),     \
-               5u * OKID__MIN(OKID__Z(m), OKID__Z(n)))                                          \
-     + 32u * (OKID__Z(m) + OKID__Z(n)))
-#endif
-#define OKID__Q(r, m, p) (OKID__Z(r) + (OKID__Z(r) + OKID__Z(m)) * OKID__Z(p))
-#define OKID__W(r, m, p) (OKID__Q(r, m, p) + OKID__Z(m))
-#define OKID__NCOLS(r, m, combined) ((combined) ? OKID__Z(r) + OKID__Z(m) : OKID__Z(r))
-#define OKID__HR(m, alpha) (OKID__Z(alpha) * OKID__Z(m))
-#define OKID__HC(r, m, beta, combined) (OKID__Z(beta) * OKID__NCOLS(r, m, combined))
-#define OKID__K(r, m, alpha, beta, combined) OKID__MIN(OKID__HR(m, alpha), OKID__HC(r, m, beta, combined))
-#define OKID__N(r, m, p, alpha, beta, order, combined) \
-    ((order) > 0 ? OKID__Z(order) : OKID__MIN(OKID__K(r, m, alpha, beta, combined), OKID__Z(m) * OKID__Z(p)))
-#define OKID__NB(block_rows) ((block_rows) > 0 ? OKID__Z(block_rows) : 32u)
-#define OKID__NBT(r, m, p, block_rows) \
-    OKID__MIN(OKID__MIN(OKID__NB(block_rows), OKID__W(r, m, p)), OKID__W(r, m, p) <= 128u ? 8u : 16u)
-
-#define OKID__PERSISTENT_BYTES(r, m, p, block_rows)                                                \
-    (OKID__RB(OKID__Z(p) * (OKID__Z(r) + OKID__Z(m))) + OKID__RB(OKID__NB(block_rows) * OKID__W(r, m, p)) \
-     + OKID__RB(OKID__W(r, m, p) * OKID__W(r, m, p)))
-
-#define OKID__RESULT_BYTES(r, m, alpha, beta, n, k, combined)                                       \
-    (OKID__RB(OKID__Z(m) * OKID__Z(r) * (OKID__Z(alpha) + OKID__Z(beta) + 1u))                         \
-     + ((combined) ? OKID__RB(OKID__Z(m) * OKID__Z(m) * (OKID__Z(alpha) + OKID__Z(beta))) : 0u)        \
-     + OKID__RB(k) + OKID__RB(OKID__Z(n) * OKID__Z(n)) + OKID__RB(OKID__Z(n) * OKID__Z(r))              \
-     + OKID__RB(OKID__Z(m) * OKID__Z(n)) + OKID__RB(OKID__Z(m) * OKID__Z(r))                           \
-     + ((combined) ? OKID__RB(OKID__Z(n) * OKID__Z(m)) : 0u)                                           \
-     + OKID__RB(OKID__Z(m) * OKID__Z(n)) + OKID__RB(OKID__Z(n) * OKID__Z(r))                           \
-     + OKID__ALIGN16(sizeof(okid_mode) * OKID__Z(n))                                                   \
-     + OKID__ALIGN16(sizeof(okid_complex) * OKID__Z(n) * 3u * OKID__Z(m)))
-
-#define OKID__PHASE_FOLD_BYTES(r, m, p, block_rows) \
-    (2u * OKID__RB(OKID__NBT(r, m, p, block_rows) * OKID__W(r, m, p)))
-/* Work of the core's rank-revealing solve on a triangle (triangular_lstsq.h), in reals. */
-#define OKID__LWORK_TRIANGULAR_LSTSQ(n) (4u * OKID__Z(n))
-/* The rank-revealing solves (least squares, the diagnostics' noise-free test) run in R's unused
-   lower triangle: column scales, a column, the permutation and the solve's work. */
-#define OKID__PHASE_SOLVE_BYTES(r, m, p)                                                           \
-    (2u * OKID__RB(OKID__Q(r, m, p)) + OKID__ALIGN16(sizeof(int) * OKID__Q(r, m, p))                \
-     + OKID__RB(OKID__LWORK_TRIANGULAR_LSTSQ(OKID__Q(r, m, p))))
-/* The Hankel matrix (hr x hc) and V' (k x hc) go into R's unused strict lower triangle when they
-   fit (columns stepping down the diagonal, leading dimension w + 1): hr + hc <= w, 2 hc + k <= w. */
-#define OKID__ERA_IN_R(r, m, p, alpha, beta, k, combined)                                           \
-    (OKID__HR(m, alpha) + OKID__HC(r, m, beta, combined) <= OKID__W(r, m, p)                          \
-     && 2u * OKID__HC(r, m, beta, combined) + OKID__Z(k) <= OKID__W(r, m, p))
-#define OKID__PHASE_ERA_BYTES(r, m, p, alpha, beta, n, k, combined)                                \
-    ((OKID__ERA_IN_R(r, m, p, alpha, beta, k, combined)                                              \
-          ? 0u                                                                                      \
-          : OKID__RB(OKID__HR(m, alpha) * OKID__HC(r, m, beta, combined))                            \
-                + OKID__RB(OKID__Z(k) * OKID__HC(r, m, beta, combined)))                             \
-     + OKID__RB(OKID__HR(m, alpha) * OKID__Z(n)) + OKID__RB(OKID__NCOLS(r, m, combined))             \
-     + OKID__RB(OKID__LWORK_GESVD(OKID__HR(m, alpha), OKID__HC(r, m, beta, combined))))
-#define OKID__PHASE_MODAL_BYTES(n) \
-    (2u * OKID__RB(OKID__Z(n) * OKID__Z(n)) + 2u * OKID__RB(n) + OKID__RB(OKID__LWORK_GEEV(n)))
-/* The modal indicators run on the eigenvectors the modal phase leaves, in memory after it. */
-#define OKID__PHASE_INDICATOR_BYTES(n, r)                                                          \
-    (OKID__RB(OKID__Z(n) * 2u * OKID__Z(r)) + OKID__RB(OKID__LWORK_GELSY(n, 2u * OKID__Z(r)))        \
-     + OKID__ALIGN16(sizeof(int) * OKID__Z(n)))
-#define OKID__SCRATCH_BYTES(r, m, p, alpha, beta, n, k, block_rows, combined)                        \
-    (OKID__RB(OKID__Q(r, m, p) * OKID__Z(m))                                                        \
-     + OKID__MAX(OKID__MAX(OKID__PHASE_FOLD_BYTES(r, m, p, block_rows), OKID__PHASE_SOLVE_BYTES(r, m, p)),   \
-                 OKID__MAX(OKID__PHASE_ERA_BYTES(r, m, p, alpha, beta, n, k, combined),                         \
-                           OKID__PHASE_MODAL_BYTES(n) + OKID__PHASE_INDICATOR_BYTES(n, r))))
-
-/**
- * Workspace bytes for a configuration, as a constant expression for static buffers:
- * \code
- *   static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char ws[OKID_WORKSPACE_BYTES(1, 2, 20, 20, 20, 4, 32, 0)];
- * \endcode
- * Arguments: r, m, p, alpha, beta, order (0 = automatic), block_rows (0 = default),
- * combined (1 for OKID_REALIZATION_COMBINED). Equals okid_workspace_size() for a valid configuration
- * without the quality options (see OKID_WORKSPACE_BYTES_OPTIONS).
- */
-#define OKID_WORKSPACE_BYTES(r, m, p, alpha, beta, order, block_rows, combined)                            \
-    (OKID__PERSISTENT_BYTES(r, m, p, block_rows)                                                         \
-     + OKID__RESULT_BYTES(r, m, alpha, beta, OKID__N(r, m, p, alpha, beta, order, combined),                   \
-                          OKID__K(r, m, alpha, beta, combined), combined)                                 \
-     + OKID__SCRATCH_BYTES(r, m, p, alpha, beta, OKID__N(r, m, p, alpha, beta, order, combined),              \
-                           OKID__K(r, m, alpha, beta, combined), block_rows, combined))
-
-/* Options (okid_config decimation, scaling, estimator, instrument_lags): persistent memory on top. */
-#define OKID__DEC_BYTES(r, m, decimation) \
-    ((decimation) > 1 ? OKID__RB(5u) + OKID__RB(2u * (OKID__Z(r) + OKID__Z(m))) + OKID__RB(OKID__Z(r) + OKID__Z(m)) : 0u)
-#define OKID__SCALE_BYTES(r, m, scaling) ((scaling) ? OKID__RB(OKID__Z(r) + OKID__Z(m)) : 0u)
-#define OKID__IV_LAGS(r, m, p, lags) \
-    ((lags) > 0 ? OKID__Z(lags) : (OKID__Q(r, m, p) + OKID__Z(r) - 1u) / OKID__Z(r) + 2u * OKID__Z(p))
-#define OKID__IV_BYTES(r, m, p, block_rows, estimator, lags)                                                  \
-    ((estimator) ? OKID__RB(OKID__Z(r) * OKID__IV_LAGS(r, m, p, lags))                                        \
-                       + OKID__RB(OKID__NB(block_rows) * OKID__Z(r) * (OKID__IV_LAGS(r, m, p, lags) + 1u))    \
-                       + OKID__RB(OKID__Z(r) * (OKID__IV_LAGS(r, m, p, lags) + 1u) * OKID__W(r, m, p))        \
-                 : 0u)
-
-/**
- * OKID_WORKSPACE_BYTES with the quality options: decimation (K, 0 or 1 = none), scaling
- * (okid_scaling), estimator (okid_estimator) and instrument_lags (0 = automatic). Equals
- * okid_workspace_size() for a valid configuration.
- */
-#define OKID_WORKSPACE_BYTES_OPTIONS(r, m, p, alpha, beta, order, block_rows, combined, decimation, scaling,   \
-                                     estimator, lags)                                                          \
-    (OKID_WORKSPACE_BYTES(r, m, p, alpha, beta, order, block_rows, combined) + OKID__DEC_BYTES(r, m, decimation) \
-     + OKID__SCALE_BYTES(r, m, scaling) + OKID__IV_BYTES(r, m, p, block_rows, estimator, lags))
-
-/* ---- API ---- */
-
-/**
- * Fill a configuration with defaults for r inputs and m outputs: p = 10, automatic order,
- * alpha = beta = 20, dt = 1, no forgetting, default tolerance, acceleration sensing, system
- * realization, records not assumed to start at rest, no decimation, no scaling, least squares.
- * \param[out] cfg  configuration to fill
- * \param[in]  num_inputs  r
- * \param[in]  num_outputs m
- * \return OKID_OK, OKID_E_NULL_POINTER (the sizes are checked by okid_init())
- */
-okid_status okid_config_default(okid_config *cfg, int num_inputs, int num_outputs);
-
-/**
- * Set the observer order and the Hankel block rows and columns from horizons in seconds, for the
- * model's sample interval K dt (cfg->dt and cfg->decimation must be set first): each count is
- * seconds / (K dt) rounded to the nearest integer (halves up), at least 1. Example: dt = 0.01 s,
- * K = 5, 1 s gives 20 blocks. The configuration is left as it was on error.
- * \param[in,out] cfg                  configuration
- * \param[in]     observer_seconds     p K dt, the observer's memory
- * \param[in]     hankel_rows_seconds  alpha K dt
- * \param[in]     hankel_cols_seconds  beta K dt
- * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_PARAMETER (a horizon or dt not finite or <= 0),
- *         OKID_E_BAD_SIZE (decimation out of range, or a count above OKID_MAX_HORIZON)
- */
-okid_status okid_config_horizons(okid_config *cfg, okid_real observer_seconds, okid_real hankel_rows_seconds,
-                                 okid_real hankel_cols_seconds);
-
-/**
- * Check a configuration and compute the workspace it needs.
- * \param[in]  cfg   configuration
- * \param[out] bytes workspace bytes (the same as OKID_WORKSPACE_BYTES_OPTIONS for these values)
- * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE, OKID_E_BAD_ORDER, OKID_E_BAD_PARAMETER
- */
-okid_status okid_workspace_size(const okid_config *cfg, size_t *bytes);
-
-/**
- * Initialise an identifier over a caller-owned workspace. On error the identifier is left
- * uninitialised (every other call on it returns OKID_E_NOT_INITIALIZED).
- * \param[out] id            identifier to initialise
- * \param[in]  cfg           configuration (copied)
- * \param[in]  workspace     buffer of at least okid_workspace_size() bytes, aligned to OKID_WORKSPACE_ALIGN;
- *                           it must outlive the identifier and is used by nothing else meanwhile
- * \param[in]  bytes         size of the buffer
- * \param[out] bytes_needed  the size needed (also on OKID_E_WORKSPACE_TOO_SMALL); may be NULL
- * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE, OKID_E_BAD_ORDER, OKID_E_BAD_PARAMETER,
- *         OKID_E_WORKSPACE_TOO_SMALL, OKID_E_WORKSPACE_ALIGNMENT
- */
-okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspace, size_t bytes,
-                      size_t *bytes_needed);
-
-/**
- * Push one sample: u(k) (r values) and y(k) (m values). A sample with a NaN or Inf is rejected:
- * no regressor row containing it is ever used, the regressor window restarts after it, and
- * everything folded in before is kept.
- * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_NONFINITE_SAMPLE,
- *         OKID_E_BAD_SIZE (a dimension too large for the backend), OKID_E_BACKEND_ARGUMENT
- */
-okid_status okid_push(okid_identifier *id, const okid_real *u, const okid_real *y);
-
-/**
- * Push count samples: sample k is u[k*ldu .. k*ldu + r - 1] and y[k*ldy .. k*ldy + m - 1]
- * (column-major r x count and m x count). Exactly equivalent to count calls of okid_push():
- * a non-finite sample is rejected and the later ones are still used.
- * \param[out] accepted samples accepted (may be NULL)
- * \return OKID_OK when all were accepted; OKID_E_NONFINITE_SAMPLE when one or more were rejected;
- *         OKID_E_NULL_POINTER, OKID_E_BAD_SIZE (ldu < r or ldy < m), OKID_E_NOT_INITIALIZED (nothing pushed)
- */
-okid_status okid_push_block(okid_identifier *id, size_t count, const okid_real *u, size_t ldu,
-                            const okid_real *y, size_t ldy, size_t *accepted);
-
 /**
  * Identify from everything pushed so far: observer Markov parameters (eq. 50) by rank-revealing
  * least squares, system and observer-gain Markov parameters (eq. 51, 53), ERA (eq. 57-61) and
  * modal parameters (eq. 63-64). Pushing can go on afterwards; calling it twice gives the same
- * result. The views in result stay valid until the next okid_identify(), okid_reset() or okid_init()
- * on this identifier.
- * \param[in,out] id     identifier (pending rows are folded into the factor first)
+ * result. A transaction: on failure every observable stays as it was (the last result and its
+ * views, okid_predict(), the counters, okid_set_scales()'s availability), and no call, failed or
+ * not, changes a later result (rows still pending in the block are folded into a copy of the
+ * factor). The views in result stay valid until the next successful okid_identify(), okid_reset()
+ * or okid_init() on this identifier.
+ * \param[in,out] id     identifier
  * \param[out]    result filled on OKID_OK; untouched otherwise
  * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_NOT_ENOUGH_DATA,
  *         OKID_E_RANK_DEFICIENT, OKID_E_DECOMPOSITION_FAILED, OKID_E_BACKEND_ARGUMENT
@@ -455,32 +352,16 @@ okid_status okid_identify(okid_identifier *id, okid_result *result);
 okid_status okid_predict(const okid_identifier *id, const okid_real *u, okid_real *y_hat);
 
 /**
- * Set the channel scales of OKID_SCALING_AUTO yourself (e.g. from the sensors' ranges) instead of
- * the first block's RMS. Only before the first block of rows is folded (after init or reset, and
- * before okid_identify()); okid_reset() forgets them.
- * \param[in,out] id             identifier configured with OKID_SCALING_AUTO
- * \param[in]     input_scales   r values, finite and > 0
- * \param[in]     output_scales  m values, finite and > 0
- * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_BAD_PARAMETER (a scale not
- *         finite or not > 0: nothing is changed), OKID_E_NOT_AVAILABLE (no scaling configured, or
- *         rows already folded with other scales)
- */
-okid_status okid_set_scales(okid_identifier *id, const okid_real *input_scales, const okid_real *output_scales);
-
-/**
- * Forget every sample (configuration and workspace are kept).
- * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED
- */
-okid_status okid_reset(okid_identifier *id);
-
-/**
  * Read the counters.
  * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED
  */
 okid_status okid_get_progress(const okid_identifier *id, okid_progress *progress);
 
+
 #ifdef __cplusplus
 }
 #endif
+
+#include "okid/identifier_storage.h" /* the struct's members and the size formulas: not API */
 
 #endif

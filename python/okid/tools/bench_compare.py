@@ -36,7 +36,7 @@ CASES = [("paper, noise-free", 0.01, 1001, 0.0), ("paper dt, 2 % noise", 0.01, 1
 # Parameter grids, tuned per case on a tuning seed (the best of the grid is then run on fresh seeds).
 # The most accurate setting wins; among settings within 1.5x of its error (or below 1e-9), the fastest.
 # okid and the numpy OKID/ERA get the same grid; the Hankel span reaches one period of the slowest
-# mode at the paper's dt (h = 100), which noisy oversampled data needs (DESIGN.md).
+# mode at the paper's dt (h = 100), which noisy oversampled data needs (docs/design.md, numerical decisions).
 OKID_GRID = [dict(p=p, h=h) for p in (2, 5, 10, 20, 40, 60, 80, 100) for h in (10, 20, 40, 60, 100)]
 # okid's options of docs/quality.md: decimation (k: --decimation) and the instrumental-variable
 # estimator (iv: --estimator instrumental); p and h then count decimated samples.

@@ -5,7 +5,8 @@
 #ifndef OKID_MODAL_INDICATORS_INTERNAL_H
 #define OKID_MODAL_INDICATORS_INTERNAL_H
 
-#include "okid/identifier.h"
+#include "era.h"
+#include "okid/modal.h"
 #include "okid/modal_indicators.h"
 
 /* What the indicators compare: the realization and the last blocks of P = U_n S^1/2, Q = S^1/2 V_n'. */
@@ -36,10 +37,11 @@ okid_status okid_modal_indicators(const okid_indicator_inputs *in, const okid_re
                                   int num_modes);
 
 /*
- * After okid_era_realize() at order n (the era views still hold U, V' and the column scales):
+ * After okid_era_realize() at order n (the scratch still holds U, V' and the column scales):
  * obs_last (m x n, ld m) = block row alpha - 1 of U_n S^1/2, ctrl_last (n x r, ld n) = the input
  * columns of block column beta - 1 of S^1/2 V_n', unscaled as B.
  */
-void okid_indicators_capture(const okid_identifier *id, int n, okid_real *obs_last, okid_real *ctrl_last);
+void okid_indicators_capture(const okid_era_problem *problem, const okid_era_scratch *scratch, const okid_real *sv,
+                             int n, okid_real *obs_last, okid_real *ctrl_last);
 
 #endif

@@ -6,7 +6,6 @@
  */
 #include "modal_indicators_internal.h"
 
-#include "channel_scaling.h"
 #include "dense.h"
 #include "linalg.h"
 #include "real_math.h"
@@ -151,19 +150,19 @@ okid_status okid_modal_indicators(const okid_indicator_inputs *in, const okid_re
     return OKID_OK;
 }
 
-void okid_indicators_capture(const okid_identifier *id, int n, okid_real *obs_last, okid_real *ctrl_last)
+void okid_indicators_capture(const okid_era_problem *pb, const okid_era_scratch *v, const okid_real *sv, int n,
+                             okid_real *obs_last, okid_real *ctrl_last)
 {
-    const okid_dims_ *d = &id->dims_;
-    const okid_views_ *v = &id->at_;
-    const int m = d->m, r = d->r, ldh = d->era_ldh, ldvt = d->era_ldvt;
-    const int last_row = (id->cfg_.hankel_rows - 1) * m, last_col = (id->cfg_.hankel_cols - 1) * d->ncols;
+    const int m = pb->m, r = pb->r, ldh = v->ldh, ldvt = v->ldvt;
+    const int last_row = (pb->alpha - 1) * m, last_col = (pb->beta - 1) * pb->ncols;
     for (int t = 0; t < n; ++t) {
-        const okid_real root = okid_sqrt(v->sv[t]);
+        const okid_real root = okid_sqrt(sv[t]);
         for (int a = 0; a < m; ++a) {
-            OKID_AT(obs_last, m, a, t) = OKID_AT(v->era_h, ldh, last_row + a, t) * root * okid_channel_scale(id, r + a);
+            const okid_real scale = pb->scales != NULL ? pb->scales[r + a] : 1;
+            OKID_AT(obs_last, m, a, t) = OKID_AT(v->h, ldh, last_row + a, t) * root * scale;
         }
         for (int l = 0; l < r; ++l) {
-            OKID_AT(ctrl_last, n, t, l) = root * OKID_AT(v->era_vt, ldvt, t, last_col + l) / v->era_scale[l];
+            OKID_AT(ctrl_last, n, t, l) = root * OKID_AT(v->vt, ldvt, t, last_col + l) / v->col_scale[l];
         }
     }
 }

@@ -2,6 +2,7 @@
 #ifndef OKID_WORKSPACE_LAYOUT_H
 #define OKID_WORKSPACE_LAYOUT_H
 
+#include "era.h"
 #include "okid/identifier.h"
 
 /* Check cfg and derive the sizes. OKID_OK or the specific configuration error. */
@@ -13,5 +14,13 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims);
  * scaled: OKID_REALIZATION_COMBINED and OKID_SCALING_AUTO.
  */
 size_t okid_layout_carve(const okid_dims_ *dims, int combined, int scaled, unsigned char *base, okid_views_ *views);
+
+/*
+ * ERA of the identifier's configuration on the Markov parameters (and scales) of res: its problem
+ * (order 0 = the configured one) and its scratch, the Hankel matrix and V' in the strict lower
+ * triangle of factor (R or identify's copy of it) when they fit there (era_in_r).
+ */
+void okid_layout_era(const okid_identifier *id, const okid_result_views_ *res, okid_real *factor,
+                     okid_era_problem *problem, okid_era_scratch *scratch);
 
 #endif

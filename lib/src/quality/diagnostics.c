@@ -8,7 +8,7 @@
 
 /* Only modes this consistent count as identified for the Hankel-span rule. */
 #define SPAN_MIN_CMI OKID_R(0.5)
-/* "About one period" (DESIGN.md): the span may fall short of the slowest period by this factor. */
+/* "About one period" (docs/design.md, numerical decisions): the span may fall short of the slowest period by this factor. */
 #define SPAN_PERIOD_FRACTION OKID_R(0.9)
 
 static okid_real ratio_or_inf(okid_real largest, okid_real smallest)
@@ -53,20 +53,18 @@ static okid_real triangular_condition(const okid_real *r, int ldr, int cols, con
     return norm * inverse_norm;
 }
 
-okid_status okid_diagnose_regressor(okid_identifier *id, int n, int regressor_rank, okid_regressor_diagnostics *out,
+okid_status okid_diagnose_regressor(int q, int nu, okid_real *r, int ldr, okid_real tol, int n, int regressor_rank,
+                                    const okid_lsq_scratch *scratch, okid_regressor_diagnostics *out,
                                     unsigned *warnings)
 {
-    const okid_dims_ *d = &id->dims_;
-    okid_views_ *v = &id->at_;
-    const int q = d->q, w = d->w, nu = d->r * (d->p + 1);
-    const okid_real gap = okid_sqrt(id->rank_tolerance_);
-    okid_lsq_column_norms(v->r, w, q, v->lsq_scale);
+    const okid_real gap = okid_sqrt(tol);
+    okid_lsq_column_norms(r, ldr, q, scratch->scale);
 
-    out->input_condition = triangular_condition(v->r, w, nu, v->lsq_scale, v->lsq_column);
+    out->input_condition = triangular_condition(r, ldr, nu, scratch->scale, scratch->column);
     if (out->input_condition * gap > 1) {
         *warnings |= OKID_W_WEAK_EXCITATION;
     }
-    out->lsq_condition = triangular_condition(v->r, w, q, v->lsq_scale, v->lsq_column);
+    out->lsq_condition = triangular_condition(r, ldr, q, scratch->scale, scratch->column);
 
     const int model_rank = nu + n;
     out->expected_rank = model_rank < q ? model_rank : q;
@@ -78,18 +76,17 @@ okid_status okid_diagnose_regressor(okid_identifier *id, int n, int regressor_ra
     }
     /* Noise lifts the regressor's rank past the model's r (p + 1) + n at any tolerance; (near)
        noise-free data keeps it there even at the looser tolerance sqrt(tol). */
-    okid_real *s = okid_lsq_equilibrated_copy(id, q, v->lsq_scale);
-    const int loose_rank = okid_triangular_lstsq(q, 0, s, w, NULL, q, gap, v->lsq_perm, v->lsq_work);
+    okid_real *s = okid_lsq_equilibrated_copy(r, ldr, q, scratch->scale);
+    const int loose_rank = okid_triangular_lstsq(q, 0, s, ldr, NULL, q, gap, scratch->perm, scratch->work);
     if (loose_rank <= model_rank) {
         *warnings |= OKID_W_OBSERVER_ORDER_ABOVE_MINIMUM;
     }
     return OKID_OK;
 }
 
-void okid_diagnose_realization(const okid_identifier *id, int n, const okid_mode *modes, int num_modes,
+void okid_diagnose_realization(const okid_real *sv, int n, okid_real span, const okid_mode *modes, int num_modes,
                                okid_real *condition, unsigned *warnings)
 {
-    const okid_real *sv = id->at_.sv;
     *condition = ratio_or_inf(sv[0], sv[n - 1]);
     if (*condition * okid_sqrt(OKID_EPSILON) > 1) {
         *warnings |= OKID_W_REALIZATION_ILL_CONDITIONED;
@@ -102,7 +99,6 @@ void okid_diagnose_realization(const okid_identifier *id, int n, const okid_mode
             slowest = md->frequency_hz;
         }
     }
-    const okid_real span = (okid_real)(id->cfg_.hankel_rows + id->cfg_.hankel_cols) * id->cfg_.dt;
     if (slowest > 0 && span * slowest < SPAN_PERIOD_FRACTION) {
         *warnings |= OKID_W_HANKEL_SPAN_SHORT;
     }

@@ -1,9 +1,9 @@
 /*
  * Stabilization diagram by nested truncation (okid/stabilization.h): one ERA at the largest order
  * into the caller's workspace, then the modal analysis and indicators of every leading block.
- * The ERA runs through okid_era_realize() on a copy of the identifier whose result views point
- * into the stabilization workspace: the same Hankel, scaling and realization as okid_identify(),
- * without touching the identifier's last result.
+ * The ERA runs through okid_era_realize() on the last result's Markov parameters and scales, with
+ * its outputs in the stabilization workspace: the same Hankel, scaling and realization as
+ * okid_identify(), without touching the identifier's last result.
  */
 #include "okid/stabilization.h"
 
@@ -11,6 +11,7 @@
 #include "era.h"
 #include "modal_indicators_internal.h"
 #include "modal_internal.h"
+#include "workspace_layout.h"
 #include "real_math.h"
 
 okid_status okid_stabilization_criteria_default(okid_stabilization_criteria *criteria)
@@ -133,24 +134,20 @@ static unsigned stability_flags(const okid_mode *md, const okid_mode *prev, int 
     return flags;
 }
 
-/* ERA at order top into the stabilization views, through a redirected copy of the identifier. */
+/* ERA at order top on the last result's Markov parameters, into the stabilization views. */
 static okid_status realize_largest(const okid_identifier *id, int top, const stab_views *v)
 {
-    okid_identifier view = *id;
-    view.cfg_.order = top;
-    view.dims_.max_order = top;
-    view.at_.sv = v->sv;
-    view.at_.era_t = v->era_t;
-    view.at_.a = v->a;
-    view.at_.b = v->b;
-    view.at_.c = v->c;
-    view.at_.d = v->d;
-    view.at_.g = v->g;
+    okid_era_problem problem;
+    okid_era_scratch scratch;
+    okid_layout_era(id, &id->at_.result[id->result_], id->at_.r, &problem, &scratch);
+    problem.order = top;
+    scratch.t = v->era_t;
+    const okid_era_output out = {v->sv, v->a, v->b, v->c, v->d, v->g};
     int order = 0;
     unsigned warnings = 0;
-    const okid_status st = okid_era_realize(&view, &order, &warnings);
+    const okid_status st = okid_era_realize(&problem, &scratch, &out, &order, &warnings);
     if (st == OKID_OK) {
-        okid_indicators_capture(&view, top, v->obs_last, v->ctrl_last);
+        okid_indicators_capture(&problem, &scratch, v->sv, top, v->obs_last, v->ctrl_last);
     }
     return st;
 }
@@ -186,7 +183,7 @@ okid_status okid_stabilization_compute(okid_identifier *id, int max_order, int s
     }
     stab_views v;
     (void)stab_carve(id, max_order, step, (unsigned char *)workspace, &v);
-    const int rank_limit = hankel_rank(id->at_.sv, id->dims_.svd_size); /* the SVD of the last identification */
+    const int rank_limit = hankel_rank(id->at_.result[id->result_].sv, id->dims_.svd_size); /* the SVD of the last identification */
     const int limit = rank_limit < max_order ? rank_limit : max_order;
     const int top = limit / step * step;
     if (top > 0) {

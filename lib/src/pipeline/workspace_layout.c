@@ -121,6 +121,26 @@ static void carve_options(const okid_dims_ *d, int scaled, okid_carver *c, okid_
     }
 }
 
+/* One identification's output (OKID__ONE_RESULT_BYTES, and the scales' copy of OKID__SCALE_BYTES). */
+static void carve_result(const okid_dims_ *d, int combined, int scaled, okid_carver *c, okid_result_views_ *v)
+{
+    const size_t r = (size_t)d->r, m = (size_t)d->m, n = (size_t)d->max_order, L = (size_t)d->markov_count;
+    v->x = okid_carve_reals(c, (size_t)d->q * m);
+    v->markov = okid_carve_reals(c, m * r * (L + 1));
+    v->markov_obs = combined ? okid_carve_reals(c, m * m * L) : NULL;
+    v->sv = okid_carve_reals(c, (size_t)d->svd_size);
+    v->a = okid_carve_reals(c, n * n);
+    v->b = okid_carve_reals(c, n * r);
+    v->c = okid_carve_reals(c, m * n);
+    v->d = okid_carve_reals(c, m * r);
+    v->g = combined ? okid_carve_reals(c, n * m) : NULL;
+    v->obs_last = okid_carve_reals(c, m * n);
+    v->ctrl_last = okid_carve_reals(c, n * r);
+    v->scales = scaled ? okid_carve_reals(c, r + m) : NULL;
+    v->modes = (okid_mode *)okid_carve_bytes(c, sizeof(okid_mode) * n);
+    v->shapes = (okid_complex *)okid_carve_bytes(c, sizeof(okid_complex) * n * 3u * m);
+}
+
 size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned char *base, okid_views_ *v)
 {
     okid_views_ dry;
@@ -129,7 +149,7 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned
     }
     const size_t r = (size_t)d->r, m = (size_t)d->m, p = (size_t)d->p, q = (size_t)d->q, w = (size_t)d->w;
     const size_t n = (size_t)d->max_order, k = (size_t)d->svd_size, hr = (size_t)d->hankel_rows,
-                 hc = (size_t)d->hankel_cols, L = (size_t)d->markov_count, nc = (size_t)d->ncols;
+                 hc = (size_t)d->hankel_cols, nc = (size_t)d->ncols;
     okid_carver c = {base, 0};
 
     v->ring = okid_carve_reals(&c, p * (r + m));
@@ -137,41 +157,42 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned
     v->r = okid_carve_reals(&c, w * w);
     carve_options(d, scaled, &c, v);
 
-    v->markov = okid_carve_reals(&c, m * r * (L + 1));
-    v->markov_obs = combined ? okid_carve_reals(&c, m * m * L) : NULL;
-    v->sv = okid_carve_reals(&c, k);
-    v->a = okid_carve_reals(&c, n * n);
-    v->b = okid_carve_reals(&c, n * r);
-    v->c = okid_carve_reals(&c, m * n);
-    v->d = okid_carve_reals(&c, m * r);
-    v->g = combined ? okid_carve_reals(&c, n * m) : NULL;
-    v->obs_last = okid_carve_reals(&c, m * n);
-    v->ctrl_last = okid_carve_reals(&c, n * r);
-    v->modes = (okid_mode *)okid_carve_bytes(&c, sizeof(okid_mode) * n);
-    v->shapes = (okid_complex *)okid_carve_bytes(&c, sizeof(okid_complex) * n * 3u * m);
+    for (int i = 0; i < 2; ++i) {
+        carve_result(d, combined, scaled, &c, &v->result[i]);
+    }
 
-    v->x = okid_carve_reals(&c, q * m);
-    const size_t scratch = c.used;
-    size_t end = scratch;
+    /* identify's copy of R (OKID__IDENTIFY_FOLD_BYTES) and of the instrument rows (OKID__IV_BYTES) */
+    v->factor = v->iv_pending = v->iv_chunk = NULL;
+    if (d->block_rows > 1) {
+        v->factor = okid_carve_reals(&c, w * w);
+        if (d->nz > 0) {
+            v->iv_pending = okid_carve_reals(&c, (size_t)d->block_rows * (size_t)d->nz);
+            v->iv_chunk = okid_carve_reals(&c, (size_t)d->block_rows * w);
+        }
+    }
+    const size_t phases = c.used;
+    size_t end = phases;
 
+    /* the folds: push's, and identify's of the pending rows (a copy of them) into the factor */
     v->fold_t = okid_carve_reals(&c, (size_t)d->block_tile * w);
     v->fold_work = okid_carve_reals(&c, (size_t)d->block_tile * w);
+    v->pending = (d->block_rows > 1) ? okid_carve_reals(&c, (size_t)d->block_rows * w) : NULL;
     end = MAX(end, c.used);
 
-    c.used = scratch;
+    c.used = phases;
     v->lsq_scale = okid_carve_reals(&c, q);
     v->lsq_column = okid_carve_reals(&c, q);
     v->lsq_perm = (int *)okid_carve_bytes(&c, sizeof(int) * q);
     v->lsq_work = okid_carve_reals(&c, OKID__LWORK_TRIANGULAR_LSTSQ(q));
     end = MAX(end, c.used);
 
-    c.used = scratch;
+    c.used = phases;
     if (d->era_in_r) {
-        /* in R's strict lower triangle: element (i, j) at R(j + 1 + i, j), below the diagonal as
-           hr + hc <= w (the Hankel matrix from column 0, V' from column hc); identify needs them
-           only between the SVD and okid_indicators_capture(), before the next solve writes there */
-        v->era_h = (v->r != NULL) ? v->r + 1 : NULL;
-        v->era_vt = (v->r != NULL) ? v->r + 1 + hc * (w + 1u) : NULL;
+        /* in the strict lower triangle of the factor identify solves on (R or its copy): element
+           (i, j) at F(j + 1 + i, j), below the diagonal as hr + hc <= w (the Hankel matrix from
+           column 0, V' from column hc); needed only between the SVD and the capture of the
+           indicators' blocks, before the next solve writes there (okid_era_scratch_in_factor()) */
+        v->era_h = v->era_vt = NULL;
     } else {
         v->era_h = okid_carve_reals(&c, hr * hc);
         v->era_vt = okid_carve_reals(&c, k * hc);
@@ -181,7 +202,7 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned
     v->era_work = okid_carve_reals(&c, OKID__LWORK_GESVD(hr, hc));
     end = MAX(end, c.used);
 
-    c.used = scratch;
+    c.used = phases;
     v->modal_a = okid_carve_reals(&c, n * n);
     v->modal_vr = okid_carve_reals(&c, n * n);
     v->modal_wr = okid_carve_reals(&c, n);
@@ -193,4 +214,21 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned
     end = MAX(end, c.used);
 
     return end;
+}
+
+void okid_layout_era(const okid_identifier *id, const okid_result_views_ *res, okid_real *factor,
+                     okid_era_problem *pb, okid_era_scratch *s)
+{
+    const okid_dims_ *d = &id->dims_;
+    const okid_era_problem problem = {d->r, d->m, d->ncols, id->cfg_.hankel_rows, id->cfg_.hankel_cols,
+                                      id->cfg_.order, d->m * d->p, res->markov, res->markov_obs, res->scales};
+    *pb = problem;
+    const size_t below = (size_t)d->w + 1u; /* R(j + 1 + i, j): columns stepping down the diagonal */
+    s->h = d->era_in_r ? factor + 1 : id->at_.era_h;
+    s->ldh = d->era_ldh;
+    s->vt = d->era_in_r ? factor + 1 + (size_t)d->hankel_cols * below : id->at_.era_vt;
+    s->ldvt = d->era_ldvt;
+    s->t = id->at_.era_t;
+    s->col_scale = id->at_.era_scale;
+    s->work = id->at_.era_work;
 }

@@ -11,38 +11,43 @@
  */
 #include "era.h"
 
-#include "channel_scaling.h"
 #include "dense.h"
 #include "linalg.h"
 #include "real_math.h"
 
-/* Gamma_k(a, l), k = 1..L, scaled by the column factor and by the scale of output a. */
-static okid_real gamma_at(const okid_identifier *id, int k, int a, int l)
+/* Scale of input i (0 <= i < r) or output a (index r + a); 1 without scaling. */
+static okid_real channel_scale(const okid_era_problem *pb, int channel)
 {
-    const int r = id->dims_.r, m = id->dims_.m;
-    const okid_real raw = (l < r) ? OKID_AT(id->at_.markov, m, a, k * r + l)
-                                  : OKID_AT(id->at_.markov_obs, m, a, (k - 1) * m + (l - r));
-    return raw * id->at_.era_scale[l] / okid_channel_scale(id, r + a);
+    return pb->scales != NULL ? pb->scales[channel] : 1;
 }
 
-static void column_scales(okid_identifier *id)
+/* Gamma_k(a, l), k = 1..L, scaled by the column factor and by the scale of output a. */
+static okid_real gamma_at(const okid_era_problem *pb, const okid_real *col_scale, int k, int a, int l)
 {
-    const int m = id->dims_.m, nc = id->dims_.ncols, L = id->dims_.markov_count;
+    const int r = pb->r, m = pb->m;
+    const okid_real raw = (l < r) ? OKID_AT(pb->markov, m, a, k * r + l)
+                                  : OKID_AT(pb->markov_obs, m, a, (k - 1) * m + (l - r));
+    return raw * col_scale[l] / channel_scale(pb, r + a);
+}
+
+static void column_scales(const okid_era_problem *pb, okid_real *col_scale)
+{
+    const int m = pb->m, nc = pb->ncols, L = pb->alpha + pb->beta;
     for (int l = 0; l < nc; ++l) {
-        id->at_.era_scale[l] = okid_channel_scale(id, l); /* input l, then the outputs of the observer block */
+        col_scale[l] = channel_scale(pb, l); /* input l, then the outputs of the observer block */
     }
-    if (id->at_.markov_obs == NULL) {
+    if (pb->markov_obs == NULL) {
         return;
     }
     for (int l = 0; l < nc; ++l) {
         okid_real s = 0;
         for (int k = 1; k <= L; ++k) {
             for (int a = 0; a < m; ++a) {
-                const okid_real g = gamma_at(id, k, a, l);
+                const okid_real g = gamma_at(pb, col_scale, k, a, l);
                 s += g * g;
             }
         }
-        id->at_.era_scale[l] *= (s > 0) ? 1 / okid_sqrt(s) : 1;
+        col_scale[l] *= (s > 0) ? 1 / okid_sqrt(s) : 1;
     }
 }
 
@@ -64,33 +69,33 @@ static int largest_gap(const okid_real *sv, int limit)
     return best;
 }
 
-okid_status okid_era_realize(okid_identifier *id, int *order, unsigned *warnings)
+okid_status okid_era_realize(const okid_era_problem *pb, const okid_era_scratch *v, const okid_era_output *out,
+                             int *order, unsigned *warnings)
 {
-    const okid_dims_ *d = &id->dims_;
-    okid_views_ *v = &id->at_;
-    const int m = d->m, r = d->r, nc = d->ncols, hr = d->hankel_rows, hc = d->hankel_cols, k = d->svd_size;
-    const int ldh = d->era_ldh, ldvt = d->era_ldvt;
-    const int alpha = id->cfg_.hankel_rows, beta = id->cfg_.hankel_cols;
-    column_scales(id);
+    const int m = pb->m, r = pb->r, nc = pb->ncols, alpha = pb->alpha, beta = pb->beta;
+    const int hr = alpha * m, hc = beta * nc, k = hr < hc ? hr : hc;
+    const int ldh = v->ldh, ldvt = v->ldvt;
+    okid_real *col_scale = v->col_scale;
+    column_scales(pb, col_scale);
 
     for (int j = 0; j < beta; ++j) {
         for (int l = 0; l < nc; ++l) {
             for (int i = 0; i < alpha; ++i) {
                 for (int a = 0; a < m; ++a) {
-                    OKID_AT(v->era_h, ldh, i * m + a, j * nc + l) = gamma_at(id, i + j + 1, a, l);
+                    OKID_AT(v->h, ldh, i * m + a, j * nc + l) = gamma_at(pb, col_scale, i + j + 1, a, l);
                 }
             }
         }
     }
-    const okid_status st = okid_la_svd(hr, hc, v->era_h, ldh, v->sv, v->era_vt, ldvt, v->era_work);
+    const okid_status st = okid_la_svd(hr, hc, v->h, ldh, out->sv, v->vt, ldvt, v->work);
     if (st != OKID_OK) {
         return st;
     }
-    const okid_real *u = v->era_h, *sv = v->sv;
+    const okid_real *u = v->h, *sv = out->sv;
 
-    int n = id->cfg_.order;
+    int n = pb->order;
     if (n == 0) {
-        const int limit = (k - 1 < m * d->p) ? k - 1 : m * d->p;
+        const int limit = (k - 1 < pb->order_limit) ? k - 1 : pb->order_limit;
         n = (limit >= 1) ? largest_gap(sv, limit) : 1;
         if (n == limit && limit < k - 1) {
             *warnings |= OKID_W_ORDER_AT_LIMIT;
@@ -107,10 +112,10 @@ okid_status okid_era_realize(okid_identifier *id, int *order, unsigned *warnings
                 okid_real s = 0;
                 for (int j = 0; j < beta; ++j) {
                     for (int l = 0; l < nc; ++l) {
-                        s += gamma_at(id, i + j + 2, a, l) * OKID_AT(v->era_vt, ldvt, t, j * nc + l);
+                        s += gamma_at(pb, col_scale, i + j + 2, a, l) * OKID_AT(v->vt, ldvt, t, j * nc + l);
                     }
                 }
-                OKID_AT(v->era_t, hr, i * m + a, t) = s;
+                OKID_AT(v->t, hr, i * m + a, t) = s;
             }
         }
     }
@@ -118,26 +123,26 @@ okid_status okid_era_realize(okid_identifier *id, int *order, unsigned *warnings
         for (int s = 0; s < n; ++s) {
             okid_real acc = 0;
             for (int row = 0; row < hr; ++row) {
-                acc += OKID_AT(u, ldh, row, s) * OKID_AT(v->era_t, hr, row, t);
+                acc += OKID_AT(u, ldh, row, s) * OKID_AT(v->t, hr, row, t);
             }
-            OKID_AT(v->a, n, s, t) = acc / okid_sqrt(sv[s] * sv[t]);
+            OKID_AT(out->a, n, s, t) = acc / okid_sqrt(sv[s] * sv[t]);
         }
     }
     for (int t = 0; t < n; ++t) {
         const okid_real root = okid_sqrt(sv[t]);
         for (int a = 0; a < m; ++a) {
-            OKID_AT(v->c, m, a, t) = OKID_AT(u, ldh, a, t) * root * okid_channel_scale(id, r + a);
+            OKID_AT(out->c, m, a, t) = OKID_AT(u, ldh, a, t) * root * channel_scale(pb, r + a);
         }
         for (int l = 0; l < nc; ++l) {
-            const okid_real value = root * OKID_AT(v->era_vt, ldvt, t, l) / v->era_scale[l];
+            const okid_real value = root * OKID_AT(v->vt, ldvt, t, l) / col_scale[l];
             if (l < r) {
-                OKID_AT(v->b, n, t, l) = value;
+                OKID_AT(out->b, n, t, l) = value;
             } else {
-                OKID_AT(v->g, n, t, l - r) = value;
+                OKID_AT(out->g, n, t, l - r) = value;
             }
         }
     }
-    okid_copy_matrix(m, r, v->markov, m, v->d, m);
+    okid_copy_matrix(m, r, pb->markov, m, out->d, m);
     *order = n;
     return OKID_OK;
 }

@@ -1,6 +1,8 @@
 /*
- * The narrow linear-algebra interface the core is written against. One backend implements it
- * (linalg_lapacke.c: LAPACK through column-major LAPACKE_*_work calls). Every routine works in
+ * The narrow linear-algebra interface the core is written against. Two backends implement it:
+ * linalg_lapacke.c (host and FMUs: LAPACK through column-major LAPACKE_*_work calls) and
+ * linalg_eigen.cpp (firmware: heap-free Eigen, the same algorithms; docs/design.md says how the
+ * two are kept comparable, test_backend_agreement compares them). Every routine works in
  * caller-provided memory; work sizes are closed formulas (OKID__LWORK_* in the public headers).
  * Matrices are column-major with explicit leading dimensions. Each returns OKID_OK,
  * OKID_E_DECOMPOSITION_FAILED or OKID_E_BACKEND_ARGUMENT.

@@ -1,6 +1,6 @@
 /*
  * Rank-revealing least squares on an upper-triangular matrix, in place and without leaving the
- * triangle: the solves of the regressor factor R work in R's unused lower triangle (DESIGN.md
+ * triangle: the solves of the regressor factor R work in R's unused lower triangle (docs/design.md,
  * fixed memory: no q x q copy beside R). The algorithm is xGELSY's (column pivoting by the largest
  * remaining norm, rank by incremental condition estimation, RZ, minimum-norm solution); only the
  * pivoted QR differs: a triangular matrix is re-triangularised by Givens rotations when a column

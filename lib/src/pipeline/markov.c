@@ -10,52 +10,57 @@
 
 #include "dense.h"
 
+/* The solution x and its shape, read in place. */
+typedef struct observer_solution {
+    int r, m, p, ldx;
+    const okid_real *x;
+} observer_solution;
+
 /* Ybar1_j(a, b) and Ybar2_j(a, b), read in place from X. */
-static okid_real ybar1(const okid_identifier *id, int j, int a, int b)
+static okid_real ybar1(const observer_solution *o, int j, int a, int b)
 {
-    const int r = id->dims_.r, q = id->dims_.q;
-    return OKID_AT(id->at_.x, q, r + (j - 1) * r + b, a);
+    return OKID_AT(o->x, o->ldx, o->r + (j - 1) * o->r + b, a);
 }
 
-static okid_real ybar2(const okid_identifier *id, int j, int a, int b)
+static okid_real ybar2(const observer_solution *o, int j, int a, int b)
 {
-    const int r = id->dims_.r, m = id->dims_.m, p = id->dims_.p, q = id->dims_.q;
-    return -OKID_AT(id->at_.x, q, r * (p + 1) + (j - 1) * m + b, a);
+    return -OKID_AT(o->x, o->ldx, o->r * (o->p + 1) + (j - 1) * o->m + b, a);
 }
 
-void okid_markov_recover(okid_identifier *id)
+void okid_markov_recover(int r, int m, int p, int L, const okid_real *x, int ldx, okid_real *markov,
+                         okid_real *markov_obs)
 {
-    const int r = id->dims_.r, m = id->dims_.m, p = id->dims_.p, q = id->dims_.q, L = id->dims_.markov_count;
-    okid_real *y = id->at_.markov; /* m x r(L+1): block k at column k r */
+    const observer_solution o = {r, m, p, ldx, x};
+    okid_real *y = markov; /* m x r(L+1): block k at column k r */
     for (int b = 0; b < r; ++b) {
         for (int a = 0; a < m; ++a) {
-            OKID_AT(y, m, a, b) = OKID_AT(id->at_.x, q, b, a);
+            OKID_AT(y, m, a, b) = OKID_AT(x, ldx, b, a);
         }
     }
     for (int k = 1; k <= L; ++k) {
         for (int b = 0; b < r; ++b) {
             for (int a = 0; a < m; ++a) {
-                okid_real s = (k <= p) ? ybar1(id, k, a, b) : 0;
+                okid_real s = (k <= p) ? ybar1(&o, k, a, b) : 0;
                 for (int i = 1; i <= k && i <= p; ++i) {
                     for (int l = 0; l < m; ++l) {
-                        s -= ybar2(id, i, a, l) * OKID_AT(y, m, l, (k - i) * r + b);
+                        s -= ybar2(&o, i, a, l) * OKID_AT(y, m, l, (k - i) * r + b);
                     }
                 }
                 OKID_AT(y, m, a, k * r + b) = s;
             }
         }
     }
-    okid_real *yo = id->at_.markov_obs; /* m x mL: Y°_k at column (k-1) m */
+    okid_real *yo = markov_obs; /* m x mL: Y°_k at column (k-1) m */
     if (yo == NULL) {
         return;
     }
     for (int k = 1; k <= L; ++k) {
         for (int b = 0; b < m; ++b) {
             for (int a = 0; a < m; ++a) {
-                okid_real s = (k <= p) ? ybar2(id, k, a, b) : 0;
+                okid_real s = (k <= p) ? ybar2(&o, k, a, b) : 0;
                 for (int i = 1; i <= k - 1 && i <= p; ++i) {
                     for (int l = 0; l < m; ++l) {
-                        s -= ybar2(id, i, a, l) * OKID_AT(yo, m, l, (k - i - 1) * m + b);
+                        s -= ybar2(&o, i, a, l) * OKID_AT(yo, m, l, (k - i - 1) * m + b);
                     }
                 }
                 OKID_AT(yo, m, a, (k - 1) * m + b) = s;

@@ -1,0 +1,91 @@
+/* Block QR accumulation and rank-revealing solve: see least_squares.h. */
+#include "least_squares.h"
+
+#include "dense.h"
+#include "linalg.h"
+#include "real_math.h"
+#include "triangular_lstsq.h"
+
+void okid_lsq_weigh_rows(int nrows, int ncols, okid_real *rows, int ld, okid_real lambda)
+{
+    const okid_real root = okid_sqrt(lambda);
+    okid_real weight = 1;
+    for (int i = nrows - 1; i >= 0; --i) {
+        for (int j = 0; j < ncols; ++j) {
+            OKID_AT(rows, ld, i, j) *= weight;
+        }
+        weight *= root;
+    }
+}
+
+okid_real okid_lsq_decay(int nrows, okid_real lambda)
+{
+    return okid_pow(okid_sqrt(lambda), (okid_real)nrows);
+}
+
+okid_status okid_lsq_fold(int w, okid_real *r, int ldr, int nrows, okid_real *rows, int ldrows, okid_real lambda,
+                          int nbt, okid_real *t, okid_real *work)
+{
+    if (nrows == 0) {
+        return OKID_OK;
+    }
+    if (lambda < 1) {
+        /* R weighs rows by root^age (its square by lambda^age): row i of the block is nrows-1-i
+           samples older than the newest one, what R holds at least nrows. */
+        const okid_real rscale = okid_lsq_decay(nrows, lambda);
+        for (int j = 0; j < w; ++j) {
+            for (int i = 0; i <= j; ++i) {
+                OKID_AT(r, ldr, i, j) *= rscale;
+            }
+        }
+        okid_lsq_weigh_rows(nrows, w, rows, ldrows, lambda);
+    }
+    return okid_la_fold_rows(w, r, ldr, nrows, rows, ldrows, nbt, t, work);
+}
+
+void okid_lsq_column_norms(const okid_real *r, int ldr, int n, okid_real *scale)
+{
+    for (int j = 0; j < n; ++j) {
+        okid_real s = 0;
+        for (int i = 0; i <= j; ++i) {
+            s += OKID_AT(r, ldr, i, j) * OKID_AT(r, ldr, i, j);
+        }
+        s = okid_sqrt(s);
+        scale[j] = (s > 0) ? s : 1; /* a zero column stays zero: it lowers the rank */
+    }
+}
+
+okid_real *okid_lsq_equilibrated_copy(okid_real *r, int ldr, int n, const okid_real *scale)
+{
+    okid_real *s = r + 1; /* s(i, j) = s[i ldr + j] is R(j + 1, i): below R's diagonal, as j + 1 <= n < ldr */
+    for (int j = 0; j < n; ++j) {
+        for (int i = 0; i <= j; ++i) {
+            s[(size_t)i * (size_t)ldr + (size_t)j] = OKID_AT(r, ldr, i, j) / scale[j];
+        }
+    }
+    return s;
+}
+
+okid_status okid_lsq_solve(int q, int m, int nu, okid_real *r, int ldr, okid_real tol, okid_real *x, int ldx,
+                           const okid_lsq_scratch *scratch, int *regressor_rank, int *input_rank)
+{
+    okid_lsq_column_norms(r, ldr, q, scratch->scale);
+
+    /* Persistence of excitation: rank of the input-only regressor (leading nu columns). */
+    okid_real *s = okid_lsq_equilibrated_copy(r, ldr, nu, scratch->scale);
+    *input_rank = okid_triangular_lstsq(nu, 0, s, ldr, NULL, q, tol, scratch->perm, scratch->work);
+    if (*input_rank < nu) {
+        return OKID_E_RANK_DEFICIENT;
+    }
+
+    /* Minimum-norm solution of the equilibrated R11 x~ = R12, then x = diag(1/scale) x~. */
+    okid_copy_matrix(q, m, r + (size_t)q * (size_t)ldr, ldr, x, ldx);
+    s = okid_lsq_equilibrated_copy(r, ldr, q, scratch->scale);
+    *regressor_rank = okid_triangular_lstsq(q, m, s, ldr, x, ldx, tol, scratch->perm, scratch->work);
+    for (int j = 0; j < m; ++j) {
+        for (int i = 0; i < q; ++i) {
+            OKID_AT(x, ldx, i, j) /= scratch->scale[i];
+        }
+    }
+    return OKID_OK;
+}

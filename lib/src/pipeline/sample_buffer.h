@@ -1,0 +1,35 @@
+/*
+ * Recursive buffering (eq. 35, 49): a ring of the last p samples v = [u; y] and the regressor
+ * row built from it. Row layout (internal column order, inputs first so that the leading block of
+ * the triangular factor is the input-only regressor, whose rank tells persistence of excitation):
+ *   [ u(k) | u(k-1) ... u(k-p) | y(k-1) ... y(k-p) | y(k) ]
+ *     r      r p                 m p                 m      (q = r + (r + m) p columns, then m)
+ * The ring itself (okid_ring_, okid/identifier_storage.h) also holds the instruments' past inputs.
+ */
+#ifndef OKID_SAMPLE_BUFFER_H
+#define OKID_SAMPLE_BUFFER_H
+
+#include "okid/identifier.h" /* okid_ring_ */
+
+/* Empty the ring (zero_history: fill it with zeros, as a record that starts at rest). */
+void okid_ring_restart(okid_ring_ *ring, int zero_history);
+
+/* 1 when the ring holds depth vectors (always with depth 0). */
+int okid_ring_full(const okid_ring_ *ring);
+
+/* Append [a (na values); b (nb values)], na + nb = width, as the newest vector (no-op with depth 0). */
+void okid_ring_append(okid_ring_ *ring, const okid_real *a, int na, const okid_real *b, int nb);
+
+/* The newest-but-(j - 1) vector, j = 1 .. depth: v(k - j) when sample k is the next one. */
+const okid_real *okid_ring_past(const okid_ring_ *ring, int j);
+
+/* Write the regressor row of sample k (u: r values, y: m values; the window holds v(k-1) .. v(k-p),
+   width r + m) to row (stride ld between columns). */
+void okid_buffer_write_row(const okid_ring_ *window, int r, const okid_real *u, const okid_real *y, okid_real *row,
+                           size_t ld);
+
+/* y_hat = X' phi(k): the regressor row of (u, window) times the q x m solution x (leading dimension ldx). */
+void okid_buffer_predict(const okid_ring_ *window, int r, const okid_real *u, const okid_real *x, int ldx,
+                         okid_real *y_hat);
+
+#endif
