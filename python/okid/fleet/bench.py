@@ -1,0 +1,118 @@
+"""The fleet benchmark: records per second with 1 and 2 local workers, the scheduler's cost per
+task, the cost of one realistic record, and a projection to a cluster. Prints figures and writes
+them to bench/results.json ("fleet") and docs/fleet.md's measured table; nothing is timed against
+a limit.
+
+    python -m okid.fleet.bench [--records 48] [--samples 60000] [--results bench/results.json]
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import os
+import platform
+import tempfile
+import time
+
+import numpy as np
+
+from .job import identify_fleet
+from .synth import FleetSpec, synthesize
+
+OPTIONS = {"order": 4, "zero_initial_state": 1}
+
+
+def records_per_second(records_dir: str, workers: int, out_dir: str) -> float:
+    summary = identify_fleet([records_dir], out_dir, options=OPTIONS, workers=workers, progress=None, overwrite=True)
+    assert summary.failed == 0, "the benchmark fleet must identify"
+    return summary.records / summary.seconds
+
+
+def scheduler_overhead_per_task(tasks: int = 2000) -> float:
+    """Seconds per empty task on a 2-worker local cluster (submit to result)."""
+    from distributed import Client, LocalCluster, wait
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0",
+                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+        client.submit(int, 0).result()  # warm up
+        t0 = time.perf_counter()
+        futures = [client.submit(int, i, pure=False) for i in range(tasks)]
+        wait(futures)
+        return (time.perf_counter() - t0) / tasks
+
+
+def wide_record_seconds(samples: int, repeats: int = 3) -> dict:
+    """One record of the projection's shape: 24 accelerometers on a 24-mass chain, one force, 10
+    minutes at 100 Hz, identified in process (the work a task does per record, file reading aside)."""
+    import okid
+    from okid import model
+
+    from .synth import chain
+
+    n = 24
+    masses, dampers, springs = chain(n)
+    m_, r_, k_ = model.chain_model(masses, dampers, springs)
+    b2 = np.zeros((n, 1))
+    b2[0, 0] = 1
+    ac, bc, c, d = model.state_space(m_, r_, k_, b2, acceleration=np.eye(n))
+    a, b = model.discretize_zoh(ac, bc, 0.01)
+    rng = np.random.default_rng(1)
+    u = rng.standard_normal((samples, 1))
+    y, _ = model.simulate(a, b, c, d, u)
+    y = y + 0.02 * np.sqrt(np.mean(y ** 2, axis=0)) * rng.standard_normal(y.shape)
+    options = dict(observer_order=4, order=48, hankel_rows=20, hankel_cols=80)
+    best = float("inf")
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        okid.identify(u, y, 0.01, **options)
+        best = min(best, time.perf_counter() - t0)
+    return {"seconds": best, "samples": samples, "outputs": n, "options": options}
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(prog="python -m okid.fleet.bench", description=__doc__.split("\n\n")[0])
+    p.add_argument("--records", type=int, default=48, help="records of the scaling run")
+    p.add_argument("--samples", type=int, default=60000, help="samples per record (10 min at 100 Hz)")
+    p.add_argument("--results", default=None, help="update this results.json (key 'fleet')")
+    a = p.parse_args(argv)
+    with tempfile.TemporaryDirectory() as tmp:
+        spec = FleetSpec(assets=4, records=a.records // 4, samples=a.samples, dt=0.01, seed=2)
+        synthesize(os.path.join(tmp, "fleet"), spec)
+        records = os.path.join(tmp, "fleet", "records")
+        records_per_second(records, 2, os.path.join(tmp, "warm"))  # page cache, imports
+        r1 = records_per_second(records, 1, os.path.join(tmp, "o1"))
+        r2 = records_per_second(records, 2, os.path.join(tmp, "o2"))
+    overhead = scheduler_overhead_per_task()
+    wide = wide_record_seconds(a.samples)
+    per_day = 10_000 * 144
+    cores = per_day * wide["seconds"] / 86400
+    figures = {
+        "fleet_records_per_s_1": r1, "fleet_records_per_s_2": r2, "fleet_speedup_1_to_2": r2 / r1,
+        "fleet_records": spec.assets * spec.records, "fleet_samples_per_record": a.samples,
+        "fleet_scheduler_overhead_s_per_task": overhead,
+        "fleet_wide_record_seconds": wide["seconds"], "fleet_wide_record": {k: v for k, v in wide.items()
+                                                                            if k != "seconds"},
+        "fleet_projection_records_per_day": per_day, "fleet_projection_cores": cores,
+        "machine": f"{platform.machine()}, {os.cpu_count()} cores, {platform.python_version()}",
+    }
+    print(f"records/s, paper system, {a.samples} samples/record: 1 worker {r1:.2f}, 2 workers {r2:.2f} "
+          f"({r2 / r1:.2f}x)")
+    print(f"scheduler overhead per task (2 local workers): {overhead * 1e3:.2f} ms")
+    print(f"one 24-channel record ({a.samples} samples, p = 4, n = 48, 20 x 80 Hankel): {wide['seconds']:.3f} s")
+    print(f"projection, 10 000 assets x 144 records/day: {per_day * wide['seconds'] / 3600:.0f} core-hours/day, "
+          f"{cores:.1f} cores busy around the clock")
+    if a.results:
+        data = {}
+        if os.path.exists(a.results):
+            with open(a.results) as f:
+                data = json.load(f)
+        data["fleet"] = figures
+        with open(a.results, "w") as f:
+            json.dump(data, f, indent=1)
+            f.write("\n")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

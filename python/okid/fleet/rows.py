@@ -1,0 +1,103 @@
+"""One record identified: the rows of the mode table, and the table's schema.
+
+A record gives one row per identified mode, or one status row when it fails (an unreadable file,
+a force that does not excite the structure, too few samples, ...): the job goes on either way.
+"""
+from __future__ import annotations
+
+import json
+import re
+from typing import Any, Dict, List, Mapping, Optional
+
+import numpy as np
+
+from .records import ChannelSpec, RecordError, RecordRef, read
+
+STATUS_OK = "ok"
+STATUS_UNREADABLE = "unreadable"
+
+
+def _schema():
+    import pyarrow as pa
+
+    return pa.schema([
+        ("asset", pa.string()), ("record", pa.string()), ("start", pa.timestamp("us", tz="UTC")),
+        ("status", pa.string()), ("message", pa.string()),
+        ("mode", pa.int32()), ("frequency_hz", pa.float64()), ("damping_ratio", pa.float64()),
+        ("eigenvalue_re", pa.float64()), ("eigenvalue_im", pa.float64()),
+        ("shape_re", pa.list_(pa.float64())), ("shape_im", pa.list_(pa.float64())),
+        ("emac", pa.float64()), ("mpc", pa.float64()), ("cmi", pa.float64()),
+        ("warnings", pa.list_(pa.string())), ("warning_bits", pa.int64()),
+        ("order", pa.int32()), ("samples", pa.int64()), ("dt", pa.float64()),
+        ("outputs", pa.list_(pa.string())), ("config", pa.string()),
+    ])
+
+
+#: The columns of the mode table (Arrow schema), one row per (record, mode) or per failed record.
+SCHEMA = None
+
+
+def schema():
+    global SCHEMA
+    if SCHEMA is None:
+        SCHEMA = _schema()
+    return SCHEMA
+
+
+def status_of(exc: BaseException) -> str:
+    """NotPersistentlyExcitingError -> 'not_persistently_exciting'; a bad file -> 'unreadable'."""
+    if isinstance(exc, RecordError):
+        return STATUS_UNREADABLE
+    name = type(exc).__name__
+    name = name[:-5] if name.endswith("Error") else name
+    return re.sub(r"(?<!^)(?=[A-Z])", "_", name).lower()
+
+
+def _base(ref: RecordRef, start: Optional[float]) -> Dict[str, Any]:
+    micros = None if start is None else int(round(start * 1e6))
+    return {"asset": ref.asset, "record": ref.record, "start": micros}
+
+
+def _failure(ref: RecordRef, start: Optional[float], exc: BaseException, config: str) -> Dict[str, Any]:
+    row = _base(ref, start)
+    row.update(status=status_of(exc), message=str(exc), config=config)
+    return row
+
+
+def identify_record(ref: RecordRef, channels: ChannelSpec, options: Mapping[str, Any]) -> List[Dict[str, Any]]:
+    """Read and identify one record with okid.identify; never raises for a property of the record."""
+    import okid
+
+    config = json.dumps(dict(options), sort_keys=True)
+    try:
+        data = read(ref, channels)
+    except RecordError as exc:
+        return [_failure(ref, ref.start, exc, config)]
+    try:
+        result = okid.identify(data.u, data.y, data.dt, **options)
+    except (okid.OkidError, ValueError) as exc:
+        return [_failure(ref, data.start, exc, config)]
+    common = _base(ref, data.start)
+    common.update(status=STATUS_OK, message="", warnings=[flag.name.lower() for flag in okid.WarningFlag if flag & result.warnings],
+                  warning_bits=int(result.warnings), order=int(result.order), samples=int(result.samples),
+                  dt=float(result.dt), outputs=list(data.output_names), config=config)
+    if not result.modes:
+        row = dict(common)
+        row.update(status="no_modes", message="the identified model has no oscillating or real mode")
+        return [row]
+    rows = []
+    for k, mode in enumerate(result.modes, start=1):
+        shape = np.asarray(mode.sensor_shape)
+        row = dict(common)
+        row.update(mode=k, frequency_hz=float(mode.frequency_hz), damping_ratio=float(mode.damping_ratio),
+                   eigenvalue_re=float(mode.eigenvalue.real), eigenvalue_im=float(mode.eigenvalue.imag),
+                   shape_re=shape.real.tolist(), shape_im=shape.imag.tolist(), emac=float(mode.emac),
+                   mpc=float(mode.mpc), cmi=float(mode.cmi))
+        rows.append(row)
+    return rows
+
+
+def to_table(rows: List[Dict[str, Any]]):
+    import pyarrow as pa
+
+    return pa.Table.from_pylist(rows, schema=schema())
