@@ -100,9 +100,8 @@ okid_status okid_workspace_size(const okid_config *cfg, size_t *bytes)
     if (st != OKID_OK) {
         return st;
     }
-    *bytes = okid_layout_carve(&dims, cfg->realization == OKID_REALIZATION_COMBINED,
-                               cfg->scaling == OKID_SCALING_AUTO, NULL, NULL);
-    return OKID_OK;
+    return okid_layout_size(&dims, cfg->realization == OKID_REALIZATION_COMBINED, cfg->scaling == OKID_SCALING_AUTO,
+                            bytes);
 }
 
 /* Start the sample history again (at init, reset, and after a rejected sample: a gap). */
@@ -145,7 +144,11 @@ okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspa
         return st;
     }
     const int combined = cfg->realization == OKID_REALIZATION_COMBINED, scaled = cfg->scaling == OKID_SCALING_AUTO;
-    const size_t needed = okid_layout_carve(&dims, combined, scaled, NULL, NULL);
+    size_t needed = 0;
+    st = okid_layout_size(&dims, combined, scaled, &needed);
+    if (st != OKID_OK) {
+        return st;
+    }
     if (bytes_needed != NULL) {
         *bytes_needed = needed;
     }

@@ -104,7 +104,7 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims)
 /* The persistent regions of the options (decimation, scaling, instrumental variables); NULL when off. */
 static void carve_options(const okid_dims_ *d, int scaled, okid_carver *c, okid_views_ *v)
 {
-    const size_t channels = (size_t)d->r + (size_t)d->m, nz = (size_t)d->nz;
+    const uint64_t channels = (uint64_t)d->r + (uint64_t)d->m, nz = (uint64_t)d->nz;
     v->dec_coef = v->dec_state = v->dec_out = v->scales = v->iv_ring = v->iv_block = v->iv_m = NULL;
     if (d->decimation > 1) {
         v->dec_coef = okid_carve_reals(c, OKID_DECIMATOR_COEFS);
@@ -115,25 +115,26 @@ static void carve_options(const okid_dims_ *d, int scaled, okid_carver *c, okid_
         v->scales = okid_carve_reals(c, channels);
     }
     if (nz > 0) {
-        v->iv_ring = okid_carve_reals(c, (size_t)d->r * (size_t)d->instrument_lags);
-        v->iv_block = okid_carve_reals(c, (size_t)d->block_rows * nz);
-        v->iv_m = okid_carve_reals(c, nz * (size_t)d->w);
+        v->iv_ring = okid_carve_reals(c, (uint64_t)d->r * (uint64_t)d->instrument_lags);
+        v->iv_block = okid_carve_reals(c, (uint64_t)d->block_rows * nz);
+        v->iv_m = okid_carve_reals(c, nz * (uint64_t)d->w);
     }
 }
 
-size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned char *base, okid_views_ *v)
+uint64_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned char *base, okid_views_ *v)
 {
     okid_views_ dry;
     if (v == NULL) {
         v = &dry;
     }
-    const size_t r = (size_t)d->r, m = (size_t)d->m, p = (size_t)d->p, q = (size_t)d->q, w = (size_t)d->w;
-    const size_t n = (size_t)d->max_order, k = (size_t)d->svd_size, hr = (size_t)d->hankel_rows,
-                 hc = (size_t)d->hankel_cols, L = (size_t)d->markov_count, nc = (size_t)d->ncols;
+    /* 64-bit products: with a 32-bit size_t, w * w alone can wrap for accepted dimensions */
+    const uint64_t r = (uint64_t)d->r, m = (uint64_t)d->m, p = (uint64_t)d->p, q = (uint64_t)d->q, w = (uint64_t)d->w;
+    const uint64_t n = (uint64_t)d->max_order, k = (uint64_t)d->svd_size, hr = (uint64_t)d->hankel_rows,
+                   hc = (uint64_t)d->hankel_cols, L = (uint64_t)d->markov_count, nc = (uint64_t)d->ncols;
     okid_carver c = {base, 0};
 
     v->ring = okid_carve_reals(&c, p * (r + m));
-    v->block = okid_carve_reals(&c, (size_t)d->block_rows * w);
+    v->block = okid_carve_reals(&c, (uint64_t)d->block_rows * w);
     v->r = okid_carve_reals(&c, w * w);
     carve_options(d, scaled, &c, v);
 
@@ -151,11 +152,11 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned
     v->shapes = (okid_complex *)okid_carve_bytes(&c, sizeof(okid_complex) * n * 3u * m);
 
     v->x = okid_carve_reals(&c, q * m);
-    const size_t scratch = c.used;
-    size_t end = scratch;
+    const uint64_t scratch = c.used;
+    uint64_t end = scratch;
 
-    v->fold_t = okid_carve_reals(&c, (size_t)d->block_tile * w);
-    v->fold_work = okid_carve_reals(&c, (size_t)d->block_tile * w);
+    v->fold_t = okid_carve_reals(&c, (uint64_t)d->block_tile * w);
+    v->fold_work = okid_carve_reals(&c, (uint64_t)d->block_tile * w);
     end = MAX(end, c.used);
 
     c.used = scratch;
@@ -171,7 +172,7 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned
            hr + hc <= w (the Hankel matrix from column 0, V' from column hc); identify needs them
            only between the SVD and okid_indicators_capture(), before the next solve writes there */
         v->era_h = (v->r != NULL) ? v->r + 1 : NULL;
-        v->era_vt = (v->r != NULL) ? v->r + 1 + hc * (w + 1u) : NULL;
+        v->era_vt = (v->r != NULL) ? v->r + 1 + (size_t)(hc * (w + 1u)) : NULL;
     } else {
         v->era_h = okid_carve_reals(&c, hr * hc);
         v->era_vt = okid_carve_reals(&c, k * hc);
@@ -193,4 +194,9 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned
     end = MAX(end, c.used);
 
     return end;
+}
+
+okid_status okid_layout_size(const okid_dims_ *dims, int combined, int scaled, size_t *bytes)
+{
+    return okid_carve_size(okid_layout_carve(dims, combined, scaled, NULL, NULL), bytes);
 }

@@ -243,10 +243,12 @@ typedef struct okid_identifier {
 
 /* ---- Compile-time workspace size (equal to okid_workspace_size(); checked by the tests) ---- */
 
-#define OKID__Z(x) ((size_t)(x))
+/* Every size macro computes in unsigned long long (types.h, OKID__ALIGN16); the public ones
+   saturate at SIZE_MAX through OKID__SIZE. */
+#define OKID__Z(x) ((unsigned long long)(x))
 #define OKID__MAX(a, b) ((a) > (b) ? (a) : (b))
 #define OKID__MIN(a, b) ((a) < (b) ? (a) : (b))
-#define OKID__RB(count) OKID__ALIGN16(sizeof(okid_real) * (size_t)(count))
+#define OKID__RB(count) OKID__ALIGN16(sizeof(okid_real) * OKID__Z(count))
 #if OKID_LINALG_EIGEN
 /* The Eigen backend works in place: 7 vectors for the rank-revealing solve, the n x n factor of
    the QR-preconditioned Jacobi SVD and three vectors (linalg_eigen.cpp). */
@@ -326,9 +328,13 @@ typedef struct okid_identifier {
  * \endcode
  * Arguments: r, m, p, alpha, beta, order (0 = automatic), block_rows (0 = default),
  * combined (1 for OKID_REALIZATION_COMBINED). Equals okid_workspace_size() for a valid configuration
- * without the quality options (see OKID_WORKSPACE_BYTES_OPTIONS).
+ * without the quality options (see OKID_WORKSPACE_BYTES_OPTIONS). Computed in 64 bits; where the
+ * size exceeds SIZE_MAX (32-bit targets) the value is SIZE_MAX, never a wrapped-around smaller
+ * number: such an array does not compile, and okid_workspace_size() refuses with OKID_E_BAD_SIZE.
  */
-#define OKID_WORKSPACE_BYTES(r, m, p, alpha, beta, order, block_rows, combined)                            \
+#define OKID_WORKSPACE_BYTES(r, m, p, alpha, beta, order, block_rows, combined) \
+    OKID__SIZE(OKID__WORKSPACE_BYTES64(r, m, p, alpha, beta, order, block_rows, combined))
+#define OKID__WORKSPACE_BYTES64(r, m, p, alpha, beta, order, block_rows, combined)                         \
     (OKID__PERSISTENT_BYTES(r, m, p, block_rows)                                                         \
      + OKID__RESULT_BYTES(r, m, alpha, beta, OKID__N(r, m, p, alpha, beta, order, combined),                   \
                           OKID__K(r, m, alpha, beta, combined), combined)                                 \
@@ -350,12 +356,13 @@ typedef struct okid_identifier {
 /**
  * OKID_WORKSPACE_BYTES with the quality options: decimation (K, 0 or 1 = none), scaling
  * (okid_scaling), estimator (okid_estimator) and instrument_lags (0 = automatic). Equals
- * okid_workspace_size() for a valid configuration.
+ * okid_workspace_size() for a valid configuration; saturates at SIZE_MAX like OKID_WORKSPACE_BYTES.
  */
 #define OKID_WORKSPACE_BYTES_OPTIONS(r, m, p, alpha, beta, order, block_rows, combined, decimation, scaling,   \
                                      estimator, lags)                                                          \
-    (OKID_WORKSPACE_BYTES(r, m, p, alpha, beta, order, block_rows, combined) + OKID__DEC_BYTES(r, m, decimation) \
-     + OKID__SCALE_BYTES(r, m, scaling) + OKID__IV_BYTES(r, m, p, block_rows, estimator, lags))
+    OKID__SIZE(OKID__WORKSPACE_BYTES64(r, m, p, alpha, beta, order, block_rows, combined)                     \
+               + OKID__DEC_BYTES(r, m, decimation) + OKID__SCALE_BYTES(r, m, scaling)                           \
+               + OKID__IV_BYTES(r, m, p, block_rows, estimator, lags))
 
 /* ---- API ---- */
 
@@ -389,7 +396,9 @@ okid_status okid_config_horizons(okid_config *cfg, okid_real observer_seconds, o
  * Check a configuration and compute the workspace it needs.
  * \param[in]  cfg   configuration
  * \param[out] bytes workspace bytes (the same as OKID_WORKSPACE_BYTES_OPTIONS for these values)
- * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE, OKID_E_BAD_ORDER, OKID_E_BAD_PARAMETER
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE (also when the dimensions, each in range,
+ *         together need more than SIZE_MAX bytes: 4 GiB on a 32-bit target), OKID_E_BAD_ORDER,
+ *         OKID_E_BAD_PARAMETER
  */
 okid_status okid_workspace_size(const okid_config *cfg, size_t *bytes);
 

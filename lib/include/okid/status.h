@@ -16,7 +16,11 @@ typedef enum okid_status {
     OKID_OK = 0,
     /** A required pointer argument is NULL. */
     OKID_E_NULL_POINTER = -1,
-    /** A size is zero, negative, above OKID_MAX_DIMENSION, or an array's leading dimension is too small. */
+    /**
+     * A size is zero, negative, above OKID_MAX_DIMENSION, or an array's leading dimension is too
+     * small; or sizes that are each in range together need a workspace above SIZE_MAX bytes (4 GiB
+     * on a 32-bit target).
+     */
     OKID_E_BAD_SIZE = -2,
     /**
      * The model order does not fit: m*p < n, the Hankel matrix is smaller than the order, n < 1, or

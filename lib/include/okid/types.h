@@ -23,8 +23,15 @@ typedef double okid_real;
 /** Alignment, in bytes, that every okid workspace must have (and that each of its regions keeps). */
 #define OKID_WORKSPACE_ALIGN 16u
 
-/** Round a byte count up to a multiple of OKID_WORKSPACE_ALIGN (helper of the size macros). */
-#define OKID__ALIGN16(bytes) ((((size_t)(bytes)) + 15u) / 16u * 16u)
+/**
+ * Round a byte count up to a multiple of OKID_WORKSPACE_ALIGN (helper of the size macros). The size
+ * macros compute in unsigned long long (64 bits at least) whatever size_t is, and OKID__SIZE
+ * saturates their result at SIZE_MAX: on a 32-bit target a sum that exceeds 4 GiB gives SIZE_MAX
+ * (a static array that large does not compile, and the functions refuse the configuration with
+ * OKID_E_BAD_SIZE) instead of wrapping around to a small number.
+ */
+#define OKID__ALIGN16(bytes) ((((unsigned long long)(bytes)) + 15u) / 16u * 16u)
+#define OKID__SIZE(bytes64) ((bytes64) > (unsigned long long)(size_t)-1 ? (size_t)-1 : (size_t)(bytes64))
 
 /** A complex number, stored as LAPACK stores one: real part, then imaginary part. */
 typedef struct okid_complex {
