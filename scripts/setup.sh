@@ -6,7 +6,8 @@ cd "$(dirname "$0")/.."
 
 APT_PACKAGES=(build-essential cmake ninja-build pkg-config liblapacke-dev liblapack-dev libblas-dev libeigen3-dev
               libcmocka-dev python3-venv python3-pip valgrind clang libclang-rt-dev llvm
-              gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm)
+              gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
+              gcc-multilib libcmocka-dev:i386 liblapacke-dev:i386)   # the last three: the m32 preset (gcc -m32)
 
 missing=()
 for pkg in "${APT_PACKAGES[@]}"; do
@@ -17,6 +18,9 @@ done
 if ((${#missing[@]})); then
     echo "setup: installing ${missing[*]}"
     if [[ $(id -u) -eq 0 ]]; then SUDO=(); else SUDO=(sudo); fi
+    if ! dpkg --print-foreign-architectures | grep -qx i386; then   # multiarch, for the :i386 packages
+        "${SUDO[@]}" dpkg --add-architecture i386
+    fi
     "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -q
     "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi

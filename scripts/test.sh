@@ -33,6 +33,11 @@ cmake --preset eigen
 cmake --build --preset eigen -j "$jobs"
 ctest --preset eigen -j "$jobs"
 
+step "m32 build (gcc -m32: the firmware targets' 32-bit size_t on the host): the C tests"
+cmake --preset m32
+cmake --build --preset m32 -j "$jobs"
+ctest --preset m32 -j "$jobs"
+
 for target in cortex-m4f cortex-m7; do
     step "$target cross-build, target tests under qemu-system-arm"
     cmake --preset $target
