@@ -22,17 +22,31 @@ static int regressor_channel(const okid_dims_ *d, int col)
     return r + (col - d->q); /* y(k) */
 }
 
-/* RMS of column col of the pending rows; 1 when it is zero there (the channel keeps its units). */
+/*
+ * RMS of column col of the pending rows; 1 when it is zero there (the channel keeps its units).
+ * Channels far from 1 (1e155, 1e-160) are what scaling is for, but their squares overflow or
+ * underflow: the sum is then taken over v / max|v|. Within the range where the plain squares are
+ * exact to rounding, the plain sum is kept (the same bits as before for ordinary data).
+ */
 static okid_real pending_rms(const okid_identifier *id, int col)
 {
     const int rows = id->block_fill_, ld = id->dims_.block_rows;
+    okid_real amax = 0;
+    for (int i = 0; i < rows; ++i) {
+        const okid_real v = okid_fabs(OKID_AT(id->at_.block, ld, i, col));
+        amax = v > amax ? v : amax;
+    }
+    if (amax == 0) {
+        return 1;
+    }
+    const int plain = amax >= okid_sqrt(OKID_REAL_MIN) / OKID_EPSILON && amax <= okid_sqrt(OKID_REAL_MAX / (okid_real)rows);
+    const okid_real unit = plain ? 1 : amax;
     okid_real s = 0;
     for (int i = 0; i < rows; ++i) {
-        const okid_real v = OKID_AT(id->at_.block, ld, i, col);
+        const okid_real v = OKID_AT(id->at_.block, ld, i, col) / unit;
         s += v * v;
     }
-    s = okid_sqrt(s / (okid_real)rows);
-    return (s > 0 && okid_is_finite(s)) ? s : 1;
+    return unit * okid_sqrt(s / (okid_real)rows);
 }
 
 void okid_scaling_apply_pending(okid_identifier *id)

@@ -2,6 +2,7 @@
 #include "okid/identifier.h"
 
 #include "channel_scaling.h"
+#include "data_range.h"
 #include "decimator.h"
 #include "dense.h"
 #include "diagnostics.h"
@@ -76,7 +77,8 @@ okid_status okid_config_horizons(okid_config *cfg, okid_real observer_seconds, o
     const okid_real seconds[3] = {observer_seconds, hankel_rows_seconds, hankel_cols_seconds};
     int counts[3];
     for (int i = 0; i < 3; ++i) {
-        if (!okid_is_finite(seconds[i]) || !(seconds[i] > 0) || !okid_is_finite(cfg->dt) || !(cfg->dt > 0)) {
+        if (!okid_is_finite(seconds[i]) || !(seconds[i] > 0) || !okid_in_magnitude_range(cfg->dt) ||
+            !okid_in_magnitude_range(step)) {
             return OKID_E_BAD_PARAMETER;
         }
         counts[i] = blocks_of(seconds[i], step);
@@ -90,13 +92,34 @@ okid_status okid_config_horizons(okid_config *cfg, okid_real observer_seconds, o
     return OKID_OK;
 }
 
+okid_status okid_config_check(const okid_config *cfg, okid_config_issue *issue)
+{
+    if (cfg == NULL || issue == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    *issue = (okid_config_issue){NULL, 0, 0, 0};
+    okid_dims_ dims;
+    okid_status st = okid_layout_dims(cfg, &dims, issue);
+    size_t bytes = 0;
+    if (st == OKID_OK) {
+        st = okid_layout_size(&dims, cfg->realization == OKID_REALIZATION_COMBINED, cfg->scaling == OKID_SCALING_AUTO,
+                              &bytes);
+        if (st != OKID_OK) {
+            *issue = (okid_config_issue){"workspace bytes", (double)okid_layout_carve(&dims,
+                                         cfg->realization == OKID_REALIZATION_COMBINED, cfg->scaling == OKID_SCALING_AUTO,
+                                         NULL, NULL), 0, (double)SIZE_MAX};
+        }
+    }
+    return st;
+}
+
 okid_status okid_workspace_size(const okid_config *cfg, size_t *bytes)
 {
     if (cfg == NULL || bytes == NULL) {
         return OKID_E_NULL_POINTER;
     }
     okid_dims_ dims;
-    const okid_status st = okid_layout_dims(cfg, &dims);
+    const okid_status st = okid_layout_dims(cfg, &dims, NULL);
     if (st != OKID_OK) {
         return st;
     }
@@ -139,7 +162,7 @@ okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspa
     }
     id->magic_ = 0;
     okid_dims_ dims;
-    okid_status st = okid_layout_dims(cfg, &dims);
+    okid_status st = okid_layout_dims(cfg, &dims, NULL);
     if (st != OKID_OK) {
         return st;
     }
@@ -285,10 +308,13 @@ okid_status okid_identify(okid_identifier *id, okid_result *result)
         return OKID_E_NOT_INITIALIZED;
     }
     const okid_dims_ *d = &id->dims_;
-    if (id->rows_ < (uint64_t)d->q) {
-        return OKID_E_NOT_ENOUGH_DATA;
+    if (id->rows_ < (uint64_t)d->q || okid_rows_remembered(id) < (uint64_t)d->q) {
+        return OKID_E_NOT_ENOUGH_DATA; /* too few rows, or a forgetting factor that forgets them too fast */
     }
     okid_status st = okid_lsq_fold_pending(id);
+    if (st == OKID_OK) {
+        st = okid_check_channel_range(id); /* 1e155 or 1e-160: refused before the solve, not garbage after it */
+    }
     if (st == OKID_OK && d->nz > 0) {
         st = okid_iv_factor(id); /* the factor R is rebuilt from the instruments' cross-product */
     }
@@ -331,6 +357,9 @@ okid_status okid_identify(okid_identifier *id, okid_result *result)
                                id->at_.modes, num_modes);
     if (st != OKID_OK) {
         return st;
+    }
+    if (!okid_modes_finite(id->at_.modes, num_modes, d->m)) {
+        return OKID_E_DATA_RANGE; /* what the channel check cannot see (ratios of channels, scaling auto) */
     }
     okid_real realization_condition = 0;
     okid_diagnose_realization(id, n, id->at_.modes, num_modes, &realization_condition, &warnings);
@@ -438,5 +467,6 @@ okid_status okid_get_progress(const okid_identifier *id, okid_progress *progress
     progress->rejected = id->rejected_;
     progress->rows = id->rows_;
     progress->rows_needed = id->dims_.q;
+    progress->rows_remembered = okid_rows_remembered(id);
     return OKID_OK;
 }

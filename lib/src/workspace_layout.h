@@ -6,8 +6,9 @@
 
 #include "okid/identifier.h"
 
-/* Check cfg and derive the sizes. OKID_OK or the specific configuration error. */
-okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims);
+/* Check cfg and derive the sizes. OKID_OK or the specific configuration error; issue (may be
+   NULL) then names the field, its value and its valid range. */
+okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims, okid_config_issue *issue);
 
 /*
  * Lay the workspace out for dims (views into base) and return the bytes used, counted in 64 bits.

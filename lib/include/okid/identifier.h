@@ -150,6 +150,12 @@ typedef struct okid_progress {
     uint64_t rejected;      /**< samples rejected as non-finite */
     uint64_t rows;          /**< regressor rows folded into the least squares (pending ones included) */
     int rows_needed;        /**< rows needed before okid_identify() can succeed (the number of unknowns q) */
+    /**
+     * Rows the forgetting factor lambda still weighs above the rank tolerance (lambda^(age/2) >=
+     * tolerance: 1 + 2 ln(tolerance) / ln(lambda) of them at most), or rows without forgetting.
+     * Below rows_needed, okid_identify() returns OKID_E_NOT_ENOUGH_DATA: the memory is too short.
+     */
+    uint64_t rows_remembered;
 } okid_progress;
 
 /** The identified model. Every pointer points into the identifier's workspace. */
@@ -392,6 +398,23 @@ okid_status okid_config_default(okid_config *cfg, int num_inputs, int num_output
 okid_status okid_config_horizons(okid_config *cfg, okid_real observer_seconds, okid_real hankel_rows_seconds,
                                  okid_real hankel_cols_seconds);
 
+/** What okid_config_check() refused: the field, its value and the range valid for it with the other fields. */
+typedef struct okid_config_issue {
+    const char *field; /**< okid_config field name ("order", "dt", ...); "workspace bytes" when the
+                            dimensions together exceed SIZE_MAX; NULL when the configuration is valid */
+    double value;      /**< the field's value */
+    double min, max;   /**< its valid range (rank_tolerance: 0, or min up to below max) */
+} okid_config_issue;
+
+/**
+ * Check a configuration as okid_workspace_size() does, and say which field is wrong: messages can
+ * name the value and the valid range instead of a status only.
+ * \param[in]  cfg   configuration
+ * \param[out] issue the first field refused (field NULL when valid)
+ * \return the status okid_workspace_size() returns for cfg
+ */
+okid_status okid_config_check(const okid_config *cfg, okid_config_issue *issue);
+
 /**
  * Check a configuration and compute the workspace it needs.
  * \param[in]  cfg   configuration
@@ -446,7 +469,9 @@ okid_status okid_push_block(okid_identifier *id, size_t count, const okid_real *
  * \param[in,out] id     identifier (pending rows are folded into the factor first)
  * \param[out]    result filled on OKID_OK; untouched otherwise
  * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_NOT_ENOUGH_DATA,
- *         OKID_E_RANK_DEFICIENT, OKID_E_DECOMPOSITION_FAILED, OKID_E_BACKEND_ARGUMENT
+ *         OKID_E_RANK_DEFICIENT, OKID_E_DECOMPOSITION_FAILED, OKID_E_BACKEND_ARGUMENT,
+ *         OKID_E_DATA_RANGE (a channel's RMS outside [OKID_MAGNITUDE_MIN, OKID_MAGNITUDE_MAX], or
+ *         results that would not be finite)
  */
 okid_status okid_identify(okid_identifier *id, okid_result *result);
 

@@ -20,6 +20,21 @@ typedef float okid_real;
 typedef double okid_real;
 #endif
 
+/**
+ * The magnitudes the computation keeps finite and accurate (its squares and fourth powers stay
+ * normal numbers): dt, K dt, and the RMS of each channel as it enters the regressor (after the
+ * scaling of OKID_SCALING_AUTO) must lie in [OKID_MAGNITUDE_MIN, OKID_MAGNITUDE_MAX]: 1e-75..1e75
+ * in double, 1e-9..1e9 in float. Outside, okid_init() says OKID_E_BAD_PARAMETER (dt) and
+ * okid_identify() OKID_E_DATA_RANGE (a channel: rescale it, or use OKID_SCALING_AUTO).
+ */
+#if OKID_REAL_IS_FLOAT
+#define OKID_MAGNITUDE_MIN 1e-9f
+#define OKID_MAGNITUDE_MAX 1e9f
+#else
+#define OKID_MAGNITUDE_MIN 1e-75
+#define OKID_MAGNITUDE_MAX 1e75
+#endif
+
 /** Alignment, in bytes, that every okid workspace must have (and that each of its regions keeps). */
 #define OKID_WORKSPACE_ALIGN 16u
 
