@@ -348,25 +348,25 @@ static int choose_columns(const identify_options *o, const csv_table *t, int tim
     return rc;
 }
 
-/* okid_workspace_size() said no: say which setting is out of range, not only the status. */
+/* okid_workspace_size() said no: the setting, its value and its valid range (okid_config_check). */
 static int settings_error(const okid_config *cfg, okid_status st)
 {
-    const char *hint = "";
-    if (cfg->observer_order < 1 || cfg->observer_order > OKID_MAX_HORIZON || cfg->hankel_rows < 1 ||
-        cfg->hankel_rows > OKID_MAX_HORIZON || cfg->hankel_cols < 1 || cfg->hankel_cols > OKID_MAX_HORIZON) {
-        hint = "; p, alpha and beta must be 1..1000";
-    } else if (cfg->order < 0 || cfg->order > OKID_MAX_ORDER) {
-        hint = "; n must be 0 (automatic) or 1..512";
-    } else if (st == OKID_E_BAD_ORDER) {
-        hint = "; n must be at most m*p and at most the Hankel size";
-    } else if (st == OKID_E_BAD_PARAMETER) {
-        hint = "; the forgetting factor must be in (0, 1], the rank tolerance >= 0, dt > 0";
-    } else if (cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL && st == OKID_E_BAD_SIZE) {
-        hint = "; instrumental variables need r (L + 1) >= q, L >= p and L <= 8000 instrument lags";
+    okid_config_issue issue;
+    (void)okid_config_check(cfg, &issue);
+    char range[160] = "";
+    if (issue.field != NULL && strcmp(issue.field, "rank_tolerance") == 0) {
+        snprintf(range, sizeof range, "; rank_tolerance = %g must be 0 (the default) or in [%g, %g)", issue.value,
+                 issue.min, issue.max);
+    } else if (issue.field != NULL && strcmp(issue.field, "workspace bytes") == 0) {
+        snprintf(range, sizeof range, "; the workspace would be %.4g bytes, more than this machine can address (%g)",
+                 issue.value, issue.max);
+    } else if (issue.field != NULL) {
+        snprintf(range, sizeof range, "; %s = %.6g is outside %.6g..%.6g", issue.field, issue.value, issue.min,
+                 issue.max);
     }
     return cli_error(EXIT_USAGE, "invalid settings (r = %d, m = %d, p = %d, n = %d, Hankel %d x %d): %s%s",
                      cfg->num_inputs, cfg->num_outputs, cfg->observer_order, cfg->order, cfg->hankel_rows,
-                     cfg->hankel_cols, okid_status_str(st), hint);
+                     cfg->hankel_cols, okid_status_str(st), range);
 }
 
 /* The stability marks of the table: 's' all three criteria, 'f' frequency only or with one more, 'o' new. */
