@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 APT_PACKAGES=(build-essential cmake ninja-build pkg-config liblapacke-dev liblapack-dev libblas-dev libeigen3-dev
-              libcmocka-dev python3-venv python3-pip valgrind clang libclang-rt-dev llvm
+              libcmocka-dev python3-venv python3-pip valgrind clang libclang-rt-dev llvm time
               gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
               gcc-multilib libcmocka-dev:i386 liblapacke-dev:i386)   # the last three: the m32 preset (gcc -m32)
 

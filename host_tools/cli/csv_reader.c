@@ -175,9 +175,6 @@ static int refill(csv_stream *s, char *error, size_t size)
     if (memchr(bytes, '\0', n) != NULL) {
         return fail(error, size, "the file holds NUL bytes: not a text CSV");
     }
-    if (s->copy != NULL && fwrite(bytes, 1, n, s->copy) != n) {
-        return fail(error, size, "cannot keep a copy of the input for the second pass: %s", strerror(errno));
-    }
     if (s->bytes_read == 0 && n >= 3 && bytes[0] == 0xEF && bytes[1] == 0xBB && bytes[2] == 0xBF) {
         s->begin += 3; /* the UTF-8 byte-order mark: not part of the first name */
     }
@@ -221,11 +218,10 @@ static int next_line(csv_stream *s, const char **b, const char **e, char *error,
     }
 }
 
-int csv_stream_open(csv_stream *s, FILE *in, FILE *copy, char *error, size_t error_size)
+int csv_stream_open(csv_stream *s, FILE *in, char *error, size_t error_size)
 {
     memset(s, 0, sizeof *s);
     s->in = in;
-    s->copy = copy;
     s->capacity = CHUNK;
     s->buf = malloc(s->capacity);
     if (s->buf == NULL) {
@@ -266,7 +262,7 @@ int csv_read_stream(FILE *f, csv_table *table, char *error, size_t error_size)
 {
     memset(table, 0, sizeof *table);
     csv_stream s;
-    if (csv_stream_open(&s, f, NULL, error, error_size) != 0) {
+    if (csv_stream_open(&s, f, error, error_size) != 0) {
         return -1;
     }
     const size_t n = (size_t)s.header.num_columns;

@@ -25,7 +25,6 @@ typedef struct csv_table {
 /* A stream over a FILE: the header once opened, then one row at a time. */
 typedef struct csv_stream {
     FILE *in;
-    FILE *copy;          /* every byte read is also written here (NULL: none); see csv_stream_open */
     char *buf;           /* buf[begin, end) holds bytes read and not yet consumed */
     size_t capacity, begin, end;
     int at_eof;
@@ -35,12 +34,9 @@ typedef struct csv_stream {
     csv_table header;    /* names and num_columns; no values */
 } csv_stream;
 
-/*
- * Reads up to the header and parses it. copy (may be NULL) receives every byte read from in, for
- * a second pass over a stream that cannot seek (standard input). Returns 0, or -1 with a one-line
- * message in error (the stream is then closed).
- */
-int csv_stream_open(csv_stream *s, FILE *in, FILE *copy, char *error, size_t error_size);
+/* Reads up to the header and parses it. Returns 0, or -1 with a one-line message in error (the
+   stream is then closed). */
+int csv_stream_open(csv_stream *s, FILE *in, char *error, size_t error_size);
 
 /* The next data row into row[num_columns]: 1, 0 at the end, -1 with a message (line and column named). */
 int csv_stream_row(csv_stream *s, double *row, char *error, size_t error_size);

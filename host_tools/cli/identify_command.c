@@ -493,7 +493,7 @@ static okid_status identify_timed(const identify_options *o, const okid_config *
     return st;
 }
 
-/* The second pass: blocks of samples into the identifier, then identify. */
+/* The samples the scan kept, in blocks into the identifier, then identify. */
 static okid_status identify_streamed(const okid_config *cfg, record_reader *reader, const record_columns *cols,
                                      void *ws, size_t bytes, okid_identifier *id, okid_result *res, int *rc)
 {
@@ -609,11 +609,9 @@ static int run(identify_options *o, record_reader *reader, const char *label)
     }
     /* aligned_alloc wants a size that is a multiple of the alignment */
     void *ws = aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16);
-    if (ws == NULL || record_rewind(reader, error, sizeof error) != 0) {
-        rc = ws == NULL ? cli_error(EXIT_DATA, "out of memory (workspace of %zu bytes)", bytes)
-                        : cli_error(EXIT_DATA, "%s: %s", label, error);
-        free(ws), free(cc);
-        return rc;
+    if (ws == NULL) {
+        free(cc);
+        return cli_error(EXIT_DATA, "out of memory (workspace of %zu bytes)", bytes);
     }
     okid_identifier id;
     okid_result res;

@@ -1,27 +1,10 @@
 /* See record_reader.h. */
-#define _POSIX_C_SOURCE 200809L /* fseeko, ftello */
 #include "record_reader.h"
 
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-static int fail(char *error, size_t size, const char *message)
-{
-    snprintf(error, size, "%s", message);
-    return -1;
-}
-
-static int start_stream(record_reader *reader, FILE *in, FILE *copy, char *error, size_t error_size)
-{
-    if (csv_stream_open(&reader->stream, in, copy, error, error_size) != 0) {
-        return -1;
-    }
-    free(reader->row);
-    reader->row = malloc(sizeof(double) * (size_t)reader->stream.header.num_columns);
-    return reader->row == NULL ? fail(error, error_size, "out of memory") : 0;
-}
 
 int record_open(record_reader *reader, const char *path, char *error, size_t error_size)
 {
@@ -36,16 +19,13 @@ int record_open(record_reader *reader, const char *path, char *error, size_t err
         }
         reader->owns_in = 1;
     }
-    reader->start = (long long)ftello(reader->in);
-    if (reader->start < 0 || fseeko(reader->in, (off_t)reader->start, SEEK_SET) != 0) {
-        reader->spool = tmpfile(); /* a pipe: the scan keeps a copy on disk for the second pass */
-        if (reader->spool == NULL) {
-            snprintf(error, error_size, "cannot create a temporary file for the second pass: %s", strerror(errno));
-            record_close(reader);
-            return -1;
-        }
+    if (csv_stream_open(&reader->stream, reader->in, error, error_size) != 0) {
+        record_close(reader);
+        return -1;
     }
-    if (start_stream(reader, reader->in, reader->spool, error, error_size) != 0) {
+    reader->row = malloc(sizeof(double) * (size_t)reader->stream.header.num_columns);
+    if (reader->row == NULL) {
+        snprintf(error, error_size, "out of memory");
         record_close(reader);
         return -1;
     }
@@ -78,64 +58,63 @@ int record_scan_all(record_reader *reader, const record_columns *cols, record_sc
 {
     memset(scan, 0, sizeof *scan);
     time_stamps_start(&scan->stamps, cols->time_unit);
+    reader->samples = tmpfile();
+    if (reader->samples == NULL) {
+        snprintf(error, error_size, "cannot create a temporary file for the samples: %s", strerror(errno));
+        return -1;
+    }
+    const int channels = cols->r + cols->m;
+    double sample[2 * OKID_MAX_DIMENSION];
     square_sum sums[2 * OKID_MAX_DIMENSION] = {{0, 0}};
     int rc;
     while ((rc = csv_stream_row(&reader->stream, reader->row, error, error_size)) == 1) {
         if (cols->time >= 0) {
             time_stamps_add(&scan->stamps, reader->row[cols->time]);
         }
-        for (int i = 0; i < cols->r; ++i) square_sum_add(&sums[i], reader->row[cols->inputs[i]]);
-        for (int a = 0; a < cols->m; ++a) square_sum_add(&sums[cols->r + a], reader->row[cols->outputs[a]]);
+        for (int i = 0; i < cols->r; ++i) sample[i] = reader->row[cols->inputs[i]];
+        for (int a = 0; a < cols->m; ++a) sample[cols->r + a] = reader->row[cols->outputs[a]];
+        for (int c = 0; c < channels; ++c) square_sum_add(&sums[c], sample[c]);
+        if (fwrite(sample, sizeof(double), (size_t)channels, reader->samples) != (size_t)channels) {
+            snprintf(error, error_size, "cannot write the temporary file of samples: %s", strerror(errno));
+            return -1;
+        }
         ++scan->samples;
     }
     if (rc < 0) {
         return -1;
     }
     if (scan->samples == 0) {
-        return fail(error, error_size, "the file has a header but no data rows");
+        snprintf(error, error_size, "the file has a header but no data rows");
+        return -1;
     }
-    for (int c = 0; c < cols->r + cols->m; ++c) {
+    for (int c = 0; c < channels; ++c) {
         scan->rms[c] = sums[c].scale * sqrt(sums[c].sum / (double)scan->samples);
     }
     scan->bytes = reader->stream.bytes_read;
-    return 0;
-}
-
-int record_rewind(record_reader *reader, char *error, size_t error_size)
-{
-    /* the first pass's header stays (the caller holds its names); the second one is the same text */
-    csv_table header = reader->stream.header;
-    memset(&reader->stream.header, 0, sizeof header);
-    csv_stream_close(&reader->stream);
-    FILE *source = reader->spool != NULL ? reader->spool : reader->in;
-    const long long start = reader->spool != NULL ? 0 : reader->start;
-    int rc = 0;
-    if (fflush(source) != 0 || fseeko(source, (off_t)start, SEEK_SET) != 0) {
-        snprintf(error, error_size, "cannot read the input a second time: %s", strerror(errno));
-        rc = -1;
-    } else {
-        rc = start_stream(reader, source, NULL, error, error_size);
+    if (fflush(reader->samples) != 0 || fseek(reader->samples, 0, SEEK_SET) != 0) {
+        snprintf(error, error_size, "cannot read the temporary file of samples: %s", strerror(errno));
+        return -1;
     }
-    csv_free(&reader->stream.header);
-    reader->stream.header = header;
-    return rc;
+    return 0;
 }
 
 long record_read_block(record_reader *reader, const record_columns *cols, size_t max, okid_real *u, okid_real *y,
                        char *error, size_t error_size)
 {
+    const size_t channels = (size_t)(cols->r + cols->m);
+    double sample[2 * OKID_MAX_DIMENSION];
     size_t k = 0;
-    while (k < max) {
-        const int rc = csv_stream_row(&reader->stream, reader->row, error, error_size);
-        if (rc < 0) {
-            return -1;
-        }
-        if (rc == 0) {
+    for (; k < max; ++k) {
+        const size_t got = fread(sample, sizeof(double), channels, reader->samples);
+        if (got != channels) {
+            if (ferror(reader->samples) || got != 0) {
+                snprintf(error, error_size, "cannot read the temporary file of samples: %s", strerror(errno));
+                return -1;
+            }
             break;
         }
-        for (int i = 0; i < cols->r; ++i) u[k * (size_t)cols->r + (size_t)i] = (okid_real)reader->row[cols->inputs[i]];
-        for (int a = 0; a < cols->m; ++a) y[k * (size_t)cols->m + (size_t)a] = (okid_real)reader->row[cols->outputs[a]];
-        ++k;
+        for (int i = 0; i < cols->r; ++i) u[k * (size_t)cols->r + (size_t)i] = (okid_real)sample[i];
+        for (int a = 0; a < cols->m; ++a) y[k * (size_t)cols->m + (size_t)a] = (okid_real)sample[cols->r + a];
     }
     return (long)k;
 }
@@ -145,9 +124,9 @@ void record_close(record_reader *reader)
     csv_stream_close(&reader->stream);
     free(reader->row);
     reader->row = NULL;
-    if (reader->spool != NULL) {
-        fclose(reader->spool);
-        reader->spool = NULL;
+    if (reader->samples != NULL) {
+        fclose(reader->samples); /* a tmpfile: removed on close */
+        reader->samples = NULL;
     }
     if (reader->owns_in && reader->in != NULL) {
         fclose(reader->in);

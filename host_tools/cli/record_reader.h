@@ -1,8 +1,10 @@
 /*
- * A recording for okid identify, read twice through csv_reader's stream so that memory does not
- * grow with the file: a scan (rows, time stamps, each channel's RMS) that comes before the
- * workspace is allocated, then the samples again in blocks for okid_push_block. A file is read
- * twice; standard input or a pipe is copied to a temporary file during the scan (disk, not memory).
+ * A recording for okid identify, read so that memory does not grow with the file: one pass
+ * through csv_reader's stream parses and checks every row, counts the samples, follows the time
+ * stamps and each channel's RMS, and keeps the chosen channels as binary doubles in a temporary
+ * file; that comes before the workspace is allocated (the data's sufficiency is known first). The
+ * samples then come back from the temporary file in blocks for okid_push_block: the text is
+ * parsed once, and standard input or a pipe works like a file. Disk: (r + m) 8 bytes per sample.
  */
 #ifndef OKID_CLI_RECORD_READER_H
 #define OKID_CLI_RECORD_READER_H
@@ -26,28 +28,25 @@ typedef struct record_scan {
     size_t samples;
     time_stamps stamps;                    /* of the time column (count 0 without one) */
     double rms[2 * OKID_MAX_DIMENSION];    /* inputs, then outputs */
-    unsigned long long bytes;
+    unsigned long long bytes;              /* of CSV text read */
 } record_scan;
 
 typedef struct record_reader {
-    FILE *in, *spool;      /* spool: the copy of a stream that cannot seek, read by the second pass */
-    long long start;       /* offset of the first byte in a seekable input */
+    FILE *in, *samples;    /* samples: the chosen channels of every row, r + m doubles each */
     int owns_in;
     csv_stream stream;
-    double *row;           /* one row of every column */
+    double *row;           /* one row of every column, then one sample of the chosen channels */
 } record_reader;
 
 /* Opens path ("-": standard input) and reads its header (reader->stream.header). 0, or -1 with a message. */
 int record_open(record_reader *reader, const char *path, char *error, size_t error_size);
 
-/* The first pass: every row parsed and checked, counted, time stamps and channel RMS. 0, or -1. */
+/* The pass over the text: every row parsed and checked, counted, stamps and RMS, samples kept. 0, or -1. */
 int record_scan_all(record_reader *reader, const record_columns *cols, record_scan *scan, char *error,
                     size_t error_size);
 
-/* The second pass from the first data row. 0, or -1 with a message. */
-int record_rewind(record_reader *reader, char *error, size_t error_size);
-
-/* Up to max samples of the second pass into u (r per sample) and y (m per sample): how many, 0 at the end, -1. */
+/* Up to max samples kept by the scan, in order, into u (r per sample) and y (m per sample):
+   how many, 0 at the end, -1 with a message. */
 long record_read_block(record_reader *reader, const record_columns *cols, size_t max, okid_real *u, okid_real *y,
                        char *error, size_t error_size);
 
