@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Every test: the default build (-Werror) with ctest (C, CLI, FMUs, install, both linear-algebra
 # backends compared), the float build, the Eigen-backend build, the 32-bit (gcc -m32) build, the
-# Cortex-M cross-builds with their tests under QEMU and the footprint report, the whole suite again under ASan + UBSan,
-# valgrind memcheck, and bounded fuzzing. Stops at the first failure.
+# Cortex-M cross-builds with their tests under QEMU and the footprint report, the whole suite again
+# under ASan + UBSan, valgrind memcheck, and bounded fuzzing. Stops at the first failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc)
