@@ -1,6 +1,7 @@
 /* The public identifier API: argument checks, state, and the identify pipeline (DESIGN.md data flow). */
 #include "okid/identifier.h"
 
+#include "carve.h"
 #include "channel_scaling.h"
 #include "data_range.h"
 #include "decimator.h"
@@ -100,14 +101,13 @@ okid_status okid_config_check(const okid_config *cfg, okid_config_issue *issue)
     *issue = (okid_config_issue){NULL, 0, 0, 0};
     okid_dims_ dims;
     okid_status st = okid_layout_dims(cfg, &dims, issue);
-    size_t bytes = 0;
     if (st == OKID_OK) {
-        st = okid_layout_size(&dims, cfg->realization == OKID_REALIZATION_COMBINED, cfg->scaling == OKID_SCALING_AUTO,
-                              &bytes);
+        const uint64_t needed = okid_layout_carve(&dims, cfg->realization == OKID_REALIZATION_COMBINED,
+                                                  cfg->scaling == OKID_SCALING_AUTO, NULL, NULL);
+        size_t bytes = 0;
+        st = okid_carve_size(needed, &bytes);
         if (st != OKID_OK) {
-            *issue = (okid_config_issue){"workspace bytes", (double)okid_layout_carve(&dims,
-                                         cfg->realization == OKID_REALIZATION_COMBINED, cfg->scaling == OKID_SCALING_AUTO,
-                                         NULL, NULL), 0, (double)SIZE_MAX};
+            *issue = (okid_config_issue){"workspace bytes", (double)needed, 0, (double)SIZE_MAX};
         }
     }
     return st;
