@@ -21,7 +21,9 @@ if ((${#missing[@]})); then
     if ! dpkg --print-foreign-architectures | grep -qx i386; then   # multiarch, for the :i386 packages
         "${SUDO[@]}" dpkg --add-architecture i386
     fi
-    "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -q
+    # a list that fails to download (a mirror in mid-sync) need not stop the install: it says itself
+    # when a package is really missing
+    "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -q || echo "setup: apt-get update had errors; installing anyway"
     "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
 
