@@ -16,12 +16,14 @@ esac
 # The library and examples/paper_2dof (the demo preset): compiler, build tools, LAPACKE.
 DEMO_PACKAGES=(build-essential cmake ninja-build pkg-config liblapacke-dev liblapack-dev libblas-dev)
 # The rest of the test suite: OpenBLAS (the CLI links it statically), Eigen, cmocka, Python, memory checkers, fuzzing, the firmware targets.
-TEST_PACKAGES=(libopenblas-dev libeigen3-dev libcmocka-dev python3-venv python3-pip valgrind clang libclang-rt-dev llvm
+TEST_PACKAGES=(libopenblas-dev libeigen3-dev libcmocka-dev python3-venv python3-pip valgrind clang libclang-rt-dev llvm time
                gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
                # the FMUs' other platforms (fmu/platforms) and the importers that run them
                gcc-mingw-w64-x86-64 g++-mingw-w64-x86-64 wine64 qemu-user lld
                libc6-dev-arm64-cross libgcc-12-dev-arm64-cross libstdc++-12-dev-arm64-cross
-               libtbb12)
+               libtbb12
+               # the m32 preset (gcc -m32): the 32-bit C library, LAPACKE and cmocka
+               gcc-multilib libcmocka-dev:i386 liblapacke-dev:i386)
 APT_PACKAGES=("${DEMO_PACKAGES[@]}")
 if [[ $mode == all ]]; then APT_PACKAGES+=("${TEST_PACKAGES[@]}"); fi
 
@@ -34,7 +36,12 @@ done
 if ((${#missing[@]})); then
     echo "setup: installing ${missing[*]}"
     if [[ $(id -u) -eq 0 ]]; then SUDO=(); else SUDO=(sudo); fi
-    "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -q
+    if [[ $mode == all ]] && ! dpkg --print-foreign-architectures | grep -qx i386; then   # multiarch, for the :i386 packages
+        "${SUDO[@]}" dpkg --add-architecture i386
+    fi
+    # a list that fails to download (a mirror in mid-sync) need not stop the install: it says itself
+    # when a package is really missing
+    "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -q || echo "setup: apt-get update had errors; installing anyway"
     "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
 

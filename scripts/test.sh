@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Every test: the default build (-Werror; it cross-builds the FMUs' win64 and aarch64-linux binaries
-# too) with ctest (C, CLI, FMUs in fmpy, ecospy, libcosimpy, and under Wine and qemu-user, install,
-# both linear-algebra backends compared), the float build, the Eigen-backend build, the Cortex-M cross-builds with
-# their tests under QEMU and the footprint report, the whole suite again under ASan + UBSan,
-# valgrind memcheck, and bounded fuzzing. Stops at the first failure.
+# too) with ctest (C, CLI, FMUs in fmpy, ecospy, libcosimpy, and under Wine and qemu-user, the
+# Python package, the fleet on a local Dask cluster, install, both linear-algebra backends
+# compared), the float build, the Eigen-backend build, the 32-bit (gcc -m32) build, the Cortex-M
+# cross-builds with their tests under QEMU and the footprint report, the whole suite again under
+# ASan + UBSan, valgrind memcheck, and bounded fuzzing. Stops at the first failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc)
@@ -33,6 +34,11 @@ step "eigen build (the firmware's heap-free Eigen backend on the host): the C te
 cmake --preset eigen
 cmake --build --preset eigen -j "$jobs"
 ctest --preset eigen -j "$jobs"
+
+step "m32 build (gcc -m32: the firmware targets' 32-bit size_t on the host): the C tests"
+cmake --preset m32
+cmake --build --preset m32 -j "$jobs"
+ctest --preset m32 -j "$jobs"
 
 for target in cortex-m4f cortex-m7; do
     step "$target cross-build, target tests under qemu-system-arm"

@@ -1,4 +1,5 @@
 /* See csv_reader.h. Strict on purpose: a recording with a hole or a typo is an error, not a guess. */
+#define _POSIX_C_SOURCE 200809L /* fmemopen */
 #include "csv_reader.h"
 
 #include <errno.h>
@@ -8,7 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { MAX_COLUMNS = 4096, MAX_FIELD = 256 };
+/* CHUNK: the bytes read at a time, the buffer's size unless a line is longer. */
+enum { MAX_COLUMNS = 4096, MAX_FIELD = 256, CHUNK = 1 << 20 };
 
 static int fail(char *error, size_t size, const char *format, ...) __attribute__((format(printf, 3, 4)));
 
@@ -19,37 +21,6 @@ static int fail(char *error, size_t size, const char *format, ...)
     vsnprintf(error, size, format, args);
     va_end(args);
     return -1;
-}
-
-/* One physical line [begin, end) without its line break. */
-typedef struct line_cursor {
-    const char *text, *end;
-    size_t line_number;
-} line_cursor;
-
-static int next_line(line_cursor *c, const char **begin, const char **end)
-{
-    while (c->text < c->end) {
-        const char *b = c->text;
-        const char *nl = memchr(b, '\n', (size_t)(c->end - b));
-        const char *e = nl ? nl : c->end;
-        c->text = nl ? nl + 1 : c->end;
-        ++c->line_number;
-        if (e > b && e[-1] == '\r') {
-            --e;
-        }
-        const char *p = b;
-        while (p < e && (*p == ' ' || *p == '\t')) {
-            ++p;
-        }
-        if (p == e || *p == '#') {
-            continue; /* blank line or comment */
-        }
-        *begin = b;
-        *end = e;
-        return 1;
-    }
-    return 0;
 }
 
 static void trim(const char **b, const char **e)
@@ -145,23 +116,14 @@ static int parse_number(const char *b, const char *e, double *out)
     return (endp == field || *endp != '\0') ? -1 : 0;
 }
 
-static int append_row(csv_table *t, size_t *capacity, const char *b, const char *e, char sep, size_t line,
-                      char *error, size_t size)
+/* One row [b, e) (line `line`) into row[num_columns]. */
+static int parse_row(const csv_table *t, char sep, const char *b, const char *e, size_t line, double *row, char *error,
+                     size_t size)
 {
     const int n = t->num_columns;
     if (count_fields(b, e, sep) != n) {
         return fail(error, size, "line %zu has %d fields, the header has %d", line, count_fields(b, e, sep), n);
     }
-    if (t->num_rows == *capacity) {
-        const size_t grown = *capacity ? 2 * *capacity : 1024;
-        double *v = realloc(t->values, grown * (size_t)n * sizeof(double));
-        if (v == NULL) {
-            return fail(error, size, "out of memory at line %zu", line);
-        }
-        t->values = v;
-        *capacity = grown;
-    }
-    double *row = t->values + t->num_rows * (size_t)n;
     const char *p = b;
     for (int j = 0; j < n; ++j) {
         const char *q = memchr(p, sep, (size_t)(e - p));
@@ -175,71 +137,186 @@ static int append_row(csv_table *t, size_t *capacity, const char *b, const char 
         }
         p = q ? q + 1 : e;
     }
-    ++t->num_rows;
     return 0;
 }
 
-int csv_parse(const char *text, size_t length, csv_table *table, char *error, size_t error_size)
+/*
+ * More bytes into the buffer: the unconsumed ones move to its front, it doubles when a line fills
+ * it, and one read appends. 1, 0 at the end of the input, -1 with a message.
+ */
+static int refill(csv_stream *s, char *error, size_t size)
 {
-    memset(table, 0, sizeof *table);
-    if (text == NULL) {
-        length = 0;
-        text = ""; /* no arithmetic on a null pointer */
+    if (s->begin > 0) {
+        memmove(s->buf, s->buf + s->begin, s->end - s->begin);
+        s->end -= s->begin;
+        s->begin = 0;
     }
-    line_cursor c = {text, text + length, 0};
+    if (s->end == s->capacity) {
+        char *grown = realloc(s->buf, 2 * s->capacity);
+        if (grown == NULL) {
+            return fail(error, size, "out of memory (a line of more than %zu bytes)", s->capacity);
+        }
+        s->buf = grown;
+        s->capacity *= 2;
+    }
+    const size_t n = fread(s->buf + s->end, 1, s->capacity - s->end, s->in);
+    if (n == 0) {
+        if (ferror(s->in)) {
+            return fail(error, size, "cannot read: %s", strerror(errno));
+        }
+        s->at_eof = 1;
+        return 0;
+    }
+    const unsigned char *bytes = (const unsigned char *)s->buf + s->end;
+    if (s->bytes_read == 0 && n >= 2 && ((bytes[0] == 0xFF && bytes[1] == 0xFE) || (bytes[0] == 0xFE && bytes[1] == 0xFF))) {
+        return fail(error, size, "UTF-16 or UTF-32 text (byte-order mark %02X %02X): save the file as UTF-8",
+                    bytes[0], bytes[1]);
+    }
+    if (memchr(bytes, '\0', n) != NULL) {
+        return fail(error, size, "the file holds NUL bytes: not a text CSV");
+    }
+    if (s->bytes_read == 0 && n >= 3 && bytes[0] == 0xEF && bytes[1] == 0xBB && bytes[2] == 0xBF) {
+        s->begin += 3; /* the UTF-8 byte-order mark: not part of the first name */
+    }
+    s->end += n;
+    s->bytes_read += n;
+    return 1;
+}
+
+/* The next line that is not blank or a '#' comment, [*b, *e) without its line break, valid until
+   the next call. 1, 0 at the end, -1 with a message. */
+static int next_line(csv_stream *s, const char **b, const char **e, char *error, size_t size)
+{
+    for (;;) {
+        char *start = s->buf + s->begin;
+        char *nl = memchr(start, '\n', s->end - s->begin);
+        if (nl == NULL && !s->at_eof) {
+            if (refill(s, error, size) < 0) {
+                return -1;
+            }
+            continue;
+        }
+        if (nl == NULL && s->begin == s->end) {
+            return 0;
+        }
+        const char *stop = nl ? nl : s->buf + s->end;
+        s->begin = nl ? (size_t)(nl + 1 - s->buf) : s->end;
+        ++s->line_number;
+        if (stop > start && stop[-1] == '\r') {
+            --stop;
+        }
+        const char *p = start;
+        while (p < stop && (*p == ' ' || *p == '\t')) {
+            ++p;
+        }
+        if (p == stop || *p == '#') {
+            continue; /* blank line or comment */
+        }
+        *b = start;
+        *e = stop;
+        return 1;
+    }
+}
+
+int csv_stream_open(csv_stream *s, FILE *in, char *error, size_t error_size)
+{
+    memset(s, 0, sizeof *s);
+    s->in = in;
+    s->capacity = CHUNK;
+    s->buf = malloc(s->capacity);
+    if (s->buf == NULL) {
+        return fail(error, error_size, "out of memory");
+    }
     const char *b, *e;
-    if (!next_line(&c, &b, &e)) {
-        return fail(error, error_size, "the file is empty (a header row and data rows are needed)");
+    const int rc = next_line(s, &b, &e, error, error_size);
+    if (rc <= 0) {
+        csv_stream_close(s);
+        return rc < 0 ? -1 : fail(error, error_size, "the file is empty (a header row and data rows are needed)");
     }
-    if (memchr(text, '\0', length) != NULL) {
-        csv_free(table);
-        return fail(error, error_size, "the file holds NUL bytes: not a text CSV");
-    }
-    const char sep = pick_separator(b, e);
-    if (parse_header(b, e, sep, table, error, error_size) != 0) {
-        csv_free(table);
+    s->sep = pick_separator(b, e);
+    if (parse_header(b, e, s->sep, &s->header, error, error_size) != 0) {
+        csv_stream_close(s);
         return -1;
     }
-    size_t capacity = 0;
-    while (next_line(&c, &b, &e)) {
-        if (append_row(table, &capacity, b, e, sep, c.line_number, error, error_size) != 0) {
-            csv_free(table);
-            return -1;
-        }
-    }
-    if (table->num_rows == 0) {
-        csv_free(table);
-        return fail(error, error_size, "the file has a header but no data rows");
-    }
     return 0;
+}
+
+int csv_stream_row(csv_stream *s, double *row, char *error, size_t error_size)
+{
+    const char *b, *e;
+    const int rc = next_line(s, &b, &e, error, error_size);
+    if (rc <= 0) {
+        return rc;
+    }
+    return parse_row(&s->header, s->sep, b, e, s->line_number, row, error, error_size) == 0 ? 1 : -1;
+}
+
+void csv_stream_close(csv_stream *s)
+{
+    free(s->buf);
+    s->buf = NULL;
+    csv_free(&s->header);
 }
 
 int csv_read_stream(FILE *f, csv_table *table, char *error, size_t error_size)
 {
     memset(table, 0, sizeof *table);
-    size_t capacity = 1 << 16, length = 0;
-    char *text = malloc(capacity);
-    while (text != NULL) {
-        length += fread(text + length, 1, capacity - length, f);
-        if (length < capacity) {
+    csv_stream s;
+    if (csv_stream_open(&s, f, error, error_size) != 0) {
+        return -1;
+    }
+    const size_t n = (size_t)s.header.num_columns;
+    size_t capacity = 0;
+    double *row = malloc(n * sizeof(double));
+    int rc = row == NULL ? fail(error, error_size, "out of memory") : 0;
+    while (rc == 0) {
+        const int got = csv_stream_row(&s, row, error, error_size);
+        if (got <= 0) {
+            rc = got;
             break;
         }
-        char *grown = realloc(text, capacity * 2);
-        if (grown == NULL) {
-            free(text);
-            text = NULL;
-            break;
+        if (table->num_rows == capacity) {
+            const size_t grown = capacity ? 2 * capacity : 1024;
+            double *v = realloc(table->values, grown * n * sizeof(double));
+            if (v == NULL) {
+                rc = fail(error, error_size, "out of memory at line %zu", s.line_number);
+                break;
+            }
+            table->values = v;
+            capacity = grown;
         }
-        text = grown;
-        capacity *= 2;
+        memcpy(table->values + table->num_rows++ * n, row, n * sizeof(double));
     }
-    if (text == NULL || ferror(f)) {
-        const char *why = ferror(f) ? strerror(errno) : "out of memory";
-        free(text);
-        return fail(error, error_size, "cannot read: %s", why);
+    free(row);
+    if (rc == 0 && table->num_rows == 0) {
+        rc = fail(error, error_size, "the file has a header but no data rows");
     }
-    const int rc = csv_parse(text, length, table, error, error_size);
-    free(text);
+    if (rc == 0) {
+        table->names = s.header.names; /* the table takes the names over */
+        table->num_columns = s.header.num_columns;
+        s.header.names = NULL;
+        s.header.num_columns = 0;
+    } else {
+        free(table->values);
+        table->values = NULL;
+        table->num_rows = 0;
+    }
+    csv_stream_close(&s);
+    return rc;
+}
+
+int csv_parse(const char *text, size_t length, csv_table *table, char *error, size_t error_size)
+{
+    memset(table, 0, sizeof *table);
+    if (text == NULL || length == 0) {
+        return fail(error, error_size, "the file is empty (a header row and data rows are needed)");
+    }
+    FILE *f = fmemopen((void *)text, length, "rb"); /* the same reader as files and pipes */
+    if (f == NULL) {
+        return fail(error, error_size, "cannot read: %s", strerror(errno));
+    }
+    const int rc = csv_read_stream(f, table, error, error_size);
+    fclose(f);
     return rc;
 }
 

@@ -10,21 +10,8 @@
 #include "csv_reader.h"
 #include "identify_options.h"
 #include "json_writer.h"
-
-/* t, T, time, Time, TIME: loggers differ in case. */
-static int is_time_name(const char *name)
-{
-    static const char time_name[] = "time";
-    if ((name[0] == 't' || name[0] == 'T') && name[1] == '\0') {
-        return 1;
-    }
-    for (int i = 0; i < 5; ++i) {
-        if (tolower((unsigned char)name[i]) != time_name[i]) {
-            return 0;
-        }
-    }
-    return 1;
-}
+#include "record_reader.h"
+#include "time_column.h"
 
 /*
  * Fills columns[] (room for OKID_MAX_DIMENSION) from NAMES or COUNT (a count starts at column
@@ -37,7 +24,9 @@ static int select_columns(const csv_table *t, const char *spec, int *next, char 
     int n = 0;
     *count = 0;
     if (cli_parse_int(spec, &n) == 0) {
-        const int left = t->num_columns - *next;
+        /* a count takes the next columns not yet taken (the time column, named inputs): never one twice */
+        int left = 0;
+        for (int j = *next; j < t->num_columns; ++j) left += !used[j];
         if (n < 1 || n > left) {
             return cli_error(EXIT_USAGE, "--%s %d: the file has %d column(s) after the ones already taken", what, n,
                              left);
@@ -46,6 +35,7 @@ static int select_columns(const csv_table *t, const char *spec, int *next, char 
             return cli_error(EXIT_USAGE, "--%s %d: at most %d %s", what, n, OKID_MAX_DIMENSION, what);
         }
         for (int j = 0; j < n; ++j) {
+            while (used[*next]) ++*next;
             used[*next] = 1;
             columns[j] = (*next)++;
         }
@@ -63,8 +53,8 @@ static int select_columns(const csv_table *t, const char *spec, int *next, char 
         if (col < 0) {
             rc = cli_error(EXIT_USAGE, "--%s: no column named '%s' in the file", what, name);
         } else if (used[col]) {
-            rc = cli_error(EXIT_USAGE, "--%s: column '%s' is already the time column, an input or an output", what,
-                           name);
+            rc = cli_error(EXIT_USAGE, "--%s: column '%s' is already %s", what, name,
+                           time_column_unit(name) > 0 ? "the time column (see docs/robustness.md)" : "an input or an output");
         } else if (*count >= OKID_MAX_DIMENSION) {
             rc = cli_error(EXIT_USAGE, "--%s: at most %d %s", what, OKID_MAX_DIMENSION, what);
         } else {
@@ -77,28 +67,6 @@ static int select_columns(const csv_table *t, const char *spec, int *next, char 
         rc = cli_error(EXIT_USAGE, "--%s: no column given", what);
     }
     return rc;
-}
-
-/* dt from a uniform time column. */
-static int time_step(const csv_table *t, int col, double *dt)
-{
-    if (t->num_rows < 2) {
-        return cli_error(EXIT_DATA, "one row is not enough to find dt from the time column");
-    }
-    const size_t n = t->num_rows, nc = (size_t)t->num_columns;
-    *dt = (t->values[(n - 1) * nc + (size_t)col] - t->values[(size_t)col]) / (double)(n - 1);
-    if (!(*dt > 0)) {
-        return cli_error(EXIT_DATA, "the time column does not increase");
-    }
-    for (size_t k = 1; k < n; ++k) {
-        const double step = t->values[k * nc + (size_t)col] - t->values[(k - 1) * nc + (size_t)col];
-        /* 1e-4: times printed with a few digits jitter; a real gap or a resampling is far larger */
-        if (fabs(step - *dt) > 1e-4 * *dt) {
-            return cli_error(EXIT_DATA, "the time column is not uniform (data row %zu steps by %g, mean step %g): "
-                                        "resample it or give --dt", k + 1, step, *dt);
-        }
-    }
-    return 0;
 }
 
 /* Names of the chosen columns, for the table and the JSON. */
@@ -165,7 +133,25 @@ static void print_table(const okid_config *cfg, const okid_result *res, const co
     }
 }
 
-/* Inputs and outputs from --inputs / --outputs (defaults: one input, every other column an output). */
+/* The time column (time_column.h), -1 without one; two of them are refused (-2, message printed). */
+static int find_time_column(const csv_table *t)
+{
+    int found = -1;
+    for (int j = 0; j < t->num_columns; ++j) {
+        if (time_column_unit(t->names[j]) > 0) {
+            if (found >= 0) {
+                cli_error(EXIT_DATA, "two time columns ('%s' and '%s'): keep one (docs/robustness.md)", t->names[found],
+                          t->names[j]);
+                return -2;
+            }
+            found = j;
+        }
+    }
+    return found;
+}
+
+/* Inputs and outputs from --inputs / --outputs (defaults: one input, every other column an output);
+   the time column is never one of them. */
 static int choose_columns(const identify_options *o, const csv_table *t, int time_col, column_choice *cc)
 {
     char *used = calloc((size_t)t->num_columns, 1);
@@ -173,7 +159,7 @@ static int choose_columns(const identify_options *o, const csv_table *t, int tim
         return cli_error(EXIT_DATA, "out of memory");
     }
     if (time_col >= 0) used[time_col] = 1;
-    int next = time_col + 1;
+    int next = 0;
     int rc = select_columns(t, o->inputs ? o->inputs : "1", &next, used, cc->inputs, &cc->r, "inputs");
     if (rc == 0 && o->outputs != NULL) {
         rc = select_columns(t, o->outputs, &next, used, cc->outputs, &cc->m, "outputs");
@@ -198,8 +184,8 @@ static int choose_columns(const identify_options *o, const csv_table *t, int tim
 }
 
 /*
- * okid_workspace_size() said no although every option is in its own range (identify_options.c
- * checks those): name the combination that is not, with its numbers.
+ * okid_workspace_size() said no: the setting, its value and its valid range (okid_config_check),
+ * and where the range comes from other settings, the combination with its numbers.
  */
 static long long min3(long long a, long long b, long long c)
 {
@@ -209,6 +195,19 @@ static long long min3(long long a, long long b, long long c)
 
 static int settings_error(const okid_config *cfg, okid_status st)
 {
+    okid_config_issue issue;
+    (void)okid_config_check(cfg, &issue);
+    char range[160] = "";
+    if (issue.field != NULL && strcmp(issue.field, "rank_tolerance") == 0) {
+        snprintf(range, sizeof range, "; rank_tolerance = %g must be 0 (the default) or in [%g, %g)", issue.value,
+                 issue.min, issue.max);
+    } else if (issue.field != NULL && strcmp(issue.field, "workspace bytes") == 0) {
+        snprintf(range, sizeof range, "; the workspace would be %.4g bytes, more than this machine can address (%g)",
+                 issue.value, issue.max);
+    } else if (issue.field != NULL) {
+        snprintf(range, sizeof range, "; %s = %.6g is outside %.6g..%.6g", issue.field, issue.value, issue.min,
+                 issue.max);
+    }
     const long long r = cfg->num_inputs, m = cfg->num_outputs, p = cfg->observer_order;
     const long long columns = r + (cfg->realization == OKID_REALIZATION_COMBINED ? m : 0);
     const long long hankel = cfg->hankel_rows * m, window = cfg->hankel_cols * columns;
@@ -224,9 +223,9 @@ static int settings_error(const okid_config *cfg, okid_status st)
         snprintf(hint, sizeof hint, "; --instrument-lags %d: instrumental variables need r (L + 1) >= q = %lld, "
                  "L >= p = %lld and L <= %d", cfg->instrument_lags, r + (r + m) * p, p, OKID_MAX_INSTRUMENT_LAGS);
     }
-    return cli_error(EXIT_USAGE, "invalid settings (r = %d, m = %d, p = %d, n = %d, Hankel %d x %d): %s%s",
+    return cli_error(EXIT_USAGE, "invalid settings (r = %d, m = %d, p = %d, n = %d, Hankel %d x %d): %s%s%s",
                      cfg->num_inputs, cfg->num_outputs, cfg->observer_order, cfg->order, cfg->hankel_rows,
-                     cfg->hankel_cols, okid_status_str(st), hint);
+                     cfg->hankel_cols, okid_status_str(st), range, hint);
 }
 
 /* The stability marks of the table: 's' all three criteria, 'f' frequency only or with one more, 'o' new. */
@@ -288,28 +287,154 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
     return 0;
 }
 
-static int run(identify_options *o, const csv_table *t)
+/* okid_identify() failed: say why with the data's own numbers where the data is the cause. */
+static int identify_failure(const okid_config *cfg, okid_identifier *id, okid_status st, const column_choice *cc,
+                            const record_scan *scan)
 {
-    const int time_col = is_time_name(t->names[0]) ? 0 : -1;
+    okid_progress progress;
+    if (st == OKID_E_NOT_ENOUGH_DATA && okid_get_progress(id, &progress) == OKID_OK) {
+        if (progress.rows >= (uint64_t)progress.rows_needed) {
+            /* the forgetting factor's memory: weights lambda^(age/2) below the rank tolerance do not count;
+               lambda >= tol^(2/(q-1)) remembers q rows (0 in the configuration: the library's default) */
+            const double tol = cfg->rank_tolerance > 0 ? (double)cfg->rank_tolerance : OKID_REAL_IS_FLOAT ? 1e-5 : 1e-10;
+            return cli_error(EXIT_DATA,
+                             "not enough data for the forgetting factor %g: it remembers %llu regressor rows (weights "
+                             "above the rank tolerance %g), %d needed (q = r + (r+m)p); use at least %.6g",
+                             (double)cfg->forgetting_factor, (unsigned long long)progress.rows_remembered, tol,
+                             progress.rows_needed, pow(tol, 2.0 / (progress.rows_needed - 1)));
+        }
+        return cli_error(EXIT_DATA, "not enough data: %llu regressor rows from %zu samples, %d needed (q = r + (r+m)p)",
+                         (unsigned long long)progress.rows, scan->samples, progress.rows_needed);
+    }
+    if (st == OKID_E_DATA_RANGE) {
+        for (int c = 0; c < cc->r + cc->m; ++c) {
+            const double rms = scan->rms[c];
+            if (rms > 0 && (rms < (double)OKID_MAGNITUDE_MIN || rms > (double)OKID_MAGNITUDE_MAX)) {
+                return cli_error(EXIT_DATA,
+                                 "column '%s' has an RMS of %g, outside %g..%g where the identification's squares stay "
+                                 "finite: rescale it (a unit change)%s",
+                                 c < cc->r ? cc->input_names[c] : cc->output_names[c - cc->r], rms,
+                                 (double)OKID_MAGNITUDE_MIN, (double)OKID_MAGNITUDE_MAX,
+                                 cfg->scaling == OKID_SCALING_AUTO ? "" : " or use --scale auto");
+            }
+        }
+        return cli_error(EXIT_DATA, "identification failed: %s", okid_status_str(st));
+    }
+    return cli_error(EXIT_DATA, "identification failed: %s", okid_status_str(st));
+}
+
+/* With --timing: the chosen samples in memory, so that the fastest of --repeat runs times the library alone. */
+static okid_status identify_timed(const identify_options *o, const okid_config *cfg, record_reader *reader,
+                                  const record_columns *cols, size_t samples, void *ws, size_t bytes,
+                                  okid_identifier *id, okid_result *res, double *elapsed, int *rc)
+{
+    char error[512];
+    okid_real *u = malloc(sizeof(okid_real) * samples * (size_t)cols->r);
+    okid_real *y = malloc(sizeof(okid_real) * samples * (size_t)cols->m);
+    if (u == NULL || y == NULL || record_read_block(reader, cols, samples, u, y, error, sizeof error) < 0) {
+        *rc = cli_error(EXIT_DATA, "%s", u == NULL || y == NULL ? "out of memory" : error);
+        free(u), free(y);
+        return OKID_OK;
+    }
+    okid_status st = OKID_OK;
+    for (int rep = 0; rep < (o->repeat > 1 ? o->repeat : 1); ++rep) { /* the fastest of K: warm caches */
+        struct timespec t0, t1;
+        timespec_get(&t0, TIME_UTC);
+        st = okid_init(id, cfg, ws, bytes, NULL);
+        if (st == OKID_OK) st = okid_push_block(id, samples, u, (size_t)cols->r, y, (size_t)cols->m, NULL);
+        if (st == OKID_OK) st = okid_identify(id, res);
+        timespec_get(&t1, TIME_UTC);
+        const double seconds = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+        *elapsed = (*elapsed < 0 || seconds < *elapsed) ? seconds : *elapsed;
+    }
+    free(u);
+    free(y);
+    return st;
+}
+
+/* The samples the scan kept, in blocks into the identifier, then identify. */
+static okid_status identify_streamed(const okid_config *cfg, record_reader *reader, const record_columns *cols,
+                                     void *ws, size_t bytes, okid_identifier *id, okid_result *res, int *rc)
+{
+    enum { BLOCK = 4096 }; /* samples per okid_push_block: 4 MB at most with 64 inputs and 64 outputs */
+    char error[512];
+    okid_real *u = malloc(sizeof(okid_real) * BLOCK * (size_t)cols->r);
+    okid_real *y = malloc(sizeof(okid_real) * BLOCK * (size_t)cols->m);
+    okid_status st = okid_init(id, cfg, ws, bytes, NULL);
+    if (u == NULL || y == NULL) {
+        *rc = cli_error(EXIT_DATA, "out of memory");
+    }
+    while (*rc == 0 && st == OKID_OK) {
+        const long got = record_read_block(reader, cols, BLOCK, u, y, error, sizeof error);
+        if (got < 0) {
+            *rc = cli_error(EXIT_DATA, "%s", error);
+        } else if (got == 0) {
+            break;
+        } else {
+            st = okid_push_block(id, (size_t)got, u, (size_t)cols->r, y, (size_t)cols->m, NULL);
+        }
+    }
+    if (*rc == 0 && st == OKID_OK) st = okid_identify(id, res);
+    free(u);
+    free(y);
+    return st;
+}
+
+/* dt: --dt, or the time column's uniform step (time_column.h). */
+static int record_dt(const identify_options *o, const csv_table *header, int time_col, const record_scan *scan,
+                     double *dt)
+{
+    char error[512];
+    if (o->have_dt) {
+        *dt = o->dt;
+        return 0;
+    }
+    if (time_col < 0) {
+        return cli_error(EXIT_USAGE, "no time column (t, time or timestamp, with an optional unit: docs/robustness.md) "
+                                     "in the file: give --dt");
+    }
+    return time_stamps_step(&scan->stamps, header->names[time_col], dt, error, sizeof error) == 0
+               ? 0
+               : cli_error(EXIT_DATA, "%s", error);
+}
+
+/* Regressor rows the record can give at most: every K-th sample kept, the first p only fill the window. */
+static unsigned long long rows_at_most(const okid_config *cfg, size_t samples)
+{
+    const unsigned long long k = cfg->decimation > 1 ? (unsigned long long)cfg->decimation : 1u;
+    const unsigned long long kept = (samples + k - 1) / k;
+    const unsigned long long window = cfg->zero_initial_state ? 0u : (unsigned long long)cfg->observer_order;
+    return kept > window ? kept - window : 0u;
+}
+
+static int run(identify_options *o, record_reader *reader, const char *label)
+{
+    const csv_table *header = &reader->stream.header;
+    const int time_col = find_time_column(header);
+    if (time_col == -2) {
+        return EXIT_DATA;
+    }
     column_choice *cc = calloc(1, sizeof *cc);
     if (cc == NULL) {
         return cli_error(EXIT_DATA, "out of memory");
     }
-    int rc = choose_columns(o, t, time_col, cc);
+    int rc = choose_columns(o, header, time_col, cc);
+    record_columns cols = {time_col, time_col >= 0 ? time_column_unit(header->names[time_col]) : 1, {0}, {0}, cc->r,
+                           cc->m};
+    memcpy(cols.inputs, cc->inputs, sizeof cols.inputs);
+    memcpy(cols.outputs, cc->outputs, sizeof cols.outputs);
+    record_scan scan;
+    char error[512];
+    if (rc == 0 && record_scan_all(reader, &cols, &scan, error, sizeof error) != 0) {
+        rc = cli_error(EXIT_DATA, "%s: %s", label, error);
+    }
+    double dt = 0;
+    if (rc == 0) rc = record_dt(o, header, time_col, &scan, &dt);
     if (rc != 0) {
         free(cc);
         return rc;
     }
     const int r = cc->r, m = cc->m;
-    double dt = o->dt;
-    if (!o->have_dt) {
-        rc = time_col < 0 ? cli_error(EXIT_USAGE, "no time column (t or time) in the file: give --dt")
-                          : time_step(t, time_col, &dt);
-        if (rc != 0) {
-            free(cc);
-            return rc;
-        }
-    }
     okid_config cfg = o->cfg;
     cfg.num_inputs = r;
     cfg.num_outputs = m;
@@ -333,43 +458,29 @@ static int run(identify_options *o, const csv_table *t)
         free(cc);
         return settings_error(&cfg, st);
     }
-    const size_t n = t->num_rows, nc = (size_t)t->num_columns;
+    /* the data's sufficiency before the large allocation */
+    const int q = r + (r + m) * cfg.observer_order;
+    if (rows_at_most(&cfg, scan.samples) < (unsigned long long)q) {
+        free(cc);
+        return cli_error(EXIT_DATA, "not enough data: %zu samples give at most %llu regressor rows, %d needed "
+                                    "(q = r + (r+m)p with p = %d)",
+                         scan.samples, rows_at_most(&cfg, scan.samples), q, cfg.observer_order);
+    }
     /* aligned_alloc wants a size that is a multiple of the alignment */
     void *ws = aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16);
-    okid_real *u = malloc(sizeof(okid_real) * n * (size_t)r), *y = malloc(sizeof(okid_real) * n * (size_t)m);
-    if (ws == NULL || u == NULL || y == NULL) {
-        free(ws), free(u), free(y), free(cc);
+    if (ws == NULL) {
+        free(cc);
         return cli_error(EXIT_DATA, "out of memory (workspace of %zu bytes)", bytes);
-    }
-    for (size_t k = 0; k < n; ++k) {
-        for (int i = 0; i < r; ++i) u[k * (size_t)r + (size_t)i] = (okid_real)t->values[k * nc + (size_t)cc->inputs[i]];
-        for (int i = 0; i < m; ++i) y[k * (size_t)m + (size_t)i] = (okid_real)t->values[k * nc + (size_t)cc->outputs[i]];
     }
     okid_identifier id;
     okid_result res;
-    okid_progress progress;
     double elapsed = -1;
-    for (int rep = 0; rep < (o->repeat > 1 ? o->repeat : 1); ++rep) { /* the fastest of K: warm caches */
-        struct timespec t0, t1;
-        timespec_get(&t0, TIME_UTC);
-        st = okid_init(&id, &cfg, ws, bytes, NULL);
-        if (st == OKID_OK) st = okid_push_block(&id, n, u, (size_t)r, y, (size_t)m, NULL);
-        if (st == OKID_OK) st = okid_identify(&id, &res);
-        timespec_get(&t1, TIME_UTC);
-        const double seconds = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
-        elapsed = (elapsed < 0 || seconds < elapsed) ? seconds : elapsed;
-    }
-    if (st == OKID_E_NOT_ENOUGH_DATA && okid_get_progress(&id, &progress) == OKID_OK) {
-        rc = cli_error(EXIT_DATA, "not enough data: %llu regressor rows from %zu samples, %d needed (q = r + (r+m)p)",
-                       (unsigned long long)progress.rows, n, progress.rows_needed);
-    } else if (st != OKID_OK) {
-        rc = cli_error(EXIT_DATA, "identification failed: %s", okid_status_str(st));
-    } else {
-        rc = report(o, &cfg, &id, &res, cc, elapsed);
+    st = o->timing ? identify_timed(o, &cfg, reader, &cols, scan.samples, ws, bytes, &id, &res, &elapsed, &rc)
+                   : identify_streamed(&cfg, reader, &cols, ws, bytes, &id, &res, &rc);
+    if (rc == 0) {
+        rc = st == OKID_OK ? report(o, &cfg, &id, &res, cc, elapsed) : identify_failure(&cfg, &id, st, cc, &scan);
     }
     free(ws);
-    free(u);
-    free(y);
     free(cc);
     return rc;
 }
@@ -381,13 +492,14 @@ int identify_command(int argc, char **argv)
     if (rc != 0) {
         return rc;
     }
-    csv_table table;
+    const char *label = strcmp(o.file, "-") == 0 ? "standard input" : o.file;
+    record_reader reader;
     char error[512];
-    if (csv_read_file(o.file, &table, error, sizeof error) != 0) {
-        return cli_error(EXIT_DATA, "%s: %s", strcmp(o.file, "-") == 0 ? "standard input" : o.file, error);
+    if (record_open(&reader, o.file, error, sizeof error) != 0) {
+        return cli_error(EXIT_DATA, "%s: %s", label, error);
     }
-    rc = run(&o, &table);
-    csv_free(&table);
+    rc = run(&o, &reader, label);
+    record_close(&reader);
     /* a full disk or a closed pipe must not look like success */
     if (fflush(stdout) != 0 || ferror(stdout)) {
         return rc ? rc : cli_error(EXIT_DATA, "cannot write the result to standard output");

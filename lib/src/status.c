@@ -18,6 +18,7 @@ const char *okid_status_str(okid_status status)
     case OKID_E_DECOMPOSITION_FAILED: return "a matrix decomposition did not converge";
     case OKID_E_BACKEND_ARGUMENT: return "the linear-algebra backend rejected an argument (internal error)";
     case OKID_E_NOT_AVAILABLE: return "the requested result is not available";
+    case OKID_E_DATA_RANGE: return "a channel's magnitude is outside the floating-point range the identification can use (rescale it, or use automatic scaling)";
     }
     return "unknown status";
 }

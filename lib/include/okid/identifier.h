@@ -175,11 +175,30 @@ okid_status okid_config_default(okid_config *cfg, int num_inputs, int num_output
 okid_status okid_config_horizons(okid_config *cfg, okid_real observer_seconds, okid_real hankel_rows_seconds,
                                  okid_real hankel_cols_seconds);
 
+/** What okid_config_check() refused: the field, its value and the range valid for it with the other fields. */
+typedef struct okid_config_issue {
+    const char *field; /**< okid_config field name ("order", "dt", ...); "workspace bytes" when the
+                            dimensions together exceed SIZE_MAX; NULL when the configuration is valid */
+    double value;      /**< the field's value */
+    double min, max;   /**< its valid range (rank_tolerance: 0, or min up to below max) */
+} okid_config_issue;
+
+/**
+ * Check a configuration as okid_workspace_size() does, and say which field is wrong: messages can
+ * name the value and the valid range instead of a status only.
+ * \param[in]  cfg   configuration
+ * \param[out] issue the first field refused (field NULL when valid)
+ * \return the status okid_workspace_size() returns for cfg
+ */
+okid_status okid_config_check(const okid_config *cfg, okid_config_issue *issue);
+
 /**
  * Check a configuration and compute the workspace it needs.
  * \param[in]  cfg   configuration
  * \param[out] bytes workspace bytes (the same as OKID_WORKSPACE_BYTES_OPTIONS for these values)
- * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE, OKID_E_BAD_ORDER, OKID_E_BAD_PARAMETER
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE (also when the dimensions, each in range,
+ *         together need more than SIZE_MAX bytes: 4 GiB on a 32-bit target), OKID_E_BAD_ORDER,
+ *         OKID_E_BAD_PARAMETER
  */
 okid_status okid_workspace_size(const okid_config *cfg, size_t *bytes);
 
@@ -190,9 +209,13 @@ okid_status okid_workspace_size(const okid_config *cfg, size_t *bytes);
  * \endcode
  * Arguments: r, m, p, alpha, beta, order (0 = automatic), block_rows (0 = default),
  * combined (1 for OKID_REALIZATION_COMBINED). Equals okid_workspace_size() for a valid configuration
- * without the quality options (see OKID_WORKSPACE_BYTES_OPTIONS).
+ * without the quality options (see OKID_WORKSPACE_BYTES_OPTIONS). Computed in 64 bits; where the
+ * size exceeds SIZE_MAX (32-bit targets) the value is SIZE_MAX, never a wrapped-around smaller
+ * number: such an array does not compile, and okid_workspace_size() refuses with OKID_E_BAD_SIZE.
  */
-#define OKID_WORKSPACE_BYTES(r, m, p, alpha, beta, order, block_rows, combined)                            \
+#define OKID_WORKSPACE_BYTES(r, m, p, alpha, beta, order, block_rows, combined) \
+    OKID__SIZE(OKID__WORKSPACE_BYTES64(r, m, p, alpha, beta, order, block_rows, combined))
+#define OKID__WORKSPACE_BYTES64(r, m, p, alpha, beta, order, block_rows, combined)                         \
     (OKID__PERSISTENT_BYTES(r, m, p, block_rows)                                                         \
      + OKID__RESULT_BYTES(r, m, p, alpha, beta, OKID__N(r, m, p, alpha, beta, order, combined),                \
                           OKID__K(r, m, alpha, beta, combined), combined)                                 \
@@ -202,12 +225,13 @@ okid_status okid_workspace_size(const okid_config *cfg, size_t *bytes);
 /**
  * OKID_WORKSPACE_BYTES with the quality options: decimation (K, 0 or 1 = none), scaling
  * (okid_scaling), estimator (okid_estimator) and instrument_lags (0 = automatic). Equals
- * okid_workspace_size() for a valid configuration.
+ * okid_workspace_size() for a valid configuration; saturates at SIZE_MAX like OKID_WORKSPACE_BYTES.
  */
 #define OKID_WORKSPACE_BYTES_OPTIONS(r, m, p, alpha, beta, order, block_rows, combined, decimation, scaling,   \
                                      estimator, lags)                                                          \
-    (OKID_WORKSPACE_BYTES(r, m, p, alpha, beta, order, block_rows, combined) + OKID__DEC_BYTES(r, m, decimation) \
-     + OKID__SCALE_BYTES(r, m, scaling) + OKID__IV_BYTES(r, m, p, block_rows, estimator, lags))
+    OKID__SIZE(OKID__WORKSPACE_BYTES64(r, m, p, alpha, beta, order, block_rows, combined)                     \
+               + OKID__DEC_BYTES(r, m, decimation) + OKID__SCALE_BYTES(r, m, scaling)                           \
+               + OKID__IV_BYTES(r, m, p, block_rows, estimator, lags))
 
 /* ======== Lifetime ======== */
 
@@ -281,6 +305,12 @@ typedef struct okid_progress {
     uint64_t rejected;      /**< samples rejected as non-finite */
     uint64_t rows;          /**< regressor rows folded into the least squares (pending ones included) */
     int rows_needed;        /**< rows needed before okid_identify() can succeed (the number of unknowns q) */
+    /**
+     * Rows the forgetting factor lambda still weighs above the rank tolerance (lambda^(age/2) >=
+     * tolerance: 1 + 2 ln(tolerance) / ln(lambda) of them at most), or rows without forgetting.
+     * Below rows_needed, okid_identify() returns OKID_E_NOT_ENOUGH_DATA: the memory is too short.
+     */
+    uint64_t rows_remembered;
 } okid_progress;
 
 /** The identified model. Every pointer points into the identifier's workspace. */
@@ -334,7 +364,9 @@ typedef struct okid_result {
  * \param[in,out] id     identifier
  * \param[out]    result filled on OKID_OK; untouched otherwise
  * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_NOT_ENOUGH_DATA,
- *         OKID_E_RANK_DEFICIENT, OKID_E_DECOMPOSITION_FAILED, OKID_E_BACKEND_ARGUMENT
+ *         OKID_E_RANK_DEFICIENT, OKID_E_DECOMPOSITION_FAILED, OKID_E_BACKEND_ARGUMENT,
+ *         OKID_E_DATA_RANGE (a channel's RMS outside [OKID_MAGNITUDE_MIN, OKID_MAGNITUDE_MAX], or
+ *         results that would not be finite)
  */
 okid_status okid_identify(okid_identifier *id, okid_result *result);
 

@@ -89,10 +89,12 @@ struct okid_identifier {
 
 /* ---- Compile-time workspace size (equal to okid_workspace_size(); checked by the tests) ---- */
 
-#define OKID__Z(x) ((size_t)(x))
+/* Every size macro computes in unsigned long long (types.h, OKID__ALIGN16); the public ones
+   saturate at SIZE_MAX through OKID__SIZE. */
+#define OKID__Z(x) ((unsigned long long)(x))
 #define OKID__MAX(a, b) ((a) > (b) ? (a) : (b))
 #define OKID__MIN(a, b) ((a) < (b) ? (a) : (b))
-#define OKID__RB(count) OKID__ALIGN16(sizeof(okid_real) * (size_t)(count))
+#define OKID__RB(count) OKID__ALIGN16(sizeof(okid_real) * OKID__Z(count))
 #if OKID_LINALG_EIGEN
 /* The Eigen backend works in place: 7 vectors for the rank-revealing solve, the n x n factor of
    the QR-preconditioned Jacobi SVD and three vectors (linalg_eigen.cpp). */

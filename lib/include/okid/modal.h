@@ -52,7 +52,7 @@ typedef struct okid_mode {
 
 /** Bytes of workspace okid_modal_analysis() needs for an n-state model with m outputs. */
 #define OKID_MODAL_WORKSPACE_BYTES(n, m)                                                              \
-    (OKID__ALIGN16(sizeof(okid_real) * (size_t)(n) * (size_t)(n)) * 2u                               \
+    OKID__SIZE(OKID__ALIGN16(sizeof(okid_real) * (size_t)(n) * (size_t)(n)) * 2u                               \
      + OKID__ALIGN16(sizeof(okid_real) * (size_t)(n)) * 2u                                             \
      + OKID__ALIGN16(sizeof(okid_complex) * (size_t)(n) * 3u * (size_t)(m))                            \
      + OKID__ALIGN16(sizeof(okid_real) * OKID__LWORK_GEEV(n)))

@@ -68,10 +68,11 @@ typedef struct okid_stabilization {
 
 /**
  * Stabilization workspace bytes as a constant expression: r, m, alpha, beta, the largest order,
- * the order step, combined (1 for OKID_REALIZATION_COMBINED). Equals okid_stabilization_workspace_size().
+ * the order step, combined (1 for OKID_REALIZATION_COMBINED). Equals okid_stabilization_workspace_size();
+ * computed in 64 bits and saturated at SIZE_MAX (OKID__SIZE).
  */
 #define OKID_STABILIZATION_WORKSPACE_BYTES(r, m, alpha, beta, nmax, step, combined)                          \
-    (OKID__RB(OKID__K(r, m, alpha, beta, combined)) + OKID__RB(OKID__HR(m, alpha) * OKID__Z(nmax))           \
+    OKID__SIZE(OKID__RB(OKID__K(r, m, alpha, beta, combined)) + OKID__RB(OKID__HR(m, alpha) * OKID__Z(nmax))           \
      + OKID__RB(OKID__Z(nmax) * OKID__Z(nmax)) + 2u * OKID__RB(OKID__Z(nmax) * OKID__Z(r))                   \
      + 2u * OKID__RB(OKID__Z(m) * OKID__Z(nmax)) + OKID__RB(OKID__Z(m) * OKID__Z(r))                         \
      + ((combined) ? OKID__RB(OKID__Z(nmax) * OKID__Z(m)) : 0u) + OKID__PHASE_MODAL_BYTES(nmax)              \

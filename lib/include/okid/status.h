@@ -16,14 +16,21 @@ typedef enum okid_status {
     OKID_OK = 0,
     /** A required pointer argument is NULL. */
     OKID_E_NULL_POINTER = -1,
-    /** A size is zero, negative, above OKID_MAX_DIMENSION, or an array's leading dimension is too small. */
+    /**
+     * A size is zero, negative, above OKID_MAX_DIMENSION, or an array's leading dimension is too
+     * small; or sizes that are each in range together need a workspace above SIZE_MAX bytes (4 GiB
+     * on a 32-bit target).
+     */
     OKID_E_BAD_SIZE = -2,
     /**
      * The model order does not fit: m*p < n, the Hankel matrix is smaller than the order, n < 1, or
      * (Eigen backend) n exceeds the OKID_EIGEN_MAX_ORDER the library was built with.
      */
     OKID_E_BAD_ORDER = -3,
-    /** A real parameter is out of range or not finite (dt <= 0, forgetting factor outside (0, 1], tolerance < 0...). */
+    /**
+     * A real parameter is out of range or not finite (dt or K dt outside [OKID_MAGNITUDE_MIN,
+     * OKID_MAGNITUDE_MAX], forgetting factor outside (0, 1], tolerance < 0...).
+     */
     OKID_E_BAD_PARAMETER = -4,
     /** The workspace is smaller than okid_workspace_size() says; the size needed is reported. */
     OKID_E_WORKSPACE_TOO_SMALL = -5,
@@ -33,7 +40,10 @@ typedef enum okid_status {
     OKID_E_NOT_INITIALIZED = -7,
     /** A sample holds NaN or Inf: it was rejected and the regressor window restarts after it. */
     OKID_E_NONFINITE_SAMPLE = -8,
-    /** Fewer regressor rows than unknowns have been folded in: push more samples. */
+    /**
+     * Fewer regressor rows than unknowns have been folded in (push more samples), or the forgetting
+     * factor remembers fewer than that (okid_progress::rows_remembered: raise it towards 1).
+     */
     OKID_E_NOT_ENOUGH_DATA = -9,
     /** The input is not persistently exciting (zero or constant force), or the chosen order exceeds the Hankel rank. */
     OKID_E_RANK_DEFICIENT = -10,
@@ -42,7 +52,13 @@ typedef enum okid_status {
     /** The linear-algebra backend rejected an argument (an internal error: please report it). */
     OKID_E_BACKEND_ARGUMENT = -12,
     /** A result to read does not exist (e.g. the observer gain of a system-only realization). */
-    OKID_E_NOT_AVAILABLE = -13
+    OKID_E_NOT_AVAILABLE = -13,
+    /**
+     * A property of the data, not of the settings: a channel's RMS in the regressor lies outside
+     * [OKID_MAGNITUDE_MIN, OKID_MAGNITUDE_MAX] (rescale it, or use OKID_SCALING_AUTO), or the
+     * results would not be finite numbers.
+     */
+    OKID_E_DATA_RANGE = -14
 } okid_status;
 
 /** Warning bits of okid_result::warnings: the result is usable but deserves a look. */

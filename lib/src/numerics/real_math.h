@@ -20,6 +20,7 @@
 #define okid_copysign copysignf
 #define OKID_EPSILON FLT_EPSILON
 #define OKID_REAL_MIN FLT_MIN
+#define OKID_REAL_MAX FLT_MAX
 #else
 #define OKID_R(x) x
 #define okid_sqrt sqrt
@@ -33,6 +34,7 @@
 #define okid_copysign copysign
 #define OKID_EPSILON DBL_EPSILON
 #define OKID_REAL_MIN DBL_MIN
+#define OKID_REAL_MAX DBL_MAX
 #endif
 
 #define OKID_PI OKID_R(3.14159265358979323846)
@@ -41,6 +43,12 @@
 static inline int okid_is_finite(okid_real x)
 {
     return isfinite(x) != 0;
+}
+
+/* x in [OKID_MAGNITUDE_MIN, OKID_MAGNITUDE_MAX] (identifier.h); false for NaN. */
+static inline int okid_in_magnitude_range(okid_real x)
+{
+    return x >= OKID_MAGNITUDE_MIN && x <= OKID_MAGNITUDE_MAX;
 }
 
 /*

@@ -18,15 +18,31 @@ static int regressor_channel(int r, int m, int p, int col)
 }
 
 /* RMS of column col of the rows; 1 when it is zero there (the channel keeps its units). */
+/*
+ * RMS of column col of the rows; 1 when it is zero there (the channel keeps its units). Channels
+ * far from 1 (1e155, 1e-160) are what scaling is for, but their squares overflow or underflow:
+ * the sum is then taken over v / max|v|. Within the range where the plain squares are exact to
+ * rounding, the plain sum is kept (the same bits as before for ordinary data).
+ */
 static okid_real column_rms(int nrows, const okid_real *rows, int ld, int col)
 {
+    okid_real amax = 0;
+    for (int i = 0; i < nrows; ++i) {
+        const okid_real v = okid_fabs(OKID_AT(rows, ld, i, col));
+        amax = v > amax ? v : amax;
+    }
+    if (amax == 0) {
+        return 1;
+    }
+    const int plain =
+        amax >= okid_sqrt(OKID_REAL_MIN) / OKID_EPSILON && amax <= okid_sqrt(OKID_REAL_MAX / (okid_real)nrows);
+    const okid_real unit = plain ? 1 : amax;
     okid_real s = 0;
     for (int i = 0; i < nrows; ++i) {
-        const okid_real v = OKID_AT(rows, ld, i, col);
+        const okid_real v = OKID_AT(rows, ld, i, col) / unit;
         s += v * v;
     }
-    s = okid_sqrt(s / (okid_real)nrows);
-    return (s > 0 && okid_is_finite(s)) ? s : 1;
+    return unit * okid_sqrt(s / (okid_real)nrows);
 }
 
 void okid_scaling_measure(int r, int m, int p, int nrows, const okid_real *rows, int ld, okid_real *scales)

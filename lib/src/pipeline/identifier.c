@@ -2,7 +2,9 @@
    stages of docs/design.md's data flow, each called with its own inputs, scratch and outputs. */
 #include "okid/identifier.h"
 
+#include "carve.h"
 #include "channel_scaling.h"
+#include "data_range.h"
 #include "decimator.h"
 #include "dense.h"
 #include "diagnostics.h"
@@ -77,7 +79,8 @@ okid_status okid_config_horizons(okid_config *cfg, okid_real observer_seconds, o
     const okid_real seconds[3] = {observer_seconds, hankel_rows_seconds, hankel_cols_seconds};
     int counts[3];
     for (int i = 0; i < 3; ++i) {
-        if (!okid_is_finite(seconds[i]) || !(seconds[i] > 0) || !okid_is_finite(cfg->dt) || !(cfg->dt > 0)) {
+        if (!okid_is_finite(seconds[i]) || !(seconds[i] > 0) || !okid_in_magnitude_range(cfg->dt) ||
+            !okid_in_magnitude_range(step)) {
             return OKID_E_BAD_PARAMETER;
         }
         counts[i] = blocks_of(seconds[i], step);
@@ -91,19 +94,38 @@ okid_status okid_config_horizons(okid_config *cfg, okid_real observer_seconds, o
     return OKID_OK;
 }
 
+okid_status okid_config_check(const okid_config *cfg, okid_config_issue *issue)
+{
+    if (cfg == NULL || issue == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    *issue = (okid_config_issue){NULL, 0, 0, 0};
+    okid_dims_ dims;
+    okid_status st = okid_layout_dims(cfg, &dims, issue);
+    if (st == OKID_OK) {
+        const uint64_t needed = okid_layout_carve(&dims, cfg->realization == OKID_REALIZATION_COMBINED,
+                                                  cfg->scaling == OKID_SCALING_AUTO, NULL, NULL);
+        size_t bytes = 0;
+        st = okid_carve_size(needed, &bytes);
+        if (st != OKID_OK) {
+            *issue = (okid_config_issue){"workspace bytes", (double)needed, 0, (double)SIZE_MAX};
+        }
+    }
+    return st;
+}
+
 okid_status okid_workspace_size(const okid_config *cfg, size_t *bytes)
 {
     if (cfg == NULL || bytes == NULL) {
         return OKID_E_NULL_POINTER;
     }
     okid_dims_ dims;
-    const okid_status st = okid_layout_dims(cfg, &dims);
+    const okid_status st = okid_layout_dims(cfg, &dims, NULL);
     if (st != OKID_OK) {
         return st;
     }
-    *bytes = okid_layout_carve(&dims, cfg->realization == OKID_REALIZATION_COMBINED,
-                               cfg->scaling == OKID_SCALING_AUTO, NULL, NULL);
-    return OKID_OK;
+    return okid_layout_size(&dims, cfg->realization == OKID_REALIZATION_COMBINED, cfg->scaling == OKID_SCALING_AUTO,
+                            bytes);
 }
 
 /* Start the sample history again (at init, reset, and after a rejected sample: a gap). */
@@ -142,12 +164,16 @@ okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspa
     }
     id->magic_ = 0;
     okid_dims_ dims;
-    okid_status st = okid_layout_dims(cfg, &dims);
+    okid_status st = okid_layout_dims(cfg, &dims, NULL);
     if (st != OKID_OK) {
         return st;
     }
     const int combined = cfg->realization == OKID_REALIZATION_COMBINED, scaled = cfg->scaling == OKID_SCALING_AUTO;
-    const size_t needed = okid_layout_carve(&dims, combined, scaled, NULL, NULL);
+    size_t needed = 0;
+    st = okid_layout_size(&dims, combined, scaled, &needed);
+    if (st != OKID_OK) {
+        return st;
+    }
     if (bytes_needed != NULL) {
         *bytes_needed = needed;
     }
@@ -446,6 +472,9 @@ static okid_status modal_stage(const okid_identifier *id, const okid_result_view
     if (st != OKID_OK) {
         return st;
     }
+    if (!okid_modes_finite(out->modes, info->num_modes, m)) {
+        return OKID_E_DATA_RANGE; /* what the channel check cannot see (ratios of channels, scaling auto) */
+    }
     const okid_real span = (okid_real)(id->cfg_.hankel_rows + id->cfg_.hankel_cols) * id->cfg_.dt;
     okid_diagnose_realization(out->sv, n, span, out->modes, info->num_modes, &info->realization_condition,
                               &info->warnings);
@@ -499,14 +528,17 @@ okid_status okid_identify(okid_identifier *id, okid_result *result)
     if (!is_initialized(id)) {
         return OKID_E_NOT_INITIALIZED;
     }
-    if (id->rows_ < (uint64_t)id->dims_.q) {
-        return OKID_E_NOT_ENOUGH_DATA;
+    if (id->rows_ < (uint64_t)id->dims_.q || okid_rows_remembered(id) < (uint64_t)id->dims_.q) {
+        return OKID_E_NOT_ENOUGH_DATA; /* too few rows, or a forgetting factor that forgets them too fast */
     }
     const okid_result_views_ *out = &id->at_.result[1 - id->result_];
     const okid_real *scales = identify_scales(id, out->scales);
     okid_real *factor = NULL;
     identification info = {0};
     okid_status st = identify_factor(id, scales, &factor);
+    if (st == OKID_OK) {
+        st = okid_check_channel_range(id, factor); /* 1e155 or 1e-160: refused before the solve, not garbage after it */
+    }
     if (st == OKID_OK) {
         st = observer_stage(id, factor, scales, out, &info);
     }
@@ -595,5 +627,6 @@ okid_status okid_get_progress(const okid_identifier *id, okid_progress *progress
     progress->rejected = id->rejected_;
     progress->rows = id->rows_;
     progress->rows_needed = id->dims_.q;
+    progress->rows_remembered = okid_rows_remembered(id);
     return OKID_OK;
 }

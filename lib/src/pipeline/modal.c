@@ -162,7 +162,7 @@ okid_status okid_modal_analysis(int n, int m, const okid_real *a, int lda, const
     if (n < 1 || n > OKID_MAX_ORDER || m < 1 || m > OKID_MAX_DIMENSION || lda < n || ldc < m) {
         return OKID_E_BAD_SIZE;
     }
-    if (!okid_is_finite(dt) || dt <= 0 || (unsigned)sensing > 2u || !okid_all_finite(n, n, a, lda) ||
+    if (!okid_in_magnitude_range(dt) || (unsigned)sensing > 2u || !okid_all_finite(n, n, a, lda) ||
         !okid_all_finite(m, n, c, ldc)) {
         return OKID_E_BAD_PARAMETER;
     }

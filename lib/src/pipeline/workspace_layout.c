@@ -23,29 +23,89 @@ static int fits_int(long long rows, long long cols)
     return rows * cols < (long long)INT_MAX;
 }
 
-okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims)
+/* Refuse with status st and, when asked, which field, its value and its valid range. */
+static okid_status refuse(okid_config_issue *issue, okid_status st, const char *field, double value, double min,
+                          double max)
+{
+    if (issue != NULL) {
+        issue->field = field;
+        issue->value = value;
+        issue->min = min;
+        issue->max = max;
+    }
+    return st;
+}
+
+/* The first of the integer fields outside lo..hi, or OKID_OK. */
+static okid_status check_int(okid_config_issue *issue, okid_status st, const char *field, int value, int lo, int hi)
+{
+    return (value < lo || value > hi) ? refuse(issue, st, field, value, lo, hi) : OKID_OK;
+}
+
+/* The fields checked on their own, in the order (and with the statuses) of okid_layout_dims. */
+static okid_status check_fields(const okid_config *cfg, okid_config_issue *issue)
+{
+    const struct {
+        const char *field;
+        int value, lo, hi;
+        okid_status st;
+    } ints[] = {
+        {"num_inputs", cfg->num_inputs, 1, OKID_MAX_DIMENSION, OKID_E_BAD_SIZE},
+        {"num_outputs", cfg->num_outputs, 1, OKID_MAX_DIMENSION, OKID_E_BAD_SIZE},
+        {"observer_order", cfg->observer_order, 1, OKID_MAX_HORIZON, OKID_E_BAD_SIZE},
+        {"hankel_rows", cfg->hankel_rows, 1, OKID_MAX_HORIZON, OKID_E_BAD_SIZE},
+        {"hankel_cols", cfg->hankel_cols, 1, OKID_MAX_HORIZON, OKID_E_BAD_SIZE},
+        {"block_rows", cfg->block_rows, 0, 4096, OKID_E_BAD_SIZE},
+        /* after dt, the forgetting factor and the tolerance: */
+        {"sensing", (int)cfg->sensing, 0, 2, OKID_E_BAD_PARAMETER},
+        {"realization", (int)cfg->realization, 0, 1, OKID_E_BAD_PARAMETER},
+        {"zero_initial_state", cfg->zero_initial_state, 0, 1, OKID_E_BAD_PARAMETER},
+        {"scaling", (int)cfg->scaling, 0, 1, OKID_E_BAD_PARAMETER},
+        {"estimator", (int)cfg->estimator, 0, 1, OKID_E_BAD_PARAMETER},
+        {"decimation", cfg->decimation, 0, OKID_MAX_DECIMATION, OKID_E_BAD_SIZE},
+        {"instrument_lags", cfg->instrument_lags, 0, OKID_MAX_INSTRUMENT_LAGS, OKID_E_BAD_SIZE},
+    };
+    const size_t sizes = 6, count = sizeof ints / sizeof ints[0];
+    for (size_t i = 0; i < sizes; ++i) {
+        const okid_status st = check_int(issue, ints[i].st, ints[i].field, ints[i].value, ints[i].lo, ints[i].hi);
+        if (st != OKID_OK) {
+            return st;
+        }
+    }
+    /* dt and K dt within the magnitudes whose poles ln(lambda) / (K dt) and their powers stay finite */
+    const int k = cfg->decimation > 1 && cfg->decimation <= OKID_MAX_DECIMATION ? cfg->decimation : 1;
+    if (!okid_in_magnitude_range(cfg->dt) || !okid_in_magnitude_range(cfg->dt * (okid_real)k)) {
+        return refuse(issue, OKID_E_BAD_PARAMETER, "dt", (double)cfg->dt, (double)OKID_MAGNITUDE_MIN,
+                      (double)OKID_MAGNITUDE_MAX / k);
+    }
+    if (!okid_is_finite(cfg->forgetting_factor) || cfg->forgetting_factor < 0 || cfg->forgetting_factor > 1) {
+        return refuse(issue, OKID_E_BAD_PARAMETER, "forgetting_factor", (double)cfg->forgetting_factor, 0, 1);
+    }
+    /* 0 (the default), or from round-off up to below 1: a tolerance under epsilon means no rank test */
+    if (!okid_is_finite(cfg->rank_tolerance) || cfg->rank_tolerance < 0 || cfg->rank_tolerance >= 1 ||
+        (cfg->rank_tolerance > 0 && cfg->rank_tolerance < OKID_EPSILON)) {
+        return refuse(issue, OKID_E_BAD_PARAMETER, "rank_tolerance", (double)cfg->rank_tolerance, (double)OKID_EPSILON,
+                      1);
+    }
+    for (size_t i = sizes; i < count; ++i) {
+        const okid_status st = check_int(issue, ints[i].st, ints[i].field, ints[i].value, ints[i].lo, ints[i].hi);
+        if (st != OKID_OK) {
+            return st;
+        }
+    }
+    return OKID_OK;
+}
+
+okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims, okid_config_issue *issue)
 {
     if (cfg == NULL || dims == NULL) {
         return OKID_E_NULL_POINTER;
     }
+    okid_status st = check_fields(cfg, issue);
+    if (st != OKID_OK) {
+        return st;
+    }
     const int r = cfg->num_inputs, m = cfg->num_outputs, p = cfg->observer_order;
-    if (r < 1 || r > OKID_MAX_DIMENSION || m < 1 || m > OKID_MAX_DIMENSION || p < 1 || p > OKID_MAX_HORIZON ||
-        cfg->hankel_rows < 1 || cfg->hankel_rows > OKID_MAX_HORIZON || cfg->hankel_cols < 1 ||
-        cfg->hankel_cols > OKID_MAX_HORIZON || cfg->block_rows < 0 || cfg->block_rows > 4096) {
-        return OKID_E_BAD_SIZE;
-    }
-    if (!okid_is_finite(cfg->dt) || cfg->dt <= 0 || !okid_is_finite(cfg->forgetting_factor) ||
-        cfg->forgetting_factor < 0 || cfg->forgetting_factor > 1 || !okid_is_finite(cfg->rank_tolerance) ||
-        cfg->rank_tolerance < 0 || cfg->rank_tolerance >= 1 ||
-        (cfg->rank_tolerance > 0 && cfg->rank_tolerance < OKID_EPSILON) || /* below round-off: no rank test */ (unsigned)cfg->sensing > 2u ||
-        (unsigned)cfg->realization > 1u || (cfg->zero_initial_state != 0 && cfg->zero_initial_state != 1) ||
-        (unsigned)cfg->scaling > 1u || (unsigned)cfg->estimator > 1u) {
-        return OKID_E_BAD_PARAMETER;
-    }
-    if (cfg->decimation < 0 || cfg->decimation > OKID_MAX_DECIMATION || cfg->instrument_lags < 0 ||
-        cfg->instrument_lags > OKID_MAX_INSTRUMENT_LAGS) {
-        return OKID_E_BAD_SIZE;
-    }
     const int combined = cfg->realization == OKID_REALIZATION_COMBINED;
     dims->r = r;
     dims->m = m;
@@ -73,29 +133,37 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims)
     if (cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL) {
         /* the same rule as OKID__IV_LAGS; at least q instruments, and at least the p lags of the window */
         const long long lags = cfg->instrument_lags > 0 ? cfg->instrument_lags : (dims->q + r - 1) / r + 2LL * p;
-        if (lags > OKID_MAX_INSTRUMENT_LAGS || lags < p || (long long)r * (lags + 1) < dims->q ||
-            !fits_int((long long)r * (lags + 1), dims->w)) {
-            return OKID_E_BAD_SIZE;
+        const long long fewest = MAX((long long)p, (dims->q + r - 1) / r - 1);
+        const long long most = MIN((long long)OKID_MAX_INSTRUMENT_LAGS, ((long long)INT_MAX - 1) / dims->w / r - 1);
+        if (lags < fewest || lags > most) {
+            return refuse(issue, OKID_E_BAD_SIZE, "instrument_lags", (double)lags, (double)fewest, (double)most);
         }
         dims->instrument_lags = (int)lags;
         dims->nz = r * (dims->instrument_lags + 1);
     }
-    if (!fits_int(dims->w, dims->w) || !fits_int(dims->hankel_rows, dims->hankel_cols) ||
-        !fits_int(dims->block_rows, dims->w) || !fits_int(dims->block_rows, dims->nz)) {
-        return OKID_E_BAD_SIZE;
+    /* the largest value of each field that keeps its matrix indexable with an int */
+    if (!fits_int(dims->w, dims->w)) {
+        return refuse(issue, OKID_E_BAD_SIZE, "observer_order", p, 1, (46340 - r - m) / (r + m)); /* w^2 < 2^31 */
     }
-    if (cfg->order < 0 || cfg->order > OKID_MAX_ORDER) {
-        return OKID_E_BAD_ORDER;
+    if (!fits_int(dims->hankel_rows, dims->hankel_cols)) {
+        return refuse(issue, OKID_E_BAD_SIZE, "hankel_cols", cfg->hankel_cols, 1,
+                      (double)(((long long)INT_MAX - 1) / dims->hankel_rows / dims->ncols));
+    }
+    if (!fits_int(dims->block_rows, MAX(dims->w, dims->nz))) {
+        return refuse(issue, OKID_E_BAD_SIZE, "block_rows", dims->block_rows, 0,
+                      (double)(((long long)INT_MAX - 1) / MAX(dims->w, dims->nz)));
+    }
+    const int order_limit = MIN(MIN(dims->svd_size, m * p), OKID_MAX_ORDER); /* the Hankel size, m p, the maximum */
+    if (cfg->order < 0 || cfg->order > order_limit) {
+        return refuse(issue, OKID_E_BAD_ORDER, "order", cfg->order, 0, order_limit);
     }
     if (cfg->order > 0) {
-        if (cfg->order > dims->svd_size || cfg->order > m * p) {
-            return OKID_E_BAD_ORDER;
-        }
         dims->max_order = cfg->order;
     } else {
         dims->max_order = MIN(dims->svd_size, m * p);
         if (dims->max_order > OKID_MAX_ORDER) {
-            return OKID_E_BAD_ORDER; /* automatic order over a Hankel matrix this large: give the order */
+            /* automatic order over a Hankel matrix this large: give the order */
+            return refuse(issue, OKID_E_BAD_ORDER, "order", 0, 1, OKID_MAX_ORDER);
         }
     }
     return OKID_OK;
@@ -104,7 +172,7 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims)
 /* The persistent regions of the options (decimation, scaling, instrumental variables); NULL when off. */
 static void carve_options(const okid_dims_ *d, int scaled, okid_carver *c, okid_views_ *v)
 {
-    const size_t channels = (size_t)d->r + (size_t)d->m, nz = (size_t)d->nz;
+    const uint64_t channels = (uint64_t)d->r + (uint64_t)d->m, nz = (uint64_t)d->nz;
     v->dec_coef = v->dec_state = v->dec_out = v->scales = v->iv_ring = v->iv_block = v->iv_m = NULL;
     if (d->decimation > 1) {
         v->dec_coef = okid_carve_reals(c, OKID_DECIMATOR_COEFS);
@@ -115,20 +183,20 @@ static void carve_options(const okid_dims_ *d, int scaled, okid_carver *c, okid_
         v->scales = okid_carve_reals(c, channels);
     }
     if (nz > 0) {
-        v->iv_ring = okid_carve_reals(c, (size_t)d->r * (size_t)d->instrument_lags);
-        v->iv_block = okid_carve_reals(c, (size_t)d->block_rows * nz);
-        v->iv_m = okid_carve_reals(c, nz * (size_t)d->w);
+        v->iv_ring = okid_carve_reals(c, (uint64_t)d->r * (uint64_t)d->instrument_lags);
+        v->iv_block = okid_carve_reals(c, (uint64_t)d->block_rows * nz);
+        v->iv_m = okid_carve_reals(c, nz * (uint64_t)d->w);
     }
 }
 
 /* One identification's output (OKID__ONE_RESULT_BYTES, and the scales' copy of OKID__SCALE_BYTES). */
 static void carve_result(const okid_dims_ *d, int combined, int scaled, okid_carver *c, okid_result_views_ *v)
 {
-    const size_t r = (size_t)d->r, m = (size_t)d->m, n = (size_t)d->max_order, L = (size_t)d->markov_count;
-    v->x = okid_carve_reals(c, (size_t)d->q * m);
+    const uint64_t r = (uint64_t)d->r, m = (uint64_t)d->m, n = (uint64_t)d->max_order, L = (uint64_t)d->markov_count;
+    v->x = okid_carve_reals(c, (uint64_t)d->q * m);
     v->markov = okid_carve_reals(c, m * r * (L + 1));
     v->markov_obs = combined ? okid_carve_reals(c, m * m * L) : NULL;
-    v->sv = okid_carve_reals(c, (size_t)d->svd_size);
+    v->sv = okid_carve_reals(c, (uint64_t)d->svd_size);
     v->a = okid_carve_reals(c, n * n);
     v->b = okid_carve_reals(c, n * r);
     v->c = okid_carve_reals(c, m * n);
@@ -141,19 +209,20 @@ static void carve_result(const okid_dims_ *d, int combined, int scaled, okid_car
     v->shapes = (okid_complex *)okid_carve_bytes(c, sizeof(okid_complex) * n * 3u * m);
 }
 
-size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned char *base, okid_views_ *v)
+uint64_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned char *base, okid_views_ *v)
 {
     okid_views_ dry;
     if (v == NULL) {
         v = &dry;
     }
-    const size_t r = (size_t)d->r, m = (size_t)d->m, p = (size_t)d->p, q = (size_t)d->q, w = (size_t)d->w;
-    const size_t n = (size_t)d->max_order, k = (size_t)d->svd_size, hr = (size_t)d->hankel_rows,
-                 hc = (size_t)d->hankel_cols, nc = (size_t)d->ncols;
+    /* 64-bit products: with a 32-bit size_t, w * w alone can wrap for accepted dimensions */
+    const uint64_t r = (uint64_t)d->r, m = (uint64_t)d->m, p = (uint64_t)d->p, q = (uint64_t)d->q, w = (uint64_t)d->w;
+    const uint64_t n = (uint64_t)d->max_order, k = (uint64_t)d->svd_size, hr = (uint64_t)d->hankel_rows,
+                   hc = (uint64_t)d->hankel_cols, nc = (uint64_t)d->ncols;
     okid_carver c = {base, 0};
 
     v->ring = okid_carve_reals(&c, p * (r + m));
-    v->block = okid_carve_reals(&c, (size_t)d->block_rows * w);
+    v->block = okid_carve_reals(&c, (uint64_t)d->block_rows * w);
     v->r = okid_carve_reals(&c, w * w);
     carve_options(d, scaled, &c, v);
 
@@ -166,17 +235,17 @@ size_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsigned
     if (d->block_rows > 1) {
         v->factor = okid_carve_reals(&c, w * w);
         if (d->nz > 0) {
-            v->iv_pending = okid_carve_reals(&c, (size_t)d->block_rows * (size_t)d->nz);
-            v->iv_chunk = okid_carve_reals(&c, (size_t)d->block_rows * w);
+            v->iv_pending = okid_carve_reals(&c, (uint64_t)d->block_rows * (uint64_t)d->nz);
+            v->iv_chunk = okid_carve_reals(&c, (uint64_t)d->block_rows * w);
         }
     }
-    const size_t phases = c.used;
-    size_t end = phases;
+    const uint64_t phases = c.used;
+    uint64_t end = phases;
 
     /* the folds: push's, and identify's of the pending rows (a copy of them) into the factor */
-    v->fold_t = okid_carve_reals(&c, (size_t)d->block_tile * w);
-    v->fold_work = okid_carve_reals(&c, (size_t)d->block_tile * w);
-    v->pending = (d->block_rows > 1) ? okid_carve_reals(&c, (size_t)d->block_rows * w) : NULL;
+    v->fold_t = okid_carve_reals(&c, (uint64_t)d->block_tile * w);
+    v->fold_work = okid_carve_reals(&c, (uint64_t)d->block_tile * w);
+    v->pending = (d->block_rows > 1) ? okid_carve_reals(&c, (uint64_t)d->block_rows * w) : NULL;
     end = MAX(end, c.used);
 
     c.used = phases;
@@ -231,4 +300,9 @@ void okid_layout_era(const okid_identifier *id, const okid_result_views_ *res, o
     s->t = id->at_.era_t;
     s->col_scale = id->at_.era_scale;
     s->work = id->at_.era_work;
+}
+
+okid_status okid_layout_size(const okid_dims_ *dims, int combined, int scaled, size_t *bytes)
+{
+    return okid_carve_size(okid_layout_carve(dims, combined, scaled, NULL, NULL), bytes);
 }

@@ -2,18 +2,26 @@
 #ifndef OKID_WORKSPACE_LAYOUT_H
 #define OKID_WORKSPACE_LAYOUT_H
 
+#include <stdint.h>
+
 #include "era.h"
 #include "okid/identifier.h"
 
-/* Check cfg and derive the sizes. OKID_OK or the specific configuration error. */
-okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims);
+/* Check cfg and derive the sizes. OKID_OK or the specific configuration error; issue (may be
+   NULL) then names the field, its value and its valid range. */
+okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims, okid_config_issue *issue);
 
 /*
- * Lay the workspace out for dims (views into base) and return the bytes used. With base NULL it
- * only computes the size: this one function is the definition of okid_workspace_size(). combined and
- * scaled: OKID_REALIZATION_COMBINED and OKID_SCALING_AUTO.
+ * Lay the workspace out for dims (views into base) and return the bytes used, counted in 64 bits.
+ * With base NULL it only computes the size: this one function is the definition of
+ * okid_workspace_size(). combined and scaled: OKID_REALIZATION_COMBINED and OKID_SCALING_AUTO.
+ * Call it with a base only after okid_layout_size() accepted the size.
  */
-size_t okid_layout_carve(const okid_dims_ *dims, int combined, int scaled, unsigned char *base, okid_views_ *views);
+uint64_t okid_layout_carve(const okid_dims_ *dims, int combined, int scaled, unsigned char *base, okid_views_ *views);
+
+/* The workspace bytes of dims as a size_t: OKID_OK, or OKID_E_BAD_SIZE when they exceed SIZE_MAX
+   (32-bit targets: dimensions that are each accepted can together need more than 4 GiB). */
+okid_status okid_layout_size(const okid_dims_ *dims, int combined, int scaled, size_t *bytes);
 
 /*
  * ERA of the identifier's configuration on the Markov parameters (and scales) of res: its problem

@@ -36,14 +36,15 @@ typedef struct stab_views {
     unsigned *stability;
 } stab_views;
 
-static size_t stab_carve(const okid_identifier *id, int max_order, int step, unsigned char *base, stab_views *v)
+/* The bytes in 64 bits (carve.h); with a base only after okid_stabilization_workspace_size() accepted them. */
+static uint64_t stab_carve(const okid_identifier *id, int max_order, int step, unsigned char *base, stab_views *v)
 {
     const okid_dims_ *d = &id->dims_;
-    const size_t r = (size_t)d->r, m = (size_t)d->m, n = (size_t)max_order;
-    const size_t orders = OKID__STAB_ORDERS(max_order, step), modes = OKID__STAB_MODES(max_order, step);
+    const uint64_t r = (uint64_t)d->r, m = (uint64_t)d->m, n = (uint64_t)max_order;
+    const uint64_t orders = OKID__STAB_ORDERS(max_order, step), modes = OKID__STAB_MODES(max_order, step);
     okid_carver c = {base, 0};
-    v->sv = okid_carve_reals(&c, (size_t)d->svd_size);
-    v->era_t = okid_carve_reals(&c, (size_t)d->hankel_rows * n);
+    v->sv = okid_carve_reals(&c, (uint64_t)d->svd_size);
+    v->era_t = okid_carve_reals(&c, (uint64_t)d->hankel_rows * n);
     v->a = okid_carve_reals(&c, n * n);
     v->b = okid_carve_reals(&c, n * r);
     v->ctrl_last = okid_carve_reals(&c, n * r);
@@ -84,8 +85,7 @@ okid_status okid_stabilization_workspace_size(const okid_identifier *id, int max
         return OKID_E_BAD_SIZE;
     }
     stab_views dry;
-    *bytes = stab_carve(id, max_order, step, NULL, &dry);
-    return OKID_OK;
+    return okid_carve_size(stab_carve(id, max_order, step, NULL, &dry), bytes);
 }
 
 static int criteria_valid(const okid_stabilization_criteria *c)

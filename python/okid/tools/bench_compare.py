@@ -590,6 +590,9 @@ def markdown(rows, cbench, results, quick):
     lines += ["", "## Speed of the C core", ""]
     for blas, data in cbench.items():
         lines += [f"### {blas} BLAS (one thread)", "", "```", data["text"].rstrip(), "```", ""]
+    stream = Path("bench/stream_results.json")  # scripts/bench_stream.py: the CLI on a 1 GB CSV, kept here
+    if stream.exists():
+        lines += json.loads(stream.read_text())["markdown"]
     lines += ["## Machine-readable", "", "```json", json.dumps(results, indent=2), "```", ""]
     return "\n".join(lines)
 
