@@ -149,7 +149,7 @@ def test_switch_takes_only_zero_or_one(paper_csv, value):
 
 def test_subnormal_and_huge_values(paper_csv):
     message = refusal("identify", "--dt", "1e-320", paper_csv)
-    assert "'1e-320'" in message and "2.2250738585072014e-308" in message
+    assert "'1e-320'" in message and "[1e-75, 1e+75]" in message
     assert "not a finite number" in refusal("identify", "--dt", "1e400", paper_csv)
     message = refusal("identify", "--order", "99999999999999999999", paper_csv)
     assert "out of range" in message and "0..512" in message
@@ -157,7 +157,7 @@ def test_subnormal_and_huge_values(paper_csv):
 
 # every option of the table with a value outside its range: (flag, value, the range it must name)
 OUT_OF_RANGE = [
-    ("--dt", "0", ">= 2.2250738585072014e-308"), ("--dt", "-0.01", ">= 2.2250738585072014e-308"),
+    ("--dt", "0", "[1e-75, 1e+75]"), ("--dt", "-0.01", "[1e-75, 1e+75]"),
     ("--observer-order", "0", "1..1000"), ("--observer-order", "1001", "1..1000"),
     ("--order", "-1", "0..512"), ("--order", "513", "0..512"),
     ("--hankel-rows", "0", "1..1000"), ("--hankel-cols", "1001", "1..1000"),
