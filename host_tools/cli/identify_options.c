@@ -99,8 +99,9 @@ static const cli_option identify_table[] = {
 static const char synopsis[] =
     "usage: okid identify [options] FILE.csv      (FILE '-' reads standard input)\n"
     "\n"
-    "FILE.csv has a header row of column names; an optional first column named t or time (any case)\n"
-    "holds the sample times (uniform to 0.01 %). Every other cell is a finite number; a NaN, an empty\n"
+    "FILE.csv has a header row of column names; a time column (t, time, timestamp, seconds, ... with an\n"
+    "optional unit such as time_ms or t [s], in any position; docs/robustness.md) holds the sample\n"
+    "times, which must be uniform (else give --dt). Every other cell is a finite number; a NaN, an empty\n"
     "or a non-numeric cell, or a row with a missing field rejects the file. Noisy records need a\n"
     "larger p and a Hankel window spanning about one period of the slowest mode; for the paper's\n"
     "case with 2 % noise:\n"
