@@ -27,20 +27,12 @@ static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char
 static okid_real force[SAMPLES], accelerations[PLANT_OUTPUTS * SAMPLES];
 static okid_identifier identifier;
 
-extern uint32_t __stack_limit__[];
 enum { STACK_PAINT = 0x5AFE57ACu, STACK_MARGIN_WORDS = 16 };
-
-static uint32_t *stack_pointer(void)
-{
-    uint32_t *sp;
-    __asm volatile("mov %0, sp" : "=r"(sp));
-    return sp;
-}
 
 /* Fill the free stack below the caller's frame with a pattern... */
 static __attribute__((noinline)) void paint_stack(void)
 {
-    for (uint32_t *w = __stack_limit__; w < stack_pointer() - STACK_MARGIN_WORDS; ++w) {
+    for (uint32_t *w = __stack_limit__; w < board_stack_pointer() - STACK_MARGIN_WORDS; ++w) {
         *w = STACK_PAINT;
     }
 }
@@ -85,7 +77,7 @@ static int measure(int block_rows)
         return 0;
     }
     uint64_t push_total = 0, push_worst = 0;
-    const uint32_t *sp = stack_pointer();
+    const uint32_t *sp = board_stack_pointer();
     paint_stack();
     for (int k = 0; k < SAMPLES; ++k) {
         const uint32_t start = board_counter_ticks();
