@@ -23,13 +23,15 @@ static void textbook_fold(int n, okid_real *r, int ldr, okid_real *row, int inc)
             continue;
         }
         okid_real *rjj = &r[j + j * ldr];
-        const okid_real h = okid_hypot(*rjj, x);
-        const okid_real c = *rjj / h, s = x / h;
-        *rjj = h;
-        for (int k = j + 1; k < n; ++k) {
-            const okid_real a = r[j + k * ldr], b = row[k * inc];
-            r[j + k * ldr] = c * a + s * b;
-            row[k * inc] = c * b - s * a;
+        const okid_real d = okid_fabs(*rjj), x_abs = okid_fabs(x);
+        const okid_real h = d + x_abs * (x_abs / (d + okid_hypot(d, x_abs)));
+        const okid_real sign = *rjj < 0 ? -1 : 1;
+        const okid_real s = x / (sign * h), t = x / (sign * (d + h)); /* t = s / (1 + c) */
+        *rjj = sign * h;
+        for (int k = j + 1; k < n; ++k) { /* the rotation as three shears */
+            const okid_real x1 = row[k * inc] - t * r[j + k * ldr];
+            r[j + k * ldr] += s * x1;
+            row[k * inc] = x1 - t * r[j + k * ldr];
         }
     }
 }
@@ -50,13 +52,13 @@ static void make_case(okid_rng *rng, int n, int inc, int leading_zeros, okid_rea
 static void check_fold(okid_rng *rng, int n, int inc, int leading_zeros)
 {
     static okid_real r[LDR * MAX_N], expected[LDR * MAX_N], before[LDR * MAX_N];
-    okid_real row[3 * MAX_N] = {0}, scratch_row[3 * MAX_N], c[MAX_N], s[MAX_N];
+    okid_real row[3 * MAX_N] = {0}, scratch_row[3 * MAX_N], t[MAX_N], s[MAX_N];
     make_case(rng, n, inc, leading_zeros, r, row);
     memcpy(expected, r, sizeof r);
     memcpy(before, r, sizeof r);
     memcpy(scratch_row, row, sizeof row);
     textbook_fold(n, expected, LDR, scratch_row, inc);
-    okid_givens_fold_row(n, r, LDR, row, inc, c, s);
+    okid_givens_fold_row(n, r, LDR, row, inc, t, s);
 
     double gram_scale = 0;
     for (int k = 0; k < n; ++k) {
@@ -110,9 +112,9 @@ static void test_first_row_into_zero_factor(void **state)
 {
     (void)state;
     enum { N = 6 };
-    okid_real r[N * N] = {0}, c[N], s[N];
+    okid_real r[N * N] = {0}, t[N], s[N];
     const okid_real row[N] = {OKID_R(-3.0), OKID_R(4.0), 0, OKID_R(1.5), OKID_R(-2.0), OKID_R(0.25)};
-    okid_givens_fold_row(N, r, N, row, 1, c, s);
+    okid_givens_fold_row(N, r, N, row, 1, t, s);
     assert_true(r[0] == OKID_R(3.0)); /* hypot(0, -3): rotation 0 carries the whole row into row 0 */
     for (int k = 1; k < N; ++k) {
         assert_true(r[k * N] == -row[k]); /* c = 0, s = -1 */
