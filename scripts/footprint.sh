@@ -47,7 +47,7 @@ for preset in "${presets[@]}"; do
     cmake --build --preset "$preset" >/dev/null
     machine=$(cache $dir OKID_QEMU_MACHINE)
     real=$(cache $dir OKID_REAL)
-    size_tool=$(cache $dir CMAKE_AR); size_tool=${size_tool%-ar}-size
+    size_tool=$(cache $dir CMAKE_NM); size_tool=${size_tool%-nm}-size
     figure[$preset.real]=$real
 
     variants=("$dir:-Os")

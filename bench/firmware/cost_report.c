@@ -119,8 +119,9 @@ int main(void)
     printf("real %s\n", OKID_REAL_IS_FLOAT ? "float" : "double");
     printf("calibration.loop_instructions_expected %lu\n", (unsigned long)(2 * KNOWN_LOOP));
     printf("calibration.loop_instructions_measured %lu\n", (unsigned long)loop);
-    /* a few for the counter reads themselves; the counters tick every 1 to 3 instructions */
-    if (loop + 4 < 2 * KNOWN_LOOP || loop > 2 * KNOWN_LOOP + 8) {
+    /* a few for the counter reads themselves (some 20 where SysTick is extended to 32 bits); the
+       counters tick every 1 to 3 instructions */
+    if (loop + 4 < 2 * KNOWN_LOOP || loop > 2 * KNOWN_LOOP + 32) {
         printf("the instruction counter is off: was QEMU run with -icount shift=%d?\n", OKID_ICOUNT_SHIFT);
         return 3;
     }

@@ -71,8 +71,8 @@ static OKID_INLINE_ALWAYS void rotate_two(okid_real t, okid_real s, okid_real *a
  * loaded and stored at every step, and each (t, s) serves two columns, four rotations a pass:
  * 52 instructions for its 8 elements on a Cortex-M4F at -Os (each a load and a store of r and
  * three VMLA/VMLS, and a load of t or s for every other), against 14 an element for the textbook
- * loop. (On an
- * out-of-order host it is some 15 % slower: a row element's rotations form a dependent chain.)
+ * loop. (On an out-of-order host it is some 15 % slower: a row element's rotations form a
+ * dependent chain.)
  */
 void okid_givens_fold_row(int n, okid_real *r, int ldr, const okid_real *row, int inc, okid_real *t, okid_real *s)
 {
