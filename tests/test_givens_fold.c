@@ -124,12 +124,53 @@ static void test_first_row_into_zero_factor(void **state)
     }
 }
 
+/*
+ * A long record: 10^5 rows of 8 correlated columns folded one by one keep R'R equal to their Gram
+ * matrix (accumulated in double) to 1e-4 relative in float; measured 1.7e-5, where the textbook
+ * rotation c a + s x, whose c = 1 - O(1/k) keeps few bits of 1 - c, drifted to 1.9e-3
+ * (docs/accuracy.md). In double 1.1e-14 (textbook 9.3e-14).
+ */
+static void test_long_record_keeps_the_gram_matrix(void **state)
+{
+    (void)state;
+    enum { N = 8, ROWS = 100000 };
+    static double gram[N * N];
+    okid_real r[N * N] = {0}, t[N], s[N], z[N], row[N] = {0};
+    okid_rng rng;
+    assert_int_equal(okid_rng_seed(&rng, 3), OKID_OK);
+    for (int k = 0; k < ROWS; ++k) {
+        assert_int_equal(okid_rng_normal(&rng, 1, N, z, 1), OKID_OK);
+        for (int i = 0; i < N; ++i) { /* each column correlated with the one before, as lagged samples are */
+            row[i] = z[i] + (i > 0 ? OKID_R(0.9) * row[i - 1] : 0);
+        }
+        for (int a = 0; a < N; ++a) {
+            for (int b = 0; b < N; ++b) {
+                gram[a + b * N] += (double)row[a] * (double)row[b];
+            }
+        }
+        okid_givens_fold_row(N, r, N, row, 1, t, s);
+    }
+    double error = 0, scale = 0;
+    for (int a = 0; a < N; ++a) {
+        for (int b = 0; b < N; ++b) {
+            double rr = 0;
+            for (int i = 0; i < N; ++i) {
+                rr += (double)r[i + a * N] * (double)r[i + b * N];
+            }
+            error = fmax(error, fabs(rr - gram[a + b * N]));
+            scale = fmax(scale, fabs(gram[a + b * N]));
+        }
+    }
+    assert_true(error <= TOL(1e-12, 1e-4) * scale);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_size_and_remainder),
         cmocka_unit_test(test_strided_row_and_zeros),
         cmocka_unit_test(test_first_row_into_zero_factor),
+        cmocka_unit_test(test_long_record_keeps_the_gram_matrix),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
