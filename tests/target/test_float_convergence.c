@@ -2,8 +2,8 @@
  * Float that converges: the paper's 2-DOF structure (m = 2, 3 kg, k = 20, 40, 30 N/m, c = k / 10)
  * driven by unit white noise at 100 Hz, simulated in double, both accelerations with 2 % white
  * output noise, fed sample by sample to the identifier (p = 40, alpha = beta = 40, n = 4, from
- * rest, block_rows 1 as in the firmware example); identify at every checkpoint and print the relative
- * errors of both modes' frequency and damping ratio against the exact ones:
+ * rest, block_rows 1 as in the firmware example); identify at every checkpoint and print the
+ * relative errors of both modes' frequency and damping ratio against the exact ones:
  *   error <samples> <mode> <frequency error> <damping error>
  * Every input is made in double by integer arithmetic (its own generator, no libm), so a float
  * build and a double build, on the host or the target, see the same record to the last bit:
@@ -22,8 +22,8 @@
 #endif
 
 /* At 2 % noise the paper's p = 20 with a 20 x 20 Hankel matrix finds one complex mode and a real
-   pair instead of the slow mode: the observer needs more memory (p) when the noise is in the
-   outputs only. */
+   pair instead of the slow mode, in double too: with the noise in the outputs only, the observer
+   that the least squares fit approximates is slow and needs a longer memory p. */
 #ifndef CONVERGENCE_OBSERVER_ORDER
 #define CONVERGENCE_OBSERVER_ORDER 40
 #endif
