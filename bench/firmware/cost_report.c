@@ -103,6 +103,7 @@ static int measure(int block_rows)
     printf("block_rows_%d.push_stack_bytes %lu\n", block_rows, push_stack);
     printf("block_rows_%d.identify_stack_bytes %lu\n", block_rows, identify_stack);
     if (st == OKID_OK) {
+        printf("block_rows_%d.regressor_rank %d of %d\n", block_rows, result.regressor_rank, result.regressor_columns);
         printf("block_rows_%d.modes_hz %.6f %.6f\n", block_rows, (double)result.modes[0].frequency_hz,
                (double)result.modes[1].frequency_hz);
     }
