@@ -2,6 +2,7 @@
 # The CPU flags come from the preset (OKID_TARGET_CPU_FLAGS), e.g.
 #   -mcpu=cortex-m4 -mfpu=fpv4-sp-d16 -mfloat-abi=hard
 # Programs link newlib's semihosting (rdimon) and the board's own start-up code (board/mps2).
+set(OKID_BOARD mps2 CACHE STRING "Board support directory under board/")
 set(CMAKE_SYSTEM_NAME Generic)
 set(CMAKE_SYSTEM_PROCESSOR arm)
 

@@ -1,84 +1,119 @@
 #!/usr/bin/env bash
-# Footprint and cost of okid on Cortex-M (README "Use in firmware"), for the paper configuration
-# (r = 1, m = 2, p = 20, n = 4, alpha = beta = 20) on the two target presets:
+# Footprint and cost of okid on every firmware target (docs/firmware.md), for the paper
+# configuration (r = 1, m = 2, p = 20, n = 4, alpha = beta = 20):
 # - flash (text + rodata) and RAM (data + bss): libokid.a whole, and as linked into examples/firmware;
 # - worst stack depth of okid_push and okid_identify from -fstack-usage/-fcallgraph-info, and as
 #   measured at run time by stack painting;
 # - workspace bytes, instructions per pushed sample and per identify: bench/firmware/cost_report.c
-#   under qemu-system-arm -icount (deterministic: QEMU counts instructions, not host time);
-# - the same library and costs at -O2 (the presets build -Os);
-# then the budgets of the Cortex-M4F float build. Prints figures; fails only if a build or run fails.
+#   under QEMU with -icount (deterministic: QEMU counts instructions, not host time);
+# - the same library and costs at -O2 on the presets of O2_PRESETS (the presets build -Os), and on
+#   the Cortex-M55 without Helium (MVE) to show what the compiler's auto-vectorisation gives;
+# then the table of every target side by side with the Cortex-M4F's budgets applied to each float
+# target. Prints figures; fails only if a build or run fails.
+# PRESETS="cortex-m4f riscv32" bash scripts/footprint.sh measures a subset.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-shift_=5   # -icount shift: 2^5 ns per instruction, the 25 MHz board timer then resolves 1.25 instructions
+shift_=5   # -icount shift: 2^5 ns per instruction
+presets=(${PRESETS:-cortex-m4f cortex-m7 cortex-m33 cortex-m55 riscv32})
+O2_PRESETS=" cortex-m4f cortex-m7 cortex-m55 "
 
-run_cost() {   # machine elf
-    timeout 600 qemu-system-arm -M "$1" -nographic -semihosting-config enable=on,target=native \
-        -icount shift=$shift_,align=off -kernel "$2"
+run_cost() {   # machine elf: the cost report's "key value" lines (picolibc's console is QEMU's stderr)
+    local qemu=(qemu-system-arm -M "$1")
+    [[ $1 == virt ]] && qemu=(qemu-system-riscv32 -M virt -bios none)
+    timeout 600 "${qemu[@]}" -nographic -semihosting-config enable=on,target=native \
+        -icount shift=$shift_,align=off -kernel "$2" 2>&1
 }
 
-archive_size() {  # prints "flash ram" of an archive, all members
-    arm-none-eabi-size -t "$1" | awk 'END { print $1, $2 + $3 }'
+cache() {  # build-dir variable
+    sed -n "s/^$2:[A-Z]*=//p" "$1/CMakeCache.txt"
+}
+
+archive_size() {  # size-tool archive: prints "flash ram" of all members
+    "$1" -t "$2" | awk 'END { print $1, $2 + $3 }'
+}
+
+# A variant build of a preset: build dir, then extra cache arguments.
+configure_variant() {
+    local preset=$1 dir=$2; shift 2
+    if [[ ! -f $dir/build.ninja ]]; then
+        cmake --preset "$preset" -B "$dir" --no-warn-unused-cli -DBUILD_TESTING=OFF "$@" >/dev/null
+    fi
 }
 
 declare -A figure
-for preset in cortex-m4f cortex-m7; do
+for preset in "${presets[@]}"; do
     dir=build-$preset
-    [[ -f $dir/build.ninja ]] || cmake --preset $preset >/dev/null
-    cmake --build --preset $preset >/dev/null
-    o2=build-$preset-o2
-    if [[ ! -f $o2/build.ninja ]]; then
-        cmake --preset $preset -B $o2 --no-warn-unused-cli -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF \
-            "-DCMAKE_C_FLAGS_RELEASE=-O2 -DNDEBUG" "-DCMAKE_CXX_FLAGS_RELEASE=-O2 -DNDEBUG" >/dev/null
-    fi
-    machine=$(sed -n 's/^OKID_QEMU_MACHINE:STRING=//p' $dir/CMakeCache.txt)
-    # Without a linear-algebra backend only the library's size and the call graph can be reported.
-    backend=$(sed -n 's/^OKID_BACKEND:STRING=//p' $dir/CMakeCache.txt)
-    if [[ $backend == none ]]; then o2_targets=(okid); else o2_targets=(okid okid_cost_report); fi
-    cmake --build $o2 --target "${o2_targets[@]}" >/dev/null
+    [[ -f $dir/build.ninja ]] || cmake --preset "$preset" >/dev/null
+    cmake --build --preset "$preset" >/dev/null
+    machine=$(cache $dir OKID_QEMU_MACHINE)
+    real=$(cache $dir OKID_REAL)
+    size_tool=$(cache $dir CMAKE_NM); size_tool=${size_tool%-nm}-size
+    figure[$preset.real]=$real
 
-    echo "=== $preset ($machine, $(sed -n 's/^OKID_REAL:STRING=//p' $dir/CMakeCache.txt)) ==="
-    read -r flash ram < <(archive_size $dir/lib/libokid.a)
-    read -r flash_o2 ram_o2 < <(archive_size $o2/lib/libokid.a)
-    echo "libokid.a whole archive: flash $flash bytes (-O2: $flash_o2), RAM $ram bytes"
+    variants=("$dir:-Os")
+    if [[ $O2_PRESETS == *" $preset "* ]]; then
+        configure_variant "$preset" "$dir-o2" -DCMAKE_BUILD_TYPE=Release \
+            "-DCMAKE_C_FLAGS_RELEASE=-O2 -DNDEBUG" "-DCMAKE_CXX_FLAGS_RELEASE=-O2 -DNDEBUG"
+        variants+=("$dir-o2:-O2")
+    fi
+    if [[ $preset == cortex-m55 ]]; then   # the same core without Helium: scalar FPU only
+        configure_variant "$preset" "$dir-nomve" "-DOKID_TARGET_CPU_FLAGS=-mcpu=cortex-m55+nomve -mfloat-abi=hard"
+        variants+=("$dir-nomve:-Os without MVE")
+    fi
+    for variant in "${variants[@]:1}"; do
+        cmake --build "${variant%%:*}" --target okid okid_cost_report >/dev/null
+    done
+
+    echo "=== $preset ($machine, $real) ==="
+    read -r flash ram < <(archive_size "$size_tool" $dir/lib/libokid.a)
+    echo "libokid.a whole archive: flash $flash bytes, RAM $ram bytes"
+    for variant in "${variants[@]:1}"; do
+        read -r vflash _ < <(archive_size "$size_tool" "${variant%%:*}/lib/libokid.a")
+        echo "libokid.a whole archive (${variant#*:}): flash $vflash bytes"
+    done
     figure[$preset.lib_flash]=$flash
+    figure[$preset.lib_ram]=$ram
     python3 scripts/stack_depth.py $dir/lib okid_push okid_identify | tee $dir/stack_report.txt
     figure[$preset.stack_static]=$(awk '/^stack.okid_(push|identify) / { if ($2 > m) m = $2 } END { print m }' $dir/stack_report.txt)
-    if [[ $backend == none ]]; then
-        echo "OKID_BACKEND=none: no okid_identify on the target, so no example and no cost report"
-        echo; continue
-    fi
     python3 scripts/map_sizes.py $dir/examples/firmware/okid_firmware.map libokid.a libm.a libc.a \
-        libstdc++.a libgcc.a | sed 's/^/as linked into okid_firmware: /'
-    arm-none-eabi-size $dir/examples/firmware/okid_firmware | sed 's/^/okid_firmware (Berkeley, text includes rodata): /'
+        libstdc++.a libgcc.a | tee $dir/map_sizes.txt | sed 's/^/as linked into okid_firmware: /'
+    figure[$preset.linked_flash]=$(awk '$1 == "libokid.a" { print $3 }' $dir/map_sizes.txt)
+    "$size_tool" $dir/examples/firmware/okid_firmware | sed 's/^/okid_firmware (Berkeley, text includes rodata): /'
 
-    for variant in "$dir:-Os" "$o2:-O2"; do
-        build=${variant%%:*} opt=${variant##*:}
+    for variant in "${variants[@]}"; do
+        build=${variant%%:*} label=${variant#*:}
         run_cost "$machine" $build/bench/firmware/okid_cost_report > $build/cost_report.txt
-        sed "s/^/cost $opt: /" $build/cost_report.txt
+        sed "s/^/cost $label: /" $build/cost_report.txt
     done
-    get() { awk -v k="$1" '$1 == k { print $2 }' $dir/cost_report.txt; }
-    figure[$preset.workspace]=$(get block_rows_1.workspace_bytes)
-    figure[$preset.push]=$(get block_rows_1.push_instructions_worst)
-    figure[$preset.identify]=$(get block_rows_1.identify_instructions)
-    figure[$preset.stack_run]=$(get block_rows_1.identify_stack_bytes)
+    get() { awk -v k="$1" '$1 == k { print $2 }' "$2/cost_report.txt"; }
+    figure[$preset.workspace]=$(get block_rows_1.workspace_bytes $dir)
+    figure[$preset.push]=$(get block_rows_1.push_instructions_worst $dir)
+    figure[$preset.identify]=$(get block_rows_1.identify_instructions $dir)
+    figure[$preset.stack_run]=$(get block_rows_1.identify_stack_bytes $dir)
     echo
 done
 
-# The budgets of issue 4 (Cortex-M4F, float, paper configuration, block_rows 1 as in the example).
-verdict() {  # name measured budget unit
-    local state=met
-    (( $2 <= $3 )) || state="MISSED by $(( $2 - $3 )) $4"
-    printf '%-34s %10s %-6s budget %10s  %s\n' "$1" "$2" "$4" "$3" "$state"
+# Every target side by side; the budgets of issue 4 (Cortex-M4F, float, paper configuration,
+# block_rows 1 as in the example) applied to each float target.
+verdict() {  # preset key budget
+    local v=${figure[$1.$2]}
+    if [[ ${figure[$1.real]} != float ]]; then printf '%10s  ' "$v"
+    elif (( v <= $3 )); then printf '%10s ok' "$v"
+    else printf '%10s !!' "$v"; fi
 }
-echo "=== budgets: Cortex-M4F, float, paper configuration, -Os ==="
-if [[ -z ${figure[cortex-m4f.workspace]:-} ]]; then
-    echo "library flash ${figure[cortex-m4f.lib_flash]} bytes (budget 65536) without a backend; the rest needs one"
-    exit 0
-fi
-verdict "library flash (whole libokid.a)" "${figure[cortex-m4f.lib_flash]}" 65536 bytes
-verdict "workspace (block_rows 1)" "${figure[cortex-m4f.workspace]}" 24576 bytes
-verdict "stack (call graph, worst path)" "${figure[cortex-m4f.stack_static]}" 2048 bytes
-verdict "stack (measured, identify)" "${figure[cortex-m4f.stack_run]}" 2048 bytes
-verdict "push, worst sample" "${figure[cortex-m4f.push]}" 20000 instructions
-verdict "identify" "${figure[cortex-m4f.identify]}" 5000000 instructions
+echo "=== every target, paper configuration, block_rows 1, -Os (ok / !!: within / over the M4F budget) ==="
+printf '%-36s' ""; for p in "${presets[@]}"; do printf '%14s' "$p"; done; printf '%12s\n' budget
+row() {  # label key budget
+    printf '%-36s' "$1"
+    for p in "${presets[@]}"; do printf '  '; verdict "$p" "$2" "$3"; done
+    printf '%12s\n' "$3"
+}
+printf '%-36s' "okid_real"; for p in "${presets[@]}"; do printf '%14s' "${figure[$p.real]}"; done; echo
+row "library flash, whole libokid.a (B)" lib_flash 65536
+row "library flash as linked (B)" linked_flash 65536
+row "library RAM, data + bss (B)" lib_ram 0
+row "workspace (B)" workspace 24576
+row "stack, call graph, worst path (B)" stack_static 2048
+row "stack, measured, identify (B)" stack_run 2048
+row "push, worst sample (instructions)" push 20000
+row "identify (instructions)" identify 5000000

@@ -3,15 +3,16 @@
 
 Usage: map_sizes.py PROGRAM.map [ARCHIVE_NAME ...]
 Prints "<archive> flash <bytes> ram <bytes>" for each archive named (e.g. libokid.a, libm.a,
-libc.a), flash = .text* + .rodata* (+ .ARM.exidx/extab), ram = .data* + .bss*, as linked.
+libc.a), flash = .text* + .rodata* (+ .ARM.exidx/extab, RISC-V .srodata), ram = .data* + .bss* (+ .sdata,
+.sbss), as linked.
 """
 import re
 import sys
 
 # An input section: name, then (on the same or the next line) address, size and the object.
 SECTION = re.compile(r"^ (\.[\w.$]+)\s*\n?\s+0x[0-9a-f]+\s+0x([0-9a-f]+)\s+(\S+)", re.M)
-FLASH = (".text", ".rodata", ".ARM.exidx", ".ARM.extab")
-RAM = (".data", ".bss")
+FLASH = (".text", ".rodata", ".srodata", ".ARM.exidx", ".ARM.extab")  # .s*: RISC-V small data
+RAM = (".data", ".bss", ".sdata", ".sbss")
 
 
 def main():

@@ -17,7 +17,10 @@ esac
 DEMO_PACKAGES=(build-essential cmake ninja-build pkg-config liblapacke-dev liblapack-dev libblas-dev)
 # The rest of the test suite: OpenBLAS (the CLI links it statically), Eigen, cmocka, Python, memory checkers, fuzzing, the firmware targets.
 TEST_PACKAGES=(libopenblas-dev libeigen3-dev libcmocka-dev python3-venv python3-pip valgrind clang libclang-rt-dev llvm time
-               gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
+               # the firmware targets: Cortex-M (newlib) and RISC-V (picolibc; the Eigen backend takes
+               # its C++ headers from the Arm toolchain's libstdc++), QEMU for both
+               gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib libstdc++-arm-none-eabi-dev
+               qemu-system-arm gcc-riscv64-unknown-elf picolibc-riscv64-unknown-elf qemu-system-misc
                # the FMUs' other platforms (fmu/platforms) and the importers that run them
                gcc-mingw-w64-x86-64 g++-mingw-w64-x86-64 wine64 qemu-user lld
                libc6-dev-arm64-cross libgcc-12-dev-arm64-cross libstdc++-12-dev-arm64-cross

@@ -1,6 +1,7 @@
 /*
- * Start-up code of the MPS2 boards (AN386 Cortex-M4F, AN500 Cortex-M7) under QEMU: vector table,
- * FPU enable, .data copy and .bss clear, newlib's semihosting and constructors, then main().
+ * Start-up code of the MPS2/MPS3 boards (AN386 Cortex-M4F, AN500 Cortex-M7, AN505 Cortex-M33,
+ * AN547 Cortex-M55; the last two start in the Secure state and stay there) under QEMU: vector table,
+ * FPU (and the M55's MVE) enable, .data copy and .bss clear, newlib's semihosting and constructors, then main().
  * main()'s return value leaves through exit() and newlib's rdimon _exit, which QEMU turns into
  * its own exit status (semihosting SYS_EXIT): the exit code is the test verdict.
  */

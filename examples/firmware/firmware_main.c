@@ -6,7 +6,7 @@
  * - the background loop identifies every IDENTIFY_EVERY samples and prints the modes over
  *   semihosting (a real controller would hand them to its application instead).
  * Exit status 0 when the last identification found both modes of the structure within the
- * tolerance the README states for this build's okid_real (the qemu run's verdict).
+ * tolerance docs/accuracy.md states for this build's okid_real (the qemu run's verdict).
  */
 #include <stdio.h>
 
@@ -30,9 +30,11 @@ static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char workspace[OKID_WORKSPACE_BYT
 static okid_identifier identifier;
 
 #if OKID_REAL_IS_FLOAT
-/* README "Accuracy in float": after 1500 samples the slow mode is off by 1e-3 in frequency and 7e-2 in
-   damping (either backend), from rounding accumulated in the folded factor */
-static const double FREQUENCY_TOL = 2e-3, DAMPING_TOL = 1e-1;
+/* docs/accuracy.md: after 1500 noise-free samples the slow mode is off by up to 5e-4 in frequency
+   and 1.5e-3 (M4F, M33) to 1.8e-2 (M55) in damping: the oversampled, rank-deficient regressor in
+   float magnifies the last bits in which the targets' records differ (newlib's and picolibc's
+   float libm make the excitation), no longer rounding piled up in the fold */
+static const double FREQUENCY_TOL = 1e-3, DAMPING_TOL = 3e-2;
 #else
 static const double FREQUENCY_TOL = 1e-9, DAMPING_TOL = 1e-8;
 #endif

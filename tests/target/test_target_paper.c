@@ -2,7 +2,7 @@
  * The paper case on the target (and, built by the host compiler, on the host: see host_twin/):
  * 1001 samples of white noise through the reference plant of tests/reference, identified with
  * p = 20, alpha = beta = 20, n = 4. The modes must match the reference within the tolerances the
- * README states (the host tests' ones). Every stage's numbers are also printed as IEEE bit
+ * docs/accuracy.md states (the host tests' ones). Every stage's numbers are also printed as IEEE bit
  * patterns ("bits <stage> <index> <hex>") so compare_bits.cmake can hold the target's run
  * against the host's bit for bit. The excitation is uniform noise scaled to unit variance, made
  * by integer arithmetic alone, so libm enters only where the library itself calls it.
@@ -18,7 +18,7 @@
 enum { SAMPLES = 1001, N = PLANT_STATES };
 
 #if OKID_REAL_IS_FLOAT
-static const double LAMBDA_TOL = 3e-4, MARKOV_TOL = 2e-6; /* README: accuracy in float */
+static const double LAMBDA_TOL = 3e-4, MARKOV_TOL = 2e-6; /* docs/accuracy.md: accuracy in float */
 #else
 static const double LAMBDA_TOL = 1e-9, MARKOV_TOL = 1e-9;
 #endif

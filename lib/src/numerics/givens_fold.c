@@ -15,34 +15,52 @@
 #define OKID_INLINE_ALWAYS inline
 #endif
 
-/* The rotation (c, s) = (diag, x) / hypot that zeroes x against *diag, which becomes the hypot; for
-   x == 0 the identity, which leaves *diag as it is. */
-static void make_rotation(okid_real *diag, okid_real x, okid_real *c, okid_real *s)
+/*
+ * Why shears. Over a long record R's entries grow like sqrt(k) while sample k changes them by
+ * about 1/k of their size: after 10^6 samples some ten units in the last place of a float. In the
+ * textbook form a' = c a + s x, c = 1 - O(1/k) lies on the grid of floats just below 1, which
+ * keeps only a few bits of 1 - c, the rotation's real content; those errors do not average out
+ * over the record, and they made the float build's slow-mode frequency and damping errors 9 and
+ * 19 times the double build's after 10^6 noisy samples (docs/accuracy.md). The same rotation as
+ * three shears with t = tan(theta / 2) = s / (1 + c),
+ *   x1 = x - t a,   a' = a + s x1,   x' = x1 - t a',
+ * changes R's element by one small increment s x1, computed to full relative precision and
+ * rounded once, and costs three multiply-adds where the textbook form takes four.
+ */
+
+/* The rotation that zeroes x against *diag: *diag becomes sign(*diag) hypot(*diag, x), with s and
+   t = s / (1 + c) for the shears (c = |*diag| / hypot >= 0, so |t| <= 1); for x == 0 the
+   identity. The hypot is *diag's magnitude plus the increment x^2 / (|*diag| + hypot), which
+   depends on the first hypot's rounding only to second order: correctly rounded but for a few
+   eps of the increment. */
+static void make_rotation(okid_real *diag, okid_real x, okid_real *t, okid_real *s)
 {
     if (x == 0) {
-        *c = 1;
+        *t = 0;
         *s = 0;
         return;
     }
-    const okid_real h = okid_hypot(*diag, x);
-    *c = *diag / h;
-    *s = x / h;
-    *diag = h;
+    const okid_real d = okid_fabs(*diag), x_abs = okid_fabs(x);
+    const okid_real h = d + x_abs * (x_abs / (d + okid_hypot(d, x_abs)));
+    const okid_real sign = *diag < 0 ? -1 : 1;
+    *s = x / (sign * h);
+    *t = x / (sign * (d + h));
+    *diag = sign * h;
 }
 
-/* (a, x) <- (c a + s x, c x - s a): the operations of the textbook loop, in its order. */
-static OKID_INLINE_ALWAYS void rotate(okid_real c, okid_real s, okid_real *a, okid_real *x)
+/* (a, x) <- (c a + s x, c x - s a) as three shears (see above). */
+static OKID_INLINE_ALWAYS void rotate(okid_real t, okid_real s, okid_real *a, okid_real *x)
 {
-    const okid_real a0 = *a, x0 = *x;
-    *a = c * a0 + s * x0;
-    *x = c * x0 - s * a0;
+    const okid_real x1 = *x - t * *a;
+    *a += s * x1;
+    *x = x1 - t * *a;
 }
 
-/* Rotation (c, s) on an element of each of the two columns, a and b, and their row elements. */
-static OKID_INLINE_ALWAYS void rotate_two(okid_real c, okid_real s, okid_real *a, okid_real *b, okid_real *xa, okid_real *xb)
+/* Rotation (t, s) on an element of each of the two columns, a and b, and their row elements. */
+static OKID_INLINE_ALWAYS void rotate_two(okid_real t, okid_real s, okid_real *a, okid_real *b, okid_real *xa, okid_real *xb)
 {
-    rotate(c, s, a, xa);
-    rotate(c, s, b, xb);
+    rotate(t, s, a, xa);
+    rotate(t, s, b, xb);
 }
 
 /*
@@ -50,15 +68,17 @@ static OKID_INLINE_ALWAYS void rotate_two(okid_real c, okid_real s, okid_real *a
  * the columns before them, their row elements travelling along in registers; then they make
  * rotations k and k + 1. Every element sees the operations of the textbook loop in the same
  * order, so the bits are the same, but a column of r is contiguous, the row elements are not
- * loaded and stored at every step, and each (c, s) serves two columns, four rotations a pass:
- * 8.3 instructions per element on a Cortex-M4F at -Os against 14 for the textbook loop. (On an
- * out-of-order host it is some 15 % slower: a row element's rotations form a dependent chain.)
+ * loaded and stored at every step, and each (t, s) serves two columns, four rotations a pass:
+ * 52 instructions for its 8 elements on a Cortex-M4F at -Os (each a load and a store of r and
+ * three VMLA/VMLS, and a load of t or s for every other), against 14 an element for the textbook
+ * loop. (On an out-of-order host it is some 15 % slower: a row element's rotations form a
+ * dependent chain.)
  */
-void okid_givens_fold_row(int n, okid_real *r, int ldr, const okid_real *row, int inc, okid_real *c, okid_real *s)
+void okid_givens_fold_row(int n, okid_real *r, int ldr, const okid_real *row, int inc, okid_real *t, okid_real *s)
 {
     int k = n & 1; /* an odd n starts with column 0 alone: it meets no rotation */
     if (k == 1) {
-        make_rotation(r, row[0], c, s);
+        make_rotation(r, row[0], t, s);
     }
     const size_t pair_r = 2 * (size_t)ldr, pair_row = 2 * (size_t)inc;
     okid_real *col = r + (size_t)k * (size_t)ldr;
@@ -66,37 +86,37 @@ void okid_givens_fold_row(int n, okid_real *r, int ldr, const okid_real *row, in
     for (; k < n; k += 2, col += pair_r, x += pair_row) {
         okid_real *ca = col, *cb = col + ldr;
         okid_real xa = x[0], xb = x[inc];
-        const okid_real *cj = c, *sj = s;
+        const okid_real *tj = t, *sj = s;
         /* k & 3 rotations, then k / 4 passes of four; the pass tests at its end (a branch less
            than a for loop at -Os) */
         if (k & 1) {
-            rotate_two(*cj++, *sj++, ca++, cb++, &xa, &xb);
+            rotate_two(*tj++, *sj++, ca++, cb++, &xa, &xb);
         }
         if (k & 2) {
-            rotate_two(cj[0], sj[0], &ca[0], &cb[0], &xa, &xb);
-            rotate_two(cj[1], sj[1], &ca[1], &cb[1], &xa, &xb);
-            cj += 2;
+            rotate_two(tj[0], sj[0], &ca[0], &cb[0], &xa, &xb);
+            rotate_two(tj[1], sj[1], &ca[1], &cb[1], &xa, &xb);
+            tj += 2;
             sj += 2;
             ca += 2;
             cb += 2;
         }
-        const okid_real *const end = c + k;
-        if (cj != end) {
+        const okid_real *const end = t + k;
+        if (tj != end) {
             do {
-                rotate_two(cj[0], sj[0], &ca[0], &cb[0], &xa, &xb);
-                rotate_two(cj[1], sj[1], &ca[1], &cb[1], &xa, &xb);
-                rotate_two(cj[2], sj[2], &ca[2], &cb[2], &xa, &xb);
-                rotate_two(cj[3], sj[3], &ca[3], &cb[3], &xa, &xb);
-                cj += 4;
+                rotate_two(tj[0], sj[0], &ca[0], &cb[0], &xa, &xb);
+                rotate_two(tj[1], sj[1], &ca[1], &cb[1], &xa, &xb);
+                rotate_two(tj[2], sj[2], &ca[2], &cb[2], &xa, &xb);
+                rotate_two(tj[3], sj[3], &ca[3], &cb[3], &xa, &xb);
+                tj += 4;
                 sj += 4;
                 ca += 4;
                 cb += 4;
-            } while (cj != end);
+            } while (tj != end);
         }
         /* ca and cb are at row k now */
-        okid_real *ck = c + k, *sk = s + k;
-        make_rotation(ca, xa, ck, sk);
-        rotate(*ck, *sk, cb, &xb);
-        make_rotation(cb + 1, xb, ck + 1, sk + 1);
+        okid_real *tk = t + k, *sk = s + k;
+        make_rotation(ca, xa, tk, sk);
+        rotate(*tk, *sk, cb, &xb);
+        make_rotation(cb + 1, xb, tk + 1, sk + 1);
     }
 }

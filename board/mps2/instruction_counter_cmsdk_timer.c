@@ -1,6 +1,6 @@
 /*
- * Instruction counting under QEMU: the boards' CMSDK APB timer 0 (0x40000000) counts down at
- * SYSCLK = 25 MHz of virtual time. With -icount shift=S, QEMU advances virtual time by exactly
+ * Instruction counting under QEMU on AN386 and AN500: the boards' CMSDK APB timer 0 (0x40000000)
+ * counts down at SYSCLK = 25 MHz of virtual time. With -icount shift=S, QEMU advances virtual time by exactly
  * 2^S ns per executed instruction, so timer ticks measure instructions deterministically
  * (DWT->CYCCNT is not emulated). The footprint report checks this on a loop of known length.
  */

@@ -1,0 +1,41 @@
+/*
+ * Services of the board support to tests, benchmarks and the example, the same on every board:
+ * board/mps2 (QEMU mps2-an386 Cortex-M4F, mps2-an500 Cortex-M7, mps2-an505 Cortex-M33,
+ * mps3-an547 Cortex-M55) and board/riscv-virt (QEMU virt, rv32imafc).
+ */
+#ifndef OKID_BOARD_H
+#define OKID_BOARD_H
+
+#include <stdint.h>
+
+/* End the program with this exit status at once (semihosting), flushing nothing. */
+_Noreturn void board_exit(int status);
+
+/* Start the free-running counter. */
+void board_counter_start(void);
+
+/* Counter ticks since board_counter_start(); differences are valid across one wrap (2^32 ticks). */
+uint32_t board_counter_ticks(void);
+
+/* Instructions executed during ticks when QEMU runs with -icount shift=icount_shift (2^shift ns each). */
+uint64_t board_ticks_to_instructions(uint32_t ticks, int icount_shift);
+
+/* A loop of exactly 2 * iterations instructions (iterations >= 1), to check the counter. */
+void board_known_loop(uint32_t iterations);
+
+/* Lowest address of the main stack (the linker script's), for stack painting. */
+extern uint32_t __stack_limit__[];
+
+/* The stack pointer of the caller. */
+static inline uint32_t *board_stack_pointer(void)
+{
+    uint32_t *sp;
+#if defined(__riscv)
+    __asm volatile("mv %0, sp" : "=r"(sp));
+#else
+    __asm volatile("mov %0, sp" : "=r"(sp));
+#endif
+    return sp;
+}
+
+#endif
