@@ -10,6 +10,7 @@
 #include "okid/modal_indicators.h"
 #include "okid/model.h"
 #include "okid/random.h"
+#include "okid/refine.h"
 #include "okid/stabilization.h"
 #include "okid/status.h"
 #include "okid/types.h"
