@@ -252,9 +252,70 @@ static void print_stabilization(const okid_stabilization *st)
     }
 }
 
-/* Print the result (and the stabilization diagram when asked) as a table or JSON. */
+/*
+ * The prediction-error refinement of res over the record u, y (n samples), fed to the refiner
+ * once per pass in blocks as a file reader would. *ws is the caller's to free. A refinement
+ * that stops without converging is a warning on stderr; its result is still reported.
+ */
+static int refine_model(const identify_options *o, const okid_result *res, size_t n, const okid_real *u,
+                        const okid_real *y, okid_refiner *rf, void **ws, okid_refine_result *out)
+{
+    enum { BLOCK = 4096 };
+    const int r = res->B.cols, m = res->C.rows;
+    if (res->decimation > 1) {
+        return cli_error(EXIT_USAGE, "--refine with --decimation %d: the refinement needs the record at the model's "
+                         "sample interval; identify without decimation", res->decimation);
+    }
+    size_t bytes = 0;
+    okid_status st = okid_refine_workspace_size(res->order, r, m, &bytes);
+    *ws = st == OKID_OK ? aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16) : NULL;
+    if (*ws == NULL) {
+        return cli_error(EXIT_DATA, "refinement: %s", st == OKID_OK ? "out of memory" : okid_status_str(st));
+    }
+    st = okid_refine_init(rf, &o->refine_cfg, res, o->cfg.sensing, *ws, bytes, NULL);
+    okid_refine_state state = OKID_REFINE_NEED_PASS;
+    while (st == OKID_OK && state == OKID_REFINE_NEED_PASS) {
+        st = okid_refine_begin_pass(rf);
+        for (size_t k = 0; st == OKID_OK && k < n; k += BLOCK) {
+            const size_t len = n - k < BLOCK ? n - k : BLOCK;
+            st = okid_refine_push_block(rf, len, u + k * (size_t)r, (size_t)r, y + k * (size_t)m, (size_t)m);
+        }
+        if (st == OKID_OK) st = okid_refine_end_pass(rf, &state);
+    }
+    if (st == OKID_OK) st = okid_refine_get_result(rf, out);
+    if (st != OKID_OK) {
+        return cli_error(EXIT_DATA, "refinement failed: %s", okid_status_str(st));
+    }
+    if (state != OKID_REFINE_CONVERGED) {
+        fprintf(stderr, "okid: warning: the refinement did not converge (%s after %d passes)%s\n",
+                okid_refine_state_str(state), out->passes,
+                state == OKID_REFINE_DIVERGED ? ": the modes are OKID/ERA's" : ": the modes are the best found");
+    }
+    return 0;
+}
+
+static void print_refinement(const okid_refine_result *rr, int m)
+{
+    printf("\nrefinement (prediction error, %d parameters): %s after %d passes, %d steps\n", rr->num_parameters,
+           okid_refine_state_str(rr->state), rr->passes, rr->iterations);
+    printf("residual RMS per output, start -> end:");
+    for (int i = 0; i < m; ++i) {
+        printf(" %.4g -> %.4g", (double)rr->residual_rms_start[i], (double)rr->residual_rms[i]);
+    }
+    for (unsigned bit = 1; bit != 0 && bit <= rr->warnings; bit <<= 1) {
+        if (rr->warnings & bit) printf("\nwarning: %s", okid_warning_str(bit));
+    }
+    printf("\n mode  frequency [Hz]  +/- 1 std       damping ratio  +/- 1 std\n");
+    for (int i = 0; i < rr->num_modes; ++i) {
+        printf("%5d  %14.8f  %-14.3g  %13.8f  %.3g%s\n", i + 1, (double)rr->modes[i].frequency_hz,
+               (double)rr->mode_std[i].frequency_hz, (double)rr->modes[i].damping_ratio,
+               (double)rr->mode_std[i].damping_ratio, rr->modes[i].is_pair ? "" : "  (real)");
+    }
+}
+
+/* Print the result (and the stabilization diagram and refinement when asked) as a table or JSON. */
 static int report(const identify_options *o, const okid_config *cfg, okid_identifier *id, const okid_result *res,
-                  const column_choice *cc, double elapsed)
+                  const column_choice *cc, double elapsed, const okid_refine_result *refined)
 {
     okid_stabilization st;
     void *stab_ws = NULL;
@@ -278,10 +339,12 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
     if (o->json) {
         json_result(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
         if (stab_ws != NULL) json_stabilization(stdout, &st, o->stabilization, 2, cfg->num_outputs);
+        if (refined != NULL) json_refinement(stdout, &o->refine_cfg, refined, cfg->num_outputs);
         fputs("\n}\n", stdout);
     } else {
         print_table(cfg, res, cc, o->file);
         if (stab_ws != NULL && st.num_orders > 0) print_stabilization(&st);
+        if (refined != NULL) print_refinement(refined, cfg->num_outputs);
         if (o->timing) printf("\nelapsed from okid_init to the modes: %.6f s\n", elapsed);
     }
     free(stab_ws);
@@ -365,7 +428,12 @@ static int run(identify_options *o, const csv_table *t)
     } else if (st != OKID_OK) {
         rc = cli_error(EXIT_DATA, "identification failed: %s", okid_status_str(st));
     } else {
-        rc = report(o, &cfg, &id, &res, cc, elapsed);
+        okid_refiner rf;
+        okid_refine_result refined;
+        void *rf_ws = NULL;
+        rc = o->refine ? refine_model(o, &res, n, u, y, &rf, &rf_ws, &refined) : 0;
+        if (rc == 0) rc = report(o, &cfg, &id, &res, cc, elapsed, o->refine ? &refined : NULL);
+        free(rf_ws);
     }
     free(ws);
     free(u);
