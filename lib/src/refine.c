@@ -25,7 +25,7 @@ okid_status okid_refine_config_default(okid_refine_config *cfg)
         return OKID_E_NULL_POINTER;
     }
     cfg->max_passes = 30;
-    cfg->step_tolerance = OKID_R(1e-6);
+    cfg->step_tolerance = OKID_REFINE_STEP_TOLERANCE;
     return OKID_OK;
 }
 
@@ -140,7 +140,7 @@ okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, co
         rf->cfg_.max_passes = 30;
     }
     if (rf->cfg_.step_tolerance == 0) {
-        rf->cfg_.step_tolerance = OKID_R(1e-6);
+        rf->cfg_.step_tolerance = OKID_REFINE_STEP_TOLERANCE;
     }
     rf->n_ = n;
     rf->r_ = r;

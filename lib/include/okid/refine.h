@@ -71,10 +71,19 @@ typedef struct okid_refine_config {
     /**
      * Converged when the Gauss-Newton decrement g' N^-1 g (the expected decrease of twice the
      * negative log-likelihood; a step of s standard deviations gives about s^2) falls below it.
-     * Finite, >= 0; 0 = 1e-6 (steps of a thousandth of a standard deviation).
+     * Finite, >= 0; 0 = OKID_REFINE_STEP_TOLERANCE: 1e-6 in double (steps of a thousandth of a
+     * standard deviation), 1e-2 in float (a tenth: float's round-off in the normal equations of a
+     * long record is larger than 1e-6; a smaller value then ends in OKID_REFINE_NOT_IMPROVING).
      */
     okid_real step_tolerance;
 } okid_refine_config;
+
+/** The default step_tolerance for the working precision. */
+#if OKID_REAL_IS_FLOAT
+#define OKID_REFINE_STEP_TOLERANCE 1e-2f
+#else
+#define OKID_REFINE_STEP_TOLERANCE 1e-6
+#endif
 
 /** Standard deviations of one mode, from the inverse of the final Fisher information. */
 typedef struct okid_mode_std {
@@ -137,7 +146,7 @@ typedef struct okid_refiner {
 #define OKID_REFINE_PARAMETERS(n, r, m) ((size_t)(n) * ((size_t)(r) + (size_t)(m) + 1u) + (size_t)(m) * (size_t)(r))
 
 /**
- * Fill the settings with their defaults: max_passes 30, step_tolerance 1e-6.
+ * Fill the settings with their defaults: max_passes 30, step_tolerance OKID_REFINE_STEP_TOLERANCE.
  * \return OKID_OK, OKID_E_NULL_POINTER
  */
 okid_status okid_refine_config_default(okid_refine_config *cfg);

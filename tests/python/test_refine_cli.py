@@ -1,0 +1,77 @@
+"""okid identify --refine end to end: the refined modes against the exact ones of the paper's
+system (computed here with numpy, never through the library), their standard deviations, the
+warning when the refinement stops early, and the refusal with decimation."""
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+OKID = os.environ.get("OKID_CLI", "okid")
+
+
+def run(*args):
+    return subprocess.run([OKID, *map(str, args)], capture_output=True, text=True, timeout=120)
+
+
+def exact_modes():
+    """Frequencies [Hz] and damping ratios of the paper's 2-DOF chain (m 2, 3; r 2, 4, 3; k 20, 40, 30)."""
+    M = np.diag([2.0, 3.0])
+    R = np.array([[6.0, -4.0], [-4.0, 7.0]])
+    K = np.array([[60.0, -40.0], [-40.0, 70.0]])
+    Ac = np.block([[np.zeros((2, 2)), np.eye(2)], [-np.linalg.solve(M, K), -np.linalg.solve(M, R)]])
+    s = np.linalg.eigvals(Ac)
+    s = s[s.imag > 0]
+    s = s[np.argsort(abs(s))]
+    return abs(s) / (2 * np.pi), -s.real / abs(s)
+
+
+@pytest.fixture(scope="module")
+def record(tmp_path_factory):
+    path = tmp_path_factory.mktemp("data") / "paper.csv"
+    proc = run("simulate", "--samples", 2001, "--dt", 0.05, "--noise", 0.05, "--seed", 7, "--output", path)
+    assert proc.returncode == 0, proc.stderr
+    return path
+
+
+def test_refined_modes_with_error_bars(record):
+    proc = run("identify", "--order", 4, "--refine", "--json", record)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr == ""  # converged: no warning
+    out = json.loads(proc.stdout)
+    ref = out["refinement"]
+    assert ref["state"] == "converged" and ref["num_parameters"] == 18 and ref["samples"] == 2001
+    assert ref["config"] == {"max_passes": 30, "step_tolerance": 1e-6}
+    freq, zeta = exact_modes()
+    modes = [m for m in ref["modes"] if m["is_pair"]]
+    assert len(modes) == 2
+    for k, mode in enumerate(modes):
+        for key in ("frequency_std", "damping_std"):
+            assert 0 < mode[key] < 0.01
+        assert len(mode["eigenvalue_std"]) == 2 and len(mode["pole_std"]) == 2
+        # the largest shape component is real by normalisation: its imaginary part has no spread
+        spread = [v for z in mode["sensor_shape_std"] for v in z]
+        assert len(spread) == 4 and all(0 <= v < 0.1 for v in spread) and sum(v > 0 for v in spread) == 3
+        # one record: the truth within 4 standard deviations (the 200-record coverage is test_refine's)
+        assert abs(mode["frequency_hz"] - freq[k]) < 4 * mode["frequency_std"]
+        assert abs(mode["damping_ratio"] - zeta[k]) < 4 * mode["damping_std"]
+    # the residuals shrink or stay: the refinement minimises them
+    assert all(e <= s * (1 + 1e-9) for e, s in zip(ref["residual_rms"], ref["residual_rms_start"]))
+
+
+def test_stopping_early_warns(record):
+    proc = run("identify", "--order", 4, "--refine", "--max-passes", 2, record)
+    assert proc.returncode == 0, proc.stderr
+    assert "warning: the refinement did not converge" in proc.stderr
+    assert "max_passes reached" in proc.stdout
+
+
+def test_refine_with_decimation_is_refused(record):
+    proc = run("identify", "--order", 4, "--refine", "--decimation", 2, record)
+    assert proc.returncode == 2 and "--refine with --decimation 2" in proc.stderr
+
+
+def test_settings_out_of_range(record):
+    assert run("identify", "--refine", "--max-passes", 1, record).returncode == 2
+    assert run("identify", "--refine", "--step-tolerance", -1, record).returncode == 2
