@@ -6,6 +6,7 @@
 #define OKID_OKID_H
 
 #include "okid/identifier.h"
+#include "okid/lifting.h"
 #include "okid/modal.h"
 #include "okid/modal_indicators.h"
 #include "okid/model.h"
