@@ -19,20 +19,26 @@ typedef struct refine_run {
     okid_status init_status;
 } refine_run;
 
-/* The paper's record at dt with output noise, p = 20 (or given), Hankel 20 x 20, n = 4. */
-static void identify_record(refine_run *run, double dt, size_t count, const okid_real *u, const okid_real *y, int p)
+/* OKID/ERA of a paper record: observer order p, Hankel h x h, n = 4. */
+static void identify_record_h(refine_run *run, double dt, size_t count, const okid_real *u, const okid_real *y, int p,
+                              int h)
 {
     okid_config cfg;
     okid_config_default(&cfg, 1, 2);
     cfg.dt = (okid_real)dt;
     cfg.observer_order = p;
     cfg.order = 4;
-    cfg.hankel_rows = cfg.hankel_cols = 20;
+    cfg.hankel_rows = cfg.hankel_cols = h;
     size_t bytes = 0;
     run->id_ws = test_workspace(&cfg, &bytes);
     assert_int_equal(okid_init(&run->id, &cfg, run->id_ws, bytes, NULL), OKID_OK);
     assert_int_equal(okid_push_block(&run->id, count, u, 1, y, 2, NULL), OKID_OK);
     assert_int_equal(okid_identify(&run->id, &run->start), OKID_OK);
+}
+
+static void identify_record(refine_run *run, double dt, size_t count, const okid_real *u, const okid_real *y, int p)
+{
+    identify_record_h(run, dt, count, u, y, p, 20);
 }
 
 /* Refine over the record fed in blocks of block samples; returns the final state. */
@@ -134,24 +140,80 @@ static void test_blocks_do_not_matter(void **state)
 }
 
 /*
+ * The Cramer-Rao bound of f1, f2, zeta1, zeta2 for one record: the true model (REF_PAPER's exact
+ * ZOH at dt) refined over the noise-free record with the noise fixed at noise * RMS of each
+ * output (the definition of test_paper_record's noise) converges at once; its std is the bound.
+ */
+static void paper_crlb(double dt, size_t count, uint64_t seed, double noise, double bound[4])
+{
+    okid_real a[16], b[4], work[OKID_ZOH_WORK_REALS(4, 1)];
+    assert_int_equal(okid_discretize_zoh(4, 1, REF_PAPER.ac, REF_PAPER.bc, (okid_real)dt, a, b, work,
+                                         sizeof work / sizeof work[0]), OKID_OK);
+    okid_result truth;
+    memset(&truth, 0, sizeof truth);
+    truth.order = 4;
+    truth.dt = (okid_real)dt;
+    truth.A = (okid_matrix){a, 4, 4, 4};
+    truth.B = (okid_matrix){b, 4, 1, 4};
+    truth.C = (okid_matrix){REF_PAPER.c, 2, 4, 2};
+    truth.D = (okid_matrix){REF_PAPER.d, 2, 1, 2};
+    okid_real *u, *y;
+    test_paper_record(dt, count, seed, 0, &u, &y);
+    okid_real sigma[2] = {0, 0};
+    for (size_t k = 0; k < count; ++k) {
+        sigma[0] += y[2 * k] * y[2 * k];
+        sigma[1] += y[2 * k + 1] * y[2 * k + 1];
+    }
+    sigma[0] = (okid_real)(noise * sqrt((double)sigma[0] / (double)count));
+    sigma[1] = (okid_real)(noise * sqrt((double)sigma[1] / (double)count));
+    okid_refine_config rc;
+    okid_refine_config_default(&rc);
+    rc.max_passes = 2;
+    size_t bytes = 0;
+    assert_int_equal(okid_refine_workspace_size(4, 1, 2, &bytes), OKID_OK);
+    void *ws = aligned_alloc(OKID_WORKSPACE_ALIGN, bytes);
+    assert_non_null(ws);
+    okid_refiner rf;
+    assert_int_equal(okid_refine_init(&rf, &rc, &truth, OKID_SENSING_ACCELERATION, ws, bytes, NULL), OKID_OK);
+    assert_int_equal(okid_refine_set_noise(&rf, sigma), OKID_OK);
+    assert_int_equal(okid_refine_begin_pass(&rf), OKID_OK);
+    assert_int_equal(okid_refine_push_block(&rf, count, u, 1, y, 2), OKID_OK);
+    okid_refine_state st;
+    assert_int_equal(okid_refine_end_pass(&rf, &st), OKID_OK);
+    assert_int_equal(st, OKID_REFINE_CONVERGED);
+    okid_refine_result out;
+    assert_int_equal(okid_refine_get_result(&rf, &out), OKID_OK);
+    double f[2], z[2];
+    int idx[2];
+    assert_true(paper_modes(out.modes, out.num_modes, f, z, idx));
+    bound[0] = (double)out.mode_std[idx[0]].frequency_hz;
+    bound[1] = (double)out.mode_std[idx[1]].frequency_hz;
+    bound[2] = (double)out.mode_std[idx[0]].damping_ratio;
+    bound[3] = (double)out.mode_std[idx[1]].damping_ratio;
+    free(ws);
+    free(u);
+    free(y);
+}
+
+/*
  * Monte Carlo over noise realisations: the refined modes scatter less than OKID/ERA's, their
  * error is what their standard deviations say (the +-2 sigma intervals hold the exact value
- * 90-98 % of the time for each of the four quantities), and the stated sigma agrees with the
- * empirical scatter.
+ * 90-98 % of the time for each of the four quantities), the stated sigma agrees with the
+ * empirical scatter, and the scatter is the Cramer-Rao bound's (within the 200 draws' spread).
  */
-static void monte_carlo(double dt, size_t count, double noise, int realisations, int p)
+static void monte_carlo(double dt, size_t count, double noise, int realisations, int p, int h)
 {
     enum { Q = 4 }; /* f1, f2, zeta1, zeta2 */
     double truth[Q] = {REF_PAPER.freq_hz[0], REF_PAPER.freq_hz[1], REF_PAPER.damping_ratio[0],
                        REF_PAPER.damping_ratio[1]};
-    double se_era[Q] = {0}, se_ref[Q] = {0}, sum_sigma2[Q] = {0};
+    double se_era[Q] = {0}, se_ref[Q] = {0}, sum_sigma2[Q] = {0}, sum_bound2[Q] = {0};
     int inside[Q] = {0}, converged = 0;
     for (int s = 0; s < realisations; ++s) {
         okid_real *u, *y;
         test_paper_record(dt, count, 1000u + (uint64_t)s, noise, &u, &y);
         refine_run run;
         memset(&run, 0, sizeof run);
-        identify_record(&run, dt, count, u, y, p);
+        identify_record_h(&run, dt, count, u, y, p, h);
         double f0[2], z0[2], f1[2], z1[2];
         int i0[2], i1[2];
         assert_true(paper_modes(run.start.modes, run.start.num_modes, f0, z0, i0));
@@ -168,6 +230,11 @@ static void monte_carlo(double dt, size_t count, double noise, int realisations,
             sum_sigma2[q] += sigma[q] * sigma[q];
             inside[q] += fabs(ref[q] - truth[q]) <= 2 * sigma[q];
         }
+        double bound[Q];
+        paper_crlb(dt, count, 1000u + (uint64_t)s, noise, bound);
+        for (int q = 0; q < Q; ++q) {
+            sum_bound2[q] += bound[q] * bound[q];
+        }
         free_run(&run);
         free(u);
         free(y);
@@ -179,12 +246,19 @@ static void monte_carlo(double dt, size_t count, double noise, int realisations,
         const double rms_era = sqrt(se_era[q] / realisations), rms_ref = sqrt(se_ref[q] / realisations);
         const double rms_sigma = sqrt(sum_sigma2[q] / realisations);
         const double coverage = (double)inside[q] / realisations;
-        print_message("  %-5s rms error okid/era %.3e refined %.3e, stated sigma %.3e, +-2 sigma coverage %.1f %%\n",
-                      names[q], rms_era, rms_ref, rms_sigma, 100 * coverage);
+        const double crlb = sqrt(sum_bound2[q] / realisations);
+        print_message("  %-5s rms error okid/era %.3e refined %.3e, stated sigma %.3e, +-2 sigma coverage %.1f %%\n"
+                      "        CRLB %.3e: okid/era %.2f x, refined %.2f x the bound\n",
+                      names[q], rms_era, rms_ref, rms_sigma, 100 * coverage, crlb, rms_era / crlb, rms_ref / crlb);
+        /* the sample rms of N draws has a relative spread of about 1 / sqrt(2 N): 3.5 of those */
+        const double spread = 3.5 / sqrt(2.0 * realisations);
+        assert_true(rms_ref > (1 - spread) * crlb && rms_ref < (1 + spread) * crlb);
         assert_true(rms_ref < rms_era);
-        assert_true(coverage >= 0.90 && coverage <= 0.98);
-        /* the stated sigma is the scatter: within 25 % (the sample rms of 200 draws is within ~10 %) */
-        assert_true(rms_sigma > 0.75 * rms_ref && rms_sigma < 1.25 * rms_ref);
+        if (realisations >= 200) { /* the coverage of fewer draws spreads too much to judge */
+            assert_true(coverage >= 0.90 && coverage <= 0.98);
+        }
+        /* the stated sigma is the scatter */
+        assert_true(rms_sigma > (1 - spread) * rms_ref && rms_sigma < (1 + spread) * rms_ref);
     }
     assert_true(converged >= realisations * 9 / 10);
 }
@@ -192,7 +266,14 @@ static void monte_carlo(double dt, size_t count, double noise, int realisations,
 static void test_calibrated_dt005(void **state)
 {
     (void)state;
-    monte_carlo(0.05, 2001, 0.05, 200, 20);
+    monte_carlo(0.05, 2001, 0.05, 200, 20, 20);
+}
+
+/* The second configuration, fewer realisations (the bound, not the coverage, is the point). */
+static void test_bound_dt001(void **state)
+{
+    (void)state;
+    monte_carlo(0.01, 10001, 0.02, 40, 40, 100);
 }
 
 static void test_api_refusals(void **state)
@@ -287,6 +368,7 @@ int main(void)
         cmocka_unit_test(test_blocks_do_not_matter),
         cmocka_unit_test(test_api_refusals),
         cmocka_unit_test(test_calibrated_dt005),
+        cmocka_unit_test(test_bound_dt001),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -154,7 +154,7 @@ okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, co
     }
     okid_refine_apply(rf, rf->theta_);
     rf->state_ = OKID_REFINE_NEED_PASS;
-    rf->passes_ = rf->iterations_ = rf->in_pass_ = rf->finished_ = 0;
+    rf->passes_ = rf->iterations_ = rf->in_pass_ = rf->finished_ = rf->noise_fixed_ = 0;
     rf->best_ = 0;
     rf->mu_ = OKID_REFINE_MU_START;
     rf->cost_best_ = 0;
@@ -175,6 +175,31 @@ static okid_status check(const okid_refiner *rf)
         return OKID_E_NULL_POINTER;
     }
     return rf->magic_ == OKID_REFINE_MAGIC ? OKID_OK : OKID_E_NOT_INITIALIZED;
+}
+
+okid_status okid_refine_set_noise(okid_refiner *rf, const okid_real *noise_std)
+{
+    okid_status st = check(rf);
+    if (st != OKID_OK) {
+        return st;
+    }
+    if (noise_std == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    for (int i = 0; i < rf->m_; ++i) {
+        if (!okid_is_finite(noise_std[i]) || !(noise_std[i] > 0) || !okid_is_finite(1 / (noise_std[i] * noise_std[i]))) {
+            return OKID_E_BAD_PARAMETER;
+        }
+    }
+    if (rf->passes_ > 0 || rf->in_pass_ || rf->finished_) {
+        return OKID_E_NOT_AVAILABLE;
+    }
+    for (int i = 0; i < rf->m_; ++i) {
+        rf->weight_[i] = 1 / (noise_std[i] * noise_std[i]);
+    }
+    rf->noise_fixed_ = 1;
+    rf->passes_ = 1; /* no residual pass: the weights are known */
+    return OKID_OK;
 }
 
 /* Pass 1 measures residuals only; later passes also accumulate the Jacobian. */
@@ -446,7 +471,7 @@ okid_status okid_refine_end_pass(okid_refiner *rf, okid_refine_state *state)
     }
     rf->in_pass_ = 0;
     const int m = rf->m_, np = rf->np_;
-    if (rf->passes_ > 0 && rf->pass_samples_ != rf->samples_) {
+    if (rf->samples_ > 0 && rf->pass_samples_ != rf->samples_) {
         return OKID_E_BAD_SIZE;
     }
     if (rf->samples_used_ * (uint64_t)m <= (uint64_t)np) {
@@ -460,13 +485,15 @@ okid_status okid_refine_end_pass(okid_refiner *rf, okid_refine_state *state)
         if (rf->ss_[i] < floor) {
             rf->ss_[i] = floor;
         }
-        cost += okid_log(rf->ss_[i] / used);
+        cost += rf->noise_fixed_ ? rf->ss_[i] * rf->weight_[i] : used * okid_log(rf->ss_[i] / used);
     }
-    cost *= used / 2;
+    cost /= 2;
     const int finite = okid_is_finite(cost);
+    if (rf->samples_ == 0) {
+        rf->samples_ = rf->pass_samples_; /* the first pass sets the record's length */
+    }
 
     if (rf->passes_ == 0) { /* the residual pass of the start model */
-        rf->samples_ = rf->pass_samples_;
         rf->passes_ = 1;
         if (!finite) {
             finish(rf, OKID_REFINE_DIVERGED);
@@ -490,13 +517,17 @@ okid_status okid_refine_end_pass(okid_refiner *rf, okid_refine_state *state)
             rf->theta_best_[p] = rf->theta_[p];
             okid_real g = 0;
             for (int i = 0; i < m; ++i) {
-                g += (used / rf->ss_[i]) * rf->grad_[(size_t)i * (size_t)np + (size_t)p];
+                const okid_real w = rf->noise_fixed_ ? rf->weight_[i] : used / rf->ss_[i];
+                g += w * rf->grad_[(size_t)i * (size_t)np + (size_t)p];
             }
             rf->grad_best_[p] = g;
         }
         for (int i = 0; i < m; ++i) {
-            rf->weight_[i] = used / rf->ss_[i];
+            rf->weight_[i] = rf->noise_fixed_ ? rf->weight_[i] : used / rf->ss_[i];
             rf->rms_[i] = okid_sqrt(rf->ss_[i] / used);
+            if (first_jacobian && rf->noise_fixed_) {
+                rf->rms_start_[i] = rf->rms_[i];
+            }
         }
         if (!first_jacobian) {
             ++rf->iterations_;

@@ -122,7 +122,7 @@ typedef struct okid_refiner {
     okid_sensing sensing_;
     okid_real dt_;
     okid_refine_state state_;
-    int passes_, iterations_, in_pass_, finished_;
+    int passes_, iterations_, in_pass_, finished_, noise_fixed_;
     int best_;                  /* which of the two normal-matrix buffers holds the accepted one */
     okid_real mu_, cost_best_;
     uint64_t samples_, pass_samples_, samples_used_;
@@ -170,6 +170,19 @@ okid_status okid_refine_workspace_size(int n, int r, int m, size_t *bytes);
  */
 okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, const okid_result *start,
                              okid_sensing sensing, void *workspace, size_t bytes, size_t *bytes_needed);
+
+/**
+ * Fix the standard deviation of each output's noise (sensor specifications, or a planned
+ * experiment) instead of estimating it from the residuals. Call it after okid_refine_init() and
+ * before the first pass: the cost becomes sum_i s_i / (2 sigma_i^2) and the residual pass is
+ * skipped. The Cramer-Rao bound of an experiment is the refinement of its true model over its
+ * noise-free record with the planned noise: the first pass converges at once (zero residuals)
+ * and okid_refine_result::mode_std holds the bound (okid crlb, docs/refinement.md).
+ * \param[in] noise_std  m values, finite and > 0
+ * eturn OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_BAD_PARAMETER (a value
+ *         not finite or not > 0: nothing changes), OKID_E_NOT_AVAILABLE (a pass has begun)
+ */
+okid_status okid_refine_set_noise(okid_refiner *rf, const okid_real *noise_std);
 
 /**
  * Begin a pass: the next samples pushed are the record from its first sample on.
