@@ -75,3 +75,37 @@ def test_refine_with_decimation_is_refused(record):
 def test_settings_out_of_range(record):
     assert run("identify", "--refine", "--max-passes", 1, record).returncode == 2
     assert run("identify", "--refine", "--step-tolerance", -1, record).returncode == 2
+
+
+def read_bound(text):
+    rows = [line.split(",") for line in text.splitlines() if line and line[0].isdigit()]
+    return np.array([[float(r[2]), float(r[4])] for r in rows])  # [mode] -> (frequency_std, damping_std)
+
+
+def test_crlb_is_what_the_refined_estimate_scatters(tmp_path):
+    """Monte Carlo of the maximum-likelihood estimate (okid identify --refine) over 60 records:
+    its RMS error is the bound okid crlb states for them, within the 60 draws' spread."""
+    freq, zeta = exact_modes()
+    errors, bounds = [], []
+    for seed in range(1, 61):
+        common = ["--samples", 2001, "--dt", 0.05, "--noise", 0.05, "--seed", seed]
+        path = tmp_path / f"r{seed}.csv"
+        assert run("simulate", *common, "--output", path).returncode == 0
+        proc = run("identify", "--order", 4, "--refine", "--json", path)
+        assert proc.returncode == 0, proc.stderr
+        modes = [m for m in json.loads(proc.stdout)["refinement"]["modes"] if m["is_pair"]]
+        errors.append([[m["frequency_hz"] - f, m["damping_ratio"] - z] for m, f, z in zip(modes, freq, zeta)])
+        bound = run("crlb", *common)
+        assert bound.returncode == 0, bound.stderr
+        bounds.append(read_bound(bound.stdout))
+    rms = np.sqrt(np.mean(np.square(errors), axis=0))
+    crlb = np.sqrt(np.mean(np.square(bounds), axis=0))
+    spread = 3.5 / np.sqrt(2 * len(errors))
+    assert np.all(abs(rms / crlb - 1) < spread), (rms / crlb)
+
+
+def test_crlb_refusals():
+    assert run("crlb").returncode == 2  # no noise: no bound
+    assert run("crlb", "--noise", -1).returncode == 2
+    proc = run("crlb", "--noise", 0.02)
+    assert proc.returncode == 0 and proc.stdout.count("\n") == 4  # the paper's two modes
