@@ -292,6 +292,16 @@ static void test_api_refusals(void **state)
     assert_int_equal(okid_refine_workspace_size(0, 1, 2, &bytes), OKID_E_BAD_SIZE);
     assert_int_equal(okid_refine_workspace_size(4, 1, 2, NULL), OKID_E_NULL_POINTER);
     assert_int_equal(okid_refine_workspace_size(4, 1, 2, &bytes), OKID_OK);
+    /* the compile-time size is the function's */
+    for (int n = 1; n <= 12; ++n) {
+        for (int r = 1; r <= 4; ++r) {
+            for (int m = 1; m <= 6; ++m) {
+                size_t got = 0;
+                assert_int_equal(okid_refine_workspace_size(n, r, m, &got), OKID_OK);
+                assert_int_equal(got, OKID_REFINE_WORKSPACE_BYTES(n, r, m));
+            }
+        }
+    }
     run.rf_ws = aligned_alloc(OKID_WORKSPACE_ALIGN, bytes + 16);
     assert_non_null(run.rf_ws);
     okid_refiner *rf = &run.rf;

@@ -43,9 +43,7 @@ const char *okid_refine_state_str(okid_refine_state state)
 
 size_t okid_refine_scratch_reals(int n, int np)
 {
-    const size_t nn = (size_t)n, eig = 2u * nn * nn + 2u * nn + OKID__LWORK_GEEV(n);
-    const size_t normal = (size_t)np * (size_t)np;
-    return eig > normal ? eig : normal;
+    return OKID__REFINE_SCRATCH(n, np);
 }
 
 /* Lay out the workspace (base NULL: only count). */

@@ -145,6 +145,25 @@ typedef struct okid_refiner {
 /** Parameters of the refinement of an n-state model with r inputs and m outputs (at most). */
 #define OKID_REFINE_PARAMETERS(n, r, m) ((size_t)(n) * ((size_t)(r) + (size_t)(m) + 1u) + (size_t)(m) * (size_t)(r))
 
+/* Reals of each of the two normal-matrix buffers (internal; the eigenvalue scratch shares them). */
+#define OKID__REFINE_SCRATCH(n, np)                                                                  \
+    OKID__MAX(2u * (size_t)(n) * (size_t)(n) + 2u * (size_t)(n) + OKID__LWORK_GEEV(n), (size_t)(np) * (size_t)(np))
+
+/**
+ * Workspace bytes of a refinement of an n-state model with r inputs and m outputs, at compile
+ * time (equal to okid_refine_workspace_size(); checked by test_refine).
+ */
+#define OKID_REFINE_WORKSPACE_BYTES(n, r, m)                                                                       \
+    (OKID__ALIGN16(sizeof(int) * 4u * OKID_REFINE_PARAMETERS(n, r, m)) + OKID__ALIGN16(sizeof(int) * 4u * (size_t)(n)) \
+     + 2u * OKID__RB(OKID_REFINE_PARAMETERS(n, r, m)) + 2u * OKID__RB(n) + OKID__RB((size_t)(n) * (size_t)(r))        \
+     + OKID__RB((size_t)(m) * (size_t)(n)) + OKID__RB((size_t)(m) * (size_t)(r)) + 2u * OKID__RB(n)                    \
+     + OKID__RB(2u * OKID_REFINE_PARAMETERS(n, r, m)) + OKID__RB((size_t)(m) * OKID_REFINE_PARAMETERS(n, r, m))        \
+     + 2u * OKID__RB(OKID__REFINE_SCRATCH(n, OKID_REFINE_PARAMETERS(n, r, m)))                                       \
+     + OKID__RB((size_t)(m) * OKID_REFINE_PARAMETERS(n, r, m)) + 3u * OKID__RB(OKID_REFINE_PARAMETERS(n, r, m))        \
+     + 5u * OKID__RB(m) + OKID__RB((size_t)(n) * (size_t)(n)) + OKID__ALIGN16(sizeof(okid_mode) * (size_t)(n))         \
+     + OKID__ALIGN16(sizeof(okid_mode_std) * (size_t)(n)) + OKID__ALIGN16(sizeof(okid_complex) * (size_t)(n) * 3u * (size_t)(m)) \
+     + OKID__ALIGN16(sizeof(okid_complex) * (size_t)(n) * (size_t)(m)))
+
 /**
  * Fill the settings with their defaults: max_passes 30, step_tolerance OKID_REFINE_STEP_TOLERANCE.
  * \return OKID_OK, OKID_E_NULL_POINTER
@@ -179,7 +198,8 @@ okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, co
  * noise-free record with the planned noise: the first pass converges at once (zero residuals)
  * and okid_refine_result::mode_std holds the bound (okid crlb, docs/refinement.md).
  * \param[in] noise_std  m values, finite and > 0
- * eturn OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_BAD_PARAMETER (a value
+ * 
+eturn OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_BAD_PARAMETER (a value
  *         not finite or not > 0: nothing changes), OKID_E_NOT_AVAILABLE (a pass has begun)
  */
 okid_status okid_refine_set_noise(okid_refiner *rf, const okid_real *noise_std);
