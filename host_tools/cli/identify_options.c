@@ -146,5 +146,16 @@ int identify_parse_options(int argc, char **argv, identify_options *o)
     }
     o->file = file;
     o->have_dt = o->dt > 0;
+    /* --refine chooses p and the Hankel size itself unless one of them is given (docs/refinement.md) */
+    static const char *const horizons[] = {"--observer-order", "--hankel-rows", "--hankel-cols", "--observer-seconds",
+                                           "--hankel-seconds"};
+    for (int i = 1; i < argc; ++i) {
+        for (size_t k = 0; k < sizeof horizons / sizeof horizons[0]; ++k) {
+            const size_t len = strlen(horizons[k]);
+            if (strncmp(argv[i], horizons[k], len) == 0 && (argv[i][len] == '\0' || argv[i][len] == '=')) {
+                o->horizons_given = 1;
+            }
+        }
+    }
     return 0;
 }

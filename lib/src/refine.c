@@ -493,6 +493,7 @@ okid_status okid_refine_end_pass(okid_refiner *rf, okid_refine_state *state)
 
     if (rf->passes_ == 0) { /* the residual pass of the start model */
         rf->passes_ = 1;
+        rf->cost_best_ = cost; /* not finite when diverged */
         if (!finite) {
             finish(rf, OKID_REFINE_DIVERGED);
         } else {
@@ -500,7 +501,6 @@ okid_status okid_refine_end_pass(okid_refiner *rf, okid_refine_state *state)
                 rf->weight_[i] = used / rf->ss_[i];
                 rf->rms_start_[i] = rf->rms_[i] = okid_sqrt(rf->ss_[i] / used);
             }
-            rf->cost_best_ = cost;
         }
         *state = rf->state_;
         return OKID_OK;
@@ -577,6 +577,7 @@ okid_status okid_refine_get_result(const okid_refiner *rf, okid_refine_result *r
     result->initial_state = rf->x0_;
     result->residual_rms_start = rf->rms_start_;
     result->residual_rms = rf->rms_;
+    result->cost = rf->cost_best_;
     result->dt = rf->dt_;
     result->samples = rf->samples_;
     result->warnings = rf->warnings_;

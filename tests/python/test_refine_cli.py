@@ -109,3 +109,32 @@ def test_crlb_refusals():
     assert run("crlb", "--noise", -1).returncode == 2
     proc = run("crlb", "--noise", 0.02)
     assert proc.returncode == 0 and proc.stdout.count("\n") == 4  # the paper's two modes
+
+
+def test_refine_chooses_its_start_from_the_data(tmp_path):
+    """Issue 18's newcomer case: 100 s at 100 Hz, 2 % noise, --order 4 and nothing else. OKID/ERA's
+    defaults (p = 20, Hankel 20 x 20) miss the 0.5 Hz pair; --refine without horizons tries a grid
+    of starts, keeps the most likely refinement, and reports the choice."""
+    path = tmp_path / "newcomer.csv"
+    assert run("simulate", "--samples", 10001, "--dt", 0.01, "--noise", 0.02, "--seed", 3, "--output", path).returncode == 0
+    plain = json.loads(run("identify", "--order", 4, "--json", path).stdout)
+    freq, zeta = exact_modes()
+    assert sum(m["is_pair"] for m in plain["modes"]) < 2  # the failure the issue shows
+    proc = run("identify", "--order", 4, "--refine", "--json", path)
+    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    out = json.loads(proc.stdout)
+    search = out["start_search"]
+    chosen = search["candidates"][search["chosen"]]
+    assert chosen["state"] == "converged"
+    assert out["config"]["observer_order"] == chosen["observer_order"]
+    assert out["config"]["hankel_rows"] == chosen["hankel_rows"]
+    assert all(c["cost"] is None or c["cost"] >= chosen["cost"] - 1e-3 for c in search["candidates"])
+    modes = [m for m in out["refinement"]["modes"] if m["is_pair"]]
+    assert len(modes) == 2
+    for k, mode in enumerate(modes):
+        assert abs(mode["frequency_hz"] - freq[k]) < 4 * mode["frequency_std"]
+        assert abs(mode["damping_ratio"] - zeta[k]) < 4 * mode["damping_std"]
+    # a horizon given: no search, the user's settings stand
+    given = json.loads(run("identify", "--order", 4, "--refine", "--json", "--observer-order", 40,
+                           "--hankel-rows", 100, "--hankel-cols", 100, path).stdout)
+    assert "start_search" not in given and given["config"]["observer_order"] == 40

@@ -109,6 +109,13 @@ typedef struct okid_refine_result {
     const okid_real *initial_state; /**< n values: the estimated x(0) */
     /** m values: residual RMS of each output at the start (the starting model) and at the end. */
     const okid_real *residual_rms_start, *residual_rms;
+    /**
+     * The final cost: (N/2) sum_i log(s_i / N) (estimated noise) or sum_i s_i / (2 sigma_i^2)
+     * (okid_refine_set_noise), N samples, s_i output i's residual sum of squares. Lower is more
+     * likely: refinements of the same record from different starts compare by it. Not finite
+     * when the refinement diverged.
+     */
+    okid_real cost;
     okid_real dt;
     uint64_t samples;           /**< samples per pass */
     unsigned warnings;          /**< okid_warning bits of the refined modes */
