@@ -41,16 +41,11 @@ const char *okid_refine_state_str(okid_refine_state state)
     return "unknown refinement state";
 }
 
-size_t okid_refine_scratch_reals(int n, int np)
-{
-    return OKID__REFINE_SCRATCH(n, np);
-}
-
 /* Lay out the workspace (base NULL: only count). */
 static size_t layout(okid_refiner *rf, void *base, int n, int r, int m)
 {
     const size_t np = OKID_REFINE_PARAMETERS(n, r, m), nn = (size_t)n, rr = (size_t)r, mm = (size_t)m;
-    const size_t scratch = okid_refine_scratch_reals(n, (int)np);
+    const size_t scratch = OKID__REFINE_SCRATCH(n, np);
     okid_carver c = {(unsigned char *)base, 0};
     rf->ptab_ = (int *)okid_carve_bytes(&c, sizeof(int) * 4u * np);
     rf->blk_ = (int *)okid_carve_bytes(&c, sizeof(int) * OKID_RB_INTS * nn);
@@ -81,7 +76,6 @@ static size_t layout(okid_refiner *rf, void *base, int n, int r, int m)
     rf->mode_std_ = (okid_mode_std *)okid_carve_bytes(&c, sizeof(okid_mode_std) * nn);
     rf->shapes_ = (okid_complex *)okid_carve_bytes(&c, sizeof(okid_complex) * nn * 3u * mm);
     rf->shape_std_ = (okid_complex *)okid_carve_bytes(&c, sizeof(okid_complex) * nn * mm);
-    rf->scratch_len_ = scratch;
     return c.used;
 }
 
@@ -145,7 +139,6 @@ okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, co
     rf->m_ = m;
     rf->sensing_ = sensing;
     rf->dt_ = start->dt;
-    rf->scratch_ = rf->nrm_[1];
     const okid_status st = okid_refine_modal_form(rf, start);
     if (st != OKID_OK) {
         return st;

@@ -21,12 +21,10 @@ enum {
 #define OKID_RB_LAMBDA 2 /* index of its OKID_RP_LAMBDA_RE parameter */
 #define OKID_RB_FIXED 3  /* the input whose B column is fixed to [1; 0] (or 1) */
 
-/* Reals of the scratch (each of the two normal-matrix buffers) for np parameters and n states. */
-size_t okid_refine_scratch_reals(int n, int np);
-
 /*
  * Real modal form of the start model: blocks, parameter table, theta, B, C, D; x0 = 0. Uses
- * rf->scratch_ (the spare buffer). Unstable eigenvalues are reflected into the unit circle.
+ * rf->nrm_[1] (OKID__REFINE_SCRATCH reals) as scratch. Unstable eigenvalues are reflected into
+ * the unit circle.
  */
 okid_status okid_refine_modal_form(okid_refiner *rf, const okid_result *start);
 

@@ -89,7 +89,7 @@ static okid_status fix_block_scale(okid_refiner *rf, int first, int size, int *f
 okid_status okid_refine_modal_form(okid_refiner *rf, const okid_result *start)
 {
     const int n = rf->n_, r = rf->r_, m = rf->m_;
-    okid_real *a_copy = rf->scratch_, *vr = a_copy + (size_t)n * n, *wr = vr + (size_t)n * n, *wi = wr + n;
+    okid_real *a_copy = rf->nrm_[1], *vr = a_copy + (size_t)n * n, *wr = vr + (size_t)n * n, *wi = wr + n;
     okid_real *work = wi + n;
     okid_copy_matrix(n, n, start->A.data, start->A.ld, a_copy, n);
     okid_status st = okid_la_eig(n, a_copy, n, wr, wi, vr, n, work);

@@ -137,7 +137,7 @@ typedef struct okid_refiner {
     int num_modes_;
     /* workspace views */
     int *ptab_;                 /* 4 ints per parameter: kind, block, row, col */
-    int *blk_;                  /* 2 ints per block: first state, size */
+    int *blk_;                  /* 4 ints per block: first state, size, eigenvalue parameter, fixed input */
     okid_real *theta_best_, *theta_, *lam_re_, *lam_im_, *b_, *c_, *d_, *x0_;
     okid_real *x_, *sens_, *jrow_, *nrm_[2], *grad_, *grad_best_, *step_, *diag_;
     okid_real *ss_, *yy_, *weight_, *rms_start_, *rms_;
@@ -145,8 +145,6 @@ typedef struct okid_refiner {
     okid_mode *modes_;
     okid_mode_std *mode_std_;
     okid_complex *shapes_, *shape_std_;
-    okid_real *scratch_;
-    size_t scratch_len_;
 } okid_refiner;
 
 /** Parameters of the refinement of an n-state model with r inputs and m outputs (at most). */
