@@ -273,7 +273,12 @@ static void test_calibrated_dt005(void **state)
 static void test_bound_dt001(void **state)
 {
     (void)state;
+#if OKID_REAL_IS_FLOAT
+    /* 10001 oversampled samples: the Fisher matrix is singular at float precision (docs/refinement.md) */
+    skip();
+#else
     monte_carlo(0.01, 10001, 0.02, 40, 40, 100);
+#endif
 }
 
 static void test_api_refusals(void **state)
