@@ -524,8 +524,13 @@ okid_status okid_refine_end_pass(okid_refiner *rf, okid_refine_state *state)
             ++rf->iterations_;
             rf->mu_ = rf->mu_ / 10 < OKID_REFINE_MU_MIN ? OKID_REFINE_MU_MIN : rf->mu_ / 10;
         }
+        /* noise-free data: once the model reproduces the record to round-off the steps are round-off too */
+        int exact = 1;
+        for (int i = 0; i < m; ++i) {
+            exact &= rf->ss_[i] <= (1000 * OKID_EPSILON) * (1000 * OKID_EPSILON) * rf->yy_[i];
+        }
         const okid_real dec = decrement(rf);
-        if (dec >= 0 && dec < rf->cfg_.step_tolerance) {
+        if (exact || (dec >= 0 && dec < rf->cfg_.step_tolerance)) {
             finish(rf, OKID_REFINE_CONVERGED);
             *state = rf->state_;
             return OKID_OK;

@@ -51,7 +51,10 @@ extern "C" {
 typedef enum okid_refine_state {
     /** Feed the record once more. */
     OKID_REFINE_NEED_PASS = 0,
-    /** The Gauss-Newton step is below step_tolerance: the estimate is the maximum-likelihood one. */
+    /**
+     * The Gauss-Newton step is below step_tolerance (or, on noise-free data, the model reproduces
+     * the record to within 1000 epsilon relative RMS): the estimate is the maximum-likelihood one.
+     */
     OKID_REFINE_CONVERGED = 1,
     /**
      * The starting model's predictions are not finite over the record (or no damped step keeps
