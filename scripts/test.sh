@@ -63,6 +63,8 @@ csv=$(mktemp --suffix=.csv)
 trap 'rm -f "$csv"' EXIT
 "${vg[@]}" build/host_tools/cli/okid simulate --output "$csv"
 "${vg[@]}" build/host_tools/cli/okid identify --json --order 4 "$csv" >/dev/null
+"${vg[@]}" build/host_tools/cli/okid identify --json --order 4 --refine --observer-order 20 "$csv" >/dev/null
+"${vg[@]}" build/host_tools/cli/okid crlb --noise 0.02 >/dev/null
 "${vg[@]}" build/tests/fmu_cosim build/fmu/fmi2/okid_plant_2dof build/fmu/fmi2/okid_identifier >/dev/null
 
 step "bounded fuzzing (libFuzzer, ASan + UBSan), ${FUZZ_SECONDS:-60} s per target"
