@@ -71,6 +71,8 @@ static size_t layout(okid_refiner *rf, void *base, int n, int r, int m)
     rf->weight_ = okid_carve_reals(&c, mm);
     rf->rms_start_ = okid_carve_reals(&c, mm);
     rf->rms_ = okid_carve_reals(&c, mm);
+    rf->e_ = okid_carve_reals(&c, mm);
+    rf->wj_ = okid_carve_reals(&c, mm);
     rf->a_full_ = okid_carve_reals(&c, nn * nn);
     rf->modes_ = (okid_mode *)okid_carve_bytes(&c, sizeof(okid_mode) * nn);
     rf->mode_std_ = (okid_mode_std *)okid_carve_bytes(&c, sizeof(okid_mode_std) * nn);
@@ -265,10 +267,9 @@ static void output_jacobian(okid_refiner *rf, const okid_real *u)
 static void accumulate(okid_refiner *rf, const okid_real *e)
 {
     const int m = rf->m_, np = rf->np_;
-    okid_real *nrm = rf->nrm_[1 - rf->best_];
+    okid_real *nrm = rf->nrm_[1 - rf->best_], *wjq = rf->wj_;
     for (int q = 0; q < np; ++q) {
         const okid_real *jq = rf->jrow_ + (size_t)q * (size_t)m;
-        okid_real wjq[OKID_MAX_DIMENSION];
         int nonzero = 0;
         for (int i = 0; i < m; ++i) {
             wjq[i] = rf->weight_[i] * jq[i];
@@ -376,7 +377,7 @@ okid_status okid_refine_push_block(okid_refiner *rf, size_t count, const okid_re
             use &= okid_is_finite(yk[i]);
         }
         if (use) {
-            okid_real e[OKID_MAX_DIMENSION];
+            okid_real *e = rf->e_;
             for (int i = 0; i < m; ++i) {
                 okid_real yhat = 0;
                 for (int j = 0; j < n; ++j) {

@@ -170,8 +170,10 @@ static void mode_std(okid_refiner *rf, const okid_mode *mode, int k, const okid_
         shape_std[i].re = shape_std[i].im = 0;
     }
     const okid_real h = okid_sqrt(OKID_EPSILON) * okid_sqrt(norm);
-    okid_complex plus[OKID_MAX_DIMENSION], minus[OKID_MAX_DIMENSION];
-    okid_real *grad = rf->nrm_[1 - rf->best_]; /* 2 m x (size m) derivatives, a column per C parameter */
+    /* in the spare normal-matrix buffer (np^2 >= 4 m^2 + 8 m reals): the 2 m x (size m) derivatives,
+       a column per C parameter, then the two perturbed shapes */
+    okid_real *grad = rf->nrm_[1 - rf->best_];
+    okid_complex *plus = (okid_complex *)(grad + 4u * (size_t)m * (size_t)m), *minus = plus + m;
     const int cols = size * m;
     for (int c = 0; c < cols; ++c) {
         const int pi = c % m, ps = c / m;

@@ -143,7 +143,7 @@ typedef struct okid_refiner {
     int *blk_;                  /* 4 ints per block: first state, size, eigenvalue parameter, fixed input */
     okid_real *theta_best_, *theta_, *lam_re_, *lam_im_, *b_, *c_, *d_, *x0_;
     okid_real *x_, *sens_, *jrow_, *nrm_[2], *grad_, *grad_best_, *step_, *diag_;
-    okid_real *ss_, *yy_, *weight_, *rms_start_, *rms_;
+    okid_real *ss_, *yy_, *weight_, *rms_start_, *rms_, *e_, *wj_; /* e_, wj_: one sample's residual, weighted row */
     okid_real *a_full_;
     okid_mode *modes_;
     okid_mode_std *mode_std_;
@@ -168,7 +168,7 @@ typedef struct okid_refiner {
      + OKID__RB(2u * OKID_REFINE_PARAMETERS(n, r, m)) + OKID__RB((size_t)(m) * OKID_REFINE_PARAMETERS(n, r, m))        \
      + 2u * OKID__RB(OKID__REFINE_SCRATCH(n, OKID_REFINE_PARAMETERS(n, r, m)))                                       \
      + OKID__RB((size_t)(m) * OKID_REFINE_PARAMETERS(n, r, m)) + 3u * OKID__RB(OKID_REFINE_PARAMETERS(n, r, m))        \
-     + 5u * OKID__RB(m) + OKID__RB((size_t)(n) * (size_t)(n)) + OKID__ALIGN16(sizeof(okid_mode) * (size_t)(n))         \
+     + 7u * OKID__RB(m) + OKID__RB((size_t)(n) * (size_t)(n)) + OKID__ALIGN16(sizeof(okid_mode) * (size_t)(n))         \
      + OKID__ALIGN16(sizeof(okid_mode_std) * (size_t)(n)) + OKID__ALIGN16(sizeof(okid_complex) * (size_t)(n) * 3u * (size_t)(m)) \
      + OKID__ALIGN16(sizeof(okid_complex) * (size_t)(n) * (size_t)(m)))
 
