@@ -266,13 +266,17 @@ void json_stabilization(FILE *out, const okid_stabilization *st, int max_order, 
     fputs(st->num_orders ? "\n  ]}" : "]}", out);
 }
 
+const char *json_refine_state_name(okid_refine_state state)
+{
+    static const char *const names[] = {"need_pass", "converged", "diverged", "not_improving", "iteration_limit"};
+    return (unsigned)state < sizeof names / sizeof names[0] ? names[state] : "unknown";
+}
+
 void json_refinement(FILE *out, const okid_refine_config *cfg, const okid_refine_result *res, int m)
 {
-    static const char *const state_names[] = {"need_pass", "converged", "diverged", "not_improving",
-                                              "iteration_limit"};
     fprintf(out, ",\n  \"refinement\": {\"config\": {\"max_passes\": %d, \"step_tolerance\": ", cfg->max_passes);
     json_number(out, (double)cfg->step_tolerance);
-    fprintf(out, "},\n    \"state\": \"%s\", \"message\": ", state_names[res->state]);
+    fprintf(out, "},\n    \"state\": \"%s\", \"message\": ", json_refine_state_name(res->state));
     json_string(out, okid_refine_state_str(res->state));
     fprintf(out, ", \"passes\": %d, \"iterations\": %d, \"num_parameters\": %d, \"samples\": %llu,\n",
             res->passes, res->iterations, res->num_parameters, (unsigned long long)res->samples);

@@ -37,6 +37,9 @@ void json_stabilization(FILE *out, const okid_stabilization *st, int max_order, 
  * state, passes, residuals, model and modes, each mode with its standard deviations
  * (frequency_std, damping_std, eigenvalue_std, pole_std, sensor_shape_std).
  */
+/* The JSON name of a refinement state: "converged", "diverged", "not_improving", "iteration_limit". */
+const char *json_refine_state_name(okid_refine_state state);
+
 void json_refinement(FILE *out, const okid_refine_config *cfg, const okid_refine_result *res, int m);
 
 #endif
