@@ -196,6 +196,20 @@ static void paper_crlb(double dt, size_t count, uint64_t seed, double noise, dou
  * 90-98 % of the time for each of the four quantities), the stated sigma agrees with the
  * empirical scatter, and the scatter is the Cramer-Rao bound's (within the 200 draws' spread).
  */
+/* The exact sensor shape of paper mode i: eq. 64's displacement half (acceleration sensors on the
+   masses: C psi is s^2 times it), unit norm, largest component real and positive. */
+static void exact_sensor_shape(int i, double re[2], double im[2])
+{
+    const double *sr = REF_PAPER.shape_re + 4 * i, *si = REF_PAPER.shape_im + 4 * i;
+    const int at = hypot(sr[0], si[0]) >= hypot(sr[1], si[1]) ? 0 : 1;
+    const double mag = hypot(sr[at], si[at]), norm = hypot(hypot(sr[0], si[0]), hypot(sr[1], si[1]));
+    const double rot_re = sr[at] / (mag * norm), rot_im = -si[at] / (mag * norm);
+    for (int k = 0; k < 2; ++k) {
+        re[k] = sr[k] * rot_re - si[k] * rot_im;
+        im[k] = sr[k] * rot_im + si[k] * rot_re;
+    }
+}
+
 /*
  * Realisations of a Monte Carlo: as asked, or fewer when OKID_MONTE_CARLO_DRAWS says so (the
  * valgrind step of scripts/test.sh checks memory, not statistics; the checks then widen with
@@ -216,6 +230,12 @@ static void monte_carlo(double dt, size_t count, double noise, int wanted, int p
                        REF_PAPER.damping_ratio[1]};
     double se_era[Q] = {0}, se_ref[Q] = {0}, sum_sigma2[Q] = {0}, sum_bound2[Q] = {0};
     int inside[Q] = {0}, converged = 0;
+    /* the eigenvalues (Re, Im of both modes) and the second mode's sensor shape (Re, Im of both
+       components; the first mode's two components are within 1 % in modulus, so which one the
+       normalisation makes real flips between records and its std describes no fixed quantity) */
+    int eig_inside = 0, eig_count = 0, shape_inside = 0, shape_count = 0;
+    double exact_shape_re[2], exact_shape_im[2];
+    exact_sensor_shape(1, exact_shape_re, exact_shape_im);
     for (int s = 0; s < realisations; ++s) {
         okid_real *u, *y;
         test_paper_record(dt, count, 1000u + (uint64_t)s, noise, &u, &y);
@@ -237,6 +257,28 @@ static void monte_carlo(double dt, size_t count, double noise, int wanted, int p
             se_ref[q] += (ref[q] - truth[q]) * (ref[q] - truth[q]);
             sum_sigma2[q] += sigma[q] * sigma[q];
             inside[q] += fabs(ref[q] - truth[q]) <= 2 * sigma[q];
+        }
+        for (int k = 0; k < 2; ++k) {
+            const okid_mode *md = &run.out.modes[i1[k]];
+            const okid_mode_std *sd = &run.out.mode_std[i1[k]];
+            const double lam_mag = exp(REF_PAPER.pole_re[k] * dt), lam_arg = REF_PAPER.pole_im[k] * dt;
+            eig_inside += fabs(md->eigenvalue.re - lam_mag * cos(lam_arg)) <= 2 * sd->eigenvalue.re;
+            eig_inside += fabs(md->eigenvalue.im - lam_mag * sin(lam_arg)) <= 2 * sd->eigenvalue.im;
+            eig_count += 2;
+        }
+        {
+            const okid_mode *md = &run.out.modes[i1[1]];
+            const okid_mode_std *sd = &run.out.mode_std[i1[1]];
+            for (int c = 0; c < 2; ++c) {
+                if (sd->sensor_shape[c].re > 0) {
+                    shape_inside += fabs(md->sensor_shape[c].re - exact_shape_re[c]) <= 2 * sd->sensor_shape[c].re;
+                    ++shape_count;
+                }
+                if (sd->sensor_shape[c].im > 0) {
+                    shape_inside += fabs(md->sensor_shape[c].im - exact_shape_im[c]) <= 2 * sd->sensor_shape[c].im;
+                    ++shape_count;
+                }
+            }
         }
         double bound[Q];
         paper_crlb(dt, count, 1000u + (uint64_t)s, noise, bound);
@@ -267,6 +309,13 @@ static void monte_carlo(double dt, size_t count, double noise, int wanted, int p
         }
         /* the stated sigma is the scatter */
         assert_true(rms_sigma > (1 - spread) * rms_ref && rms_sigma < (1 + spread) * rms_ref);
+    }
+    const double eig_coverage = (double)eig_inside / eig_count, shape_coverage = (double)shape_inside / shape_count;
+    print_message("  eigenvalues (Re, Im) +-2 sigma coverage %.1f %%, mode 2 sensor shape %.1f %% (%d entries)\n",
+                  100 * eig_coverage, 100 * shape_coverage, shape_count);
+    if (realisations >= 200) {
+        assert_true(eig_coverage >= 0.90 && eig_coverage <= 0.98);
+        assert_true(shape_coverage >= 0.90 && shape_coverage <= 0.98);
     }
     assert_true(converged >= realisations * 9 / 10);
 }
