@@ -200,7 +200,7 @@ static void paper_crlb(double dt, size_t count, uint64_t seed, double noise, dou
    masses: C psi is s^2 times it), unit norm, largest component real and positive. */
 static void exact_sensor_shape(int i, double re[2], double im[2])
 {
-    const double *sr = REF_PAPER.shape_re + 4 * i, *si = REF_PAPER.shape_im + 4 * i;
+    const okid_real *sr = REF_PAPER.shape_re + 4 * i, *si = REF_PAPER.shape_im + 4 * i;
     const int at = hypot(sr[0], si[0]) >= hypot(sr[1], si[1]) ? 0 : 1;
     const double mag = hypot(sr[at], si[at]), norm = hypot(hypot(sr[0], si[0]), hypot(sr[1], si[1]));
     const double rot_re = sr[at] / (mag * norm), rot_im = -si[at] / (mag * norm);
