@@ -428,6 +428,31 @@ static void test_api_refusals(void **state)
     assert_int_equal(run.out.state, OKID_REFINE_ITERATION_LIMIT);
     assert_int_equal(okid_refine_begin_pass(rf), OKID_E_NOT_AVAILABLE);
     assert_non_null(okid_refine_state_str(OKID_REFINE_DIVERGED));
+
+    /* known noise: refused when not finite or not > 0 (nothing changes), or once a pass has begun */
+    assert_int_equal(okid_refine_init(rf, &rc, &run.start, OKID_SENSING_ACCELERATION, run.rf_ws, bytes, NULL), OKID_OK);
+    const okid_real bad_sigma[2] = {1, 0}, nan_sigma[2] = {NAN, 1}, sigma[2] = {1, 1};
+    assert_int_equal(okid_refine_set_noise(rf, NULL), OKID_E_NULL_POINTER);
+    assert_int_equal(okid_refine_set_noise(rf, bad_sigma), OKID_E_BAD_PARAMETER);
+    assert_int_equal(okid_refine_set_noise(rf, nan_sigma), OKID_E_BAD_PARAMETER);
+    assert_int_equal(okid_refine_begin_pass(rf), OKID_OK);
+    assert_int_equal(okid_refine_set_noise(rf, sigma), OKID_E_NOT_AVAILABLE);
+
+    /* predictions that overflow: diverged, the start's modes without error bars */
+    okid_real *huge = malloc(sizeof(okid_real) * count);
+    assert_non_null(huge);
+    for (size_t k = 0; k < count; ++k) {
+        huge[k] = u[k] * (okid_real)(OKID_REAL_IS_FLOAT ? 1e37 : 1e307);
+    }
+    assert_int_equal(okid_refine_init(rf, &rc, &run.start, OKID_SENSING_ACCELERATION, run.rf_ws, bytes, NULL), OKID_OK);
+    assert_int_equal(okid_refine_begin_pass(rf), OKID_OK);
+    assert_int_equal(okid_refine_push_block(rf, count, huge, 1, y, 2), OKID_OK);
+    assert_int_equal(okid_refine_end_pass(rf, &st), OKID_OK);
+    assert_int_equal(st, OKID_REFINE_DIVERGED);
+    assert_int_equal(okid_refine_get_result(rf, &run.out), OKID_OK);
+    assert_true(run.out.num_modes >= 1);
+    assert_true(run.out.mode_std[0].frequency_hz == -1 && run.out.mode_std[0].damping_ratio == -1);
+    free(huge);
     free_run(&run);
     free(u);
     free(y);
