@@ -16,8 +16,9 @@
  * okid_refine_end_pass(), which says whether another pass is needed. Pass 1 measures the starting
  * model's residuals (the channel weights); every later pass evaluates one candidate model and
  * its Jacobian (forward sensitivities, O(parameters^2 m) per sample). The refiner keeps only
- * parameter-sized state. Every pass must feed the same samples, at the model's sample interval
- * (decimated data when the model was identified with decimation).
+ * parameter-sized state. Every pass must feed the same samples: the record the model describes,
+ * at its sample interval (not a model of okid_config::decimation's filtered record: refine one
+ * identified without it, or one identified on the lifted record of okid_lift()).
  *
  * \code
  *   okid_refine_config rc; okid_refine_config_default(&rc);
@@ -186,8 +187,8 @@ okid_status okid_refine_config_default(okid_refine_config *cfg);
 okid_status okid_refine_workspace_size(int n, int r, int m, size_t *bytes);
 
 /**
- * Start a refinement from an identified model (its A, B, C, D and dt; result->decimation tells
- * the rate the passes must feed). Unstable eigenvalues are reflected into the unit circle.
+ * Start a refinement from an identified model (its A, B, C, D and dt). Unstable eigenvalues are
+ * reflected into the unit circle.
  * \param[in] start    a result of okid_identify() (or any model in that form)
  * \param[in] sensing  what the outputs measure (the shapes' eq. 64 power)
  * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE, OKID_E_BAD_PARAMETER (a setting out of
