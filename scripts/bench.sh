@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The benchmark: okid's C core (reference BLAS and OpenBLAS) and okid against numpy/scipy, mdof and
-# python-control on identical data. Writes docs/benchmarks.md, docs/img/benchmark.png and
-# bench/results.json (about 5 minutes on 2 cores). --quick: a smoke run of seconds.
+# python-control on identical data, and every method's RMS error over the Cramer-Rao bound against
+# SIPPY and nfoursid (docs/refinement.md). Writes docs/benchmarks.md, docs/img/benchmark.png and
+# bench/results.json (about 5 minutes on 2 cores, plus about 20 for the bound's 20-seed comparison,
+# which --crlb-only runs alone). --quick: a smoke run of seconds.
 # Installs libopenblas-dev when missing (it becomes the system's default BLAS through the Debian
 # alternatives; okid's tests pass with either).
 set -euo pipefail

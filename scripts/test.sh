@@ -79,7 +79,7 @@ ctest --preset asan -j "$jobs"
 step "valgrind memcheck: every C test, the example, the CLI, the FMUs through a C importer"
 vg=(valgrind --error-exitcode=1 --leak-check=full --errors-for-leak-kinds=definite,indirect -q)
 for test in build/tests/test_*; do
-    "${vg[@]}" "$test" >/dev/null
+    OKID_MONTE_CARLO_DRAWS=3 "${vg[@]}" "$test" >/dev/null  # test_refine: 3 noise realisations, not 200
 done
 "${vg[@]}" build/tests/fuzz_replay_api fuzz/corpus/api/* >/dev/null
 "${vg[@]}" build/tests/fuzz_replay_csv fuzz/corpus/csv/* >/dev/null
@@ -88,6 +88,8 @@ csv=$(mktemp --suffix=.csv)
 trap 'rm -f "$csv"' EXIT
 "${vg[@]}" build/host_tools/cli/okid simulate --output "$csv"
 "${vg[@]}" build/host_tools/cli/okid identify --json --order 4 "$csv" >/dev/null
+"${vg[@]}" build/host_tools/cli/okid identify --json --order 4 --refine --observer-order 20 "$csv" >/dev/null
+"${vg[@]}" build/host_tools/cli/okid crlb --noise 0.02 >/dev/null
 "${vg[@]}" build/tests/fmu_cosim build/fmu/fmi2/okid_plant_2dof build/fmu/fmi2/okid_identifier >/dev/null
 "${vg[@]}" build/tests/fmu3_chain build/fmu/fmi3/okid_identifier >/dev/null
 # an FMI 2 FMU written by okid-fmu: the binary reads its configuration from resources/

@@ -35,5 +35,6 @@ int cli_value_of(const cli_name *names, const char *text, int *value);
 
 int identify_command(int argc, char **argv);
 int simulate_command(int argc, char **argv);
+int crlb_command(int argc, char **argv);
 
 #endif

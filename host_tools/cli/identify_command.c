@@ -9,6 +9,7 @@
 #include "cli_common.h"
 #include "csv_reader.h"
 #include "identify_options.h"
+#include "identify_refine.h"
 #include "json_writer.h"
 #include "record_reader.h"
 #include "time_column.h"
@@ -251,9 +252,10 @@ static void print_stabilization(const okid_stabilization *st)
     }
 }
 
-/* Print the result (and the stabilization diagram when asked) as a table or JSON. */
+/* Print the result (and the stabilization diagram and refinement when asked) as a table or JSON. */
 static int report(const identify_options *o, const okid_config *cfg, okid_identifier *id, const okid_result *res,
-                  const column_choice *cc, double elapsed)
+                  const column_choice *cc, double elapsed, const okid_refine_result *refined,
+                  const start_search *search)
 {
     okid_stabilization st;
     void *stab_ws = NULL;
@@ -277,10 +279,16 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
     if (o->json) {
         json_result(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
         if (stab_ws != NULL) json_stabilization(stdout, &st, o->stabilization, 2, cfg->num_outputs);
+        if (refined != NULL) {
+            json_refinement(stdout, &o->refine_cfg, refined, cfg->num_outputs);
+            if (search->count > 0) json_start_search(stdout, search);
+        }
         fputs("\n}\n", stdout);
     } else {
         print_table(cfg, res, cc, o->file);
         if (stab_ws != NULL && st.num_orders > 0) print_stabilization(&st);
+        if (refined != NULL && search->count > 0) print_start_search(search);
+        if (refined != NULL) print_refinement(refined, cfg->num_outputs);
         if (o->timing) printf("\nelapsed from okid_init to the modes: %.6f s\n", elapsed);
     }
     free(stab_ws);
@@ -407,6 +415,57 @@ static unsigned long long rows_at_most(const okid_config *cfg, size_t samples)
     return kept > window ? kept - window : 0u;
 }
 
+/*
+ * okid identify --refine: the chosen channels come back from the scan into memory ((r + m) 8 bytes
+ * per sample), since the refinement makes several passes over them and, without horizons, the
+ * start search identifies and refines from several starts; then OKID/ERA, the refinement, the report.
+ */
+static int identify_and_refine(const identify_options *o, okid_config *cfg, record_reader *reader,
+                               const record_columns *cols, const record_scan *scan, void *ws, size_t bytes,
+                               const column_choice *cc)
+{
+    char error[512];
+    const size_t n = scan->samples;
+    okid_real *u = malloc(sizeof(okid_real) * n * (size_t)cols->r);
+    okid_real *y = malloc(sizeof(okid_real) * n * (size_t)cols->m);
+    if (u == NULL || y == NULL || record_read_block(reader, cols, n, u, y, error, sizeof error) < 0) {
+        const int rc = cli_error(EXIT_DATA, "%s", u == NULL || y == NULL ? "out of memory" : error);
+        free(u), free(y);
+        return rc;
+    }
+    start_search search = {.count = 0, .best = -1};
+    void *grown = NULL;
+    if (!o->horizons_given && cfg->decimation <= 1) {
+        identify_choose_start(o, cfg, n, u, y, &search);
+        if (okid_workspace_size(cfg, &bytes) != OKID_OK ||
+            (grown = aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16)) == NULL) {
+            free(u), free(y);
+            return cli_error(EXIT_DATA, "out of memory (workspace of %zu bytes)", bytes);
+        }
+        ws = grown;
+    }
+    okid_identifier id;
+    okid_result res;
+    okid_status st = okid_init(&id, cfg, ws, bytes, NULL);
+    if (st == OKID_OK) st = okid_push_block(&id, n, u, (size_t)cols->r, y, (size_t)cols->m, NULL);
+    if (st == OKID_OK) st = okid_identify(&id, &res);
+    int rc;
+    if (st != OKID_OK) {
+        rc = identify_failure(cfg, &id, st, cc, scan);
+    } else {
+        okid_refiner rf;
+        okid_refine_result refined;
+        void *rf_ws = NULL;
+        rc = identify_refine(o, &res, n, u, y, 0, &rf, &rf_ws, &refined);
+        if (rc == 0) rc = report(o, cfg, &id, &res, cc, -1, &refined, &search);
+        free(rf_ws);
+    }
+    free(grown);
+    free(u);
+    free(y);
+    return rc;
+}
+
 static int run(identify_options *o, record_reader *reader, const char *label)
 {
     const csv_table *header = &reader->stream.header;
@@ -472,13 +531,20 @@ static int run(identify_options *o, record_reader *reader, const char *label)
         free(cc);
         return cli_error(EXIT_DATA, "out of memory (workspace of %zu bytes)", bytes);
     }
+    if (o->refine) { /* the refinement's passes and its start search read the record from memory */
+        const int code = identify_and_refine(o, &cfg, reader, &cols, &scan, ws, bytes, cc);
+        free(ws);
+        free(cc);
+        return code;
+    }
     okid_identifier id;
     okid_result res;
     double elapsed = -1;
     st = o->timing ? identify_timed(o, &cfg, reader, &cols, scan.samples, ws, bytes, &id, &res, &elapsed, &rc)
                    : identify_streamed(&cfg, reader, &cols, ws, bytes, &id, &res, &rc);
     if (rc == 0) {
-        rc = st == OKID_OK ? report(o, &cfg, &id, &res, cc, elapsed) : identify_failure(&cfg, &id, st, cc, &scan);
+        rc = st == OKID_OK ? report(o, &cfg, &id, &res, cc, elapsed, NULL, NULL)
+                           : identify_failure(&cfg, &id, st, cc, &scan);
     }
     free(ws);
     free(cc);

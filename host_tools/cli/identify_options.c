@@ -33,6 +33,7 @@ _Static_assert(sizeof(okid_sensing) == sizeof(int) && sizeof(okid_realization) =
 #define AT(member) offsetof(identify_options, member)
 #define CONFIG(f) AT(cfg.f), sizeof(((okid_config *)0)->f), 0
 #define OWN(member) AT(member), sizeof(((identify_options *)0)->member), 0
+#define REFINE(f) AT(refine_cfg.f), sizeof(((okid_refine_config *)0)->f), 0
 
 static const cli_option identify_table[] = {
     /* name, alias, kind, offset/size/count, min, max, range, names, field, metavar, note, default, help */
@@ -78,6 +79,15 @@ static const cli_option identify_table[] = {
      "as instruments (old spelling of the value: least-squares)"},
     {"instrument-lags", NULL, CLI_INT, CONFIG(instrument_lags), 0, OKID_MAX_INSTRUMENT_LAGS, 0, NULL, "instrument_lags",
      "L", "0 = ceil(q/r) + 2p; r (L + 1) >= q and L >= p", NULL, "instrument lags of --estimator instrumental"},
+    /* the refinement: okid_refine_config's fields (docs/refinement.md) */
+    {"refine", NULL, CLI_FLAG, OWN(refine), 0, 0, 0, NULL, NULL, NULL, NULL, NULL,
+     "prediction-error (maximum-likelihood) refinement of the OKID/ERA model over\n"
+     "the record, with the standard deviation of every mode (docs/refinement.md)"},
+    {"max-passes", NULL, CLI_INT, REFINE(max_passes), 2, 1000, 0, NULL, NULL, "K", NULL, NULL,
+     "with --refine: passes over the record at most"},
+    {"step-tolerance", NULL, CLI_REAL, REFINE(step_tolerance), 0, 0, CLI_MIN_OPEN | CLI_NO_MAX, NULL, NULL, "T", NULL, NULL,
+     "with --refine: converged when the Gauss-Newton decrement (about the\n"
+     "squared step in standard deviations) is below T"},
     /* the command's own options */
     {"observer-seconds", NULL, CLI_REAL, OWN(observer_seconds), 0, 0, CLI_MIN_OPEN | CLI_NO_MAX, NULL, NULL, "S", NULL,
      "--observer-order", "observer order p = round(S / (K dt)) (after --dt, --decimation)"},
@@ -118,6 +128,7 @@ static void identify_defaults(identify_options *o)
     memset(o, 0, sizeof *o);
     o->repeat = 1;
     okid_config_default(&o->cfg, 1, 1);
+    okid_refine_config_default(&o->refine_cfg);
 }
 
 int identify_parse_options(int argc, char **argv, identify_options *o)
@@ -137,5 +148,16 @@ int identify_parse_options(int argc, char **argv, identify_options *o)
     }
     o->file = file;
     o->have_dt = o->dt > 0;
+    /* --refine chooses p and the Hankel size itself unless one of them is given (docs/refinement.md) */
+    static const char *const horizons[] = {"--observer-order", "--hankel-rows", "--hankel-cols", "--observer-seconds",
+                                           "--hankel-seconds"};
+    for (int i = 1; i < argc; ++i) {
+        for (size_t k = 0; k < sizeof horizons / sizeof horizons[0]; ++k) {
+            const size_t len = strlen(horizons[k]);
+            if (strncmp(argv[i], horizons[k], len) == 0 && (argv[i][len] == '\0' || argv[i][len] == '=')) {
+                o->horizons_given = 1;
+            }
+        }
+    }
     return 0;
 }

@@ -9,6 +9,9 @@ typedef struct identify_options {
     double dt, observer_seconds, hankel_seconds;
     int have_dt, json, timing, repeat, stabilization;
     okid_config cfg; /* okid_config_default() before the options; num_inputs, num_outputs, dt set from the file */
+    int refine;                    /* --refine: prediction-error refinement after OKID/ERA */
+    okid_refine_config refine_cfg; /* okid_refine_config_default() before the options */
+    int horizons_given;            /* --observer-order, --hankel-rows/-cols or --*-seconds was given */
 } identify_options;
 
 /* Fills o from the command line; 0, or EXIT_USAGE after one line on stderr. "--help" exits 0. */

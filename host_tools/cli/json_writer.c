@@ -265,3 +265,51 @@ void json_stabilization(FILE *out, const okid_stabilization *st, int max_order, 
     }
     fputs(st->num_orders ? "\n  ]}" : "]}", out);
 }
+
+const char *json_refine_state_name(okid_refine_state state)
+{
+    static const char *const names[] = {"need_pass", "converged", "diverged", "not_improving", "iteration_limit"};
+    return (unsigned)state < sizeof names / sizeof names[0] ? names[state] : "unknown";
+}
+
+void json_refinement(FILE *out, const okid_refine_config *cfg, const okid_refine_result *res, int m)
+{
+    fprintf(out, ",\n  \"refinement\": {\"config\": {\"max_passes\": %d, \"step_tolerance\": ", cfg->max_passes);
+    json_number(out, (double)cfg->step_tolerance);
+    fprintf(out, "},\n    \"state\": \"%s\", \"message\": ", json_refine_state_name(res->state));
+    json_string(out, okid_refine_state_str(res->state));
+    fprintf(out, ", \"passes\": %d, \"iterations\": %d, \"num_parameters\": %d, \"samples\": %llu,\n",
+            res->passes, res->iterations, res->num_parameters, (unsigned long long)res->samples);
+    fputs("    \"residual_rms_start\": ", out);
+    json_vector(out, res->residual_rms_start, m);
+    fputs(", \"residual_rms\": ", out);
+    json_vector(out, res->residual_rms, m);
+    fprintf(out, ", \"warnings\": %u,\n    \"A\": ", res->warnings);
+    json_matrix(out, res->A);
+    fputs(", \"B\": ", out);
+    json_matrix(out, res->B);
+    fputs(", \"C\": ", out);
+    json_matrix(out, res->C);
+    fputs(", \"D\": ", out);
+    json_matrix(out, res->D);
+    fputs(", \"initial_state\": ", out);
+    json_vector(out, res->initial_state, res->order);
+    fputs(",\n    \"modes\": [", out);
+    for (int i = 0; i < res->num_modes; ++i) {
+        const okid_mode_std *sd = &res->mode_std[i];
+        fputs(i ? ",\n      {" : "\n      {", out);
+        json_mode_members(out, &res->modes[i], m);
+        fputs(", \"frequency_std\": ", out);
+        json_number(out, (double)sd->frequency_hz);
+        fputs(", \"damping_std\": ", out);
+        json_number(out, (double)sd->damping_ratio);
+        fputs(", \"eigenvalue_std\": ", out);
+        json_complex(out, sd->eigenvalue);
+        fputs(", \"pole_std\": ", out);
+        json_complex(out, sd->pole);
+        fputs(", \"sensor_shape_std\": ", out);
+        json_complex_vector(out, sd->sensor_shape, m);
+        fputc('}', out);
+    }
+    fputs(res->num_modes ? "\n    ]}" : "]}", out);
+}

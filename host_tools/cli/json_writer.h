@@ -32,4 +32,14 @@ void json_result(FILE *out, const okid_config *cfg, const okid_result *res, cons
 /* ',\n  "stabilization": {...}': the diagram data (keys documented in docs/quality.md). */
 void json_stabilization(FILE *out, const okid_stabilization *st, int max_order, int step, int m);
 
+/*
+ * ',\n  "refinement": {...}': the prediction-error refinement (docs/refinement.md): its settings,
+ * state, passes, residuals, model and modes, each mode with its standard deviations
+ * (frequency_std, damping_std, eigenvalue_std, pole_std, sensor_shape_std).
+ */
+/* The JSON name of a refinement state: "converged", "diverged", "not_improving", "iteration_limit". */
+const char *json_refine_state_name(okid_refine_state state);
+
+void json_refinement(FILE *out, const okid_refine_config *cfg, const okid_refine_result *res, int m);
+
 #endif

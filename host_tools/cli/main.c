@@ -7,9 +7,10 @@
 static const char usage[] =
     "usage: okid identify [options] FILE.csv    identify a model and its modes from a recording\n"
     "       okid simulate [options]             write a simulated experiment (the paper's by default)\n"
+    "       okid crlb [options]                 the Cramer-Rao bound of that experiment's modes\n"
     "       okid --version | --help\n"
     "\n"
-    "Run 'okid identify --help' or 'okid simulate --help' for the options.\n"
+    "Run 'okid identify --help', 'okid simulate --help' or 'okid crlb --help' for the options.\n"
     "Exit status: 0 success, 1 bad data or identification failure, 2 usage error.\n";
 
 int main(int argc, char **argv)
@@ -30,6 +31,9 @@ int main(int argc, char **argv)
     }
     if (strcmp(argv[1], "simulate") == 0) {
         return simulate_command(argc - 1, argv + 1);
+    }
+    if (strcmp(argv[1], "crlb") == 0) {
+        return crlb_command(argc - 1, argv + 1);
     }
     return cli_error(EXIT_USAGE, "unknown command '%s' (try 'okid --help')", argv[1]);
 }

@@ -10,8 +10,7 @@
 
 #include "cli_common.h"
 #include "option_table.h"
-
-enum { MAX_DOFS = 16 };
+#include "simulate_model.h"
 
 static const char synopsis[] =
     "usage: okid simulate [options]\n"
@@ -23,14 +22,6 @@ static const char synopsis[] =
     "\n";
 
 static const char epilogue[] = "\nExit status: 0 success, 1 write error, 2 usage error (a bad option or model).\n";
-
-typedef struct simulate_options {
-    double masses[MAX_DOFS], dampers[MAX_DOFS + 1], springs[MAX_DOFS + 1];
-    int dofs, num_dampers, num_springs, force_dof, samples, seed;
-    double dt, noise;
-    int sensing; /* okid_sensing */
-    const char *output;
-} simulate_options;
 
 #define AT(member) offsetof(simulate_options, member), sizeof(((simulate_options *)0)->member), 0
 #define LIST(member, count) offsetof(simulate_options, member), sizeof(double), offsetof(simulate_options, count)
@@ -67,11 +58,11 @@ static void simulate_defaults(simulate_options *o)
     o->samples = 1001, o->seed = 1, o->dt = 0.01, o->sensing = OKID_SENSING_ACCELERATION;
 }
 
-static int parse_options(int argc, char **argv, simulate_options *o)
+int simulate_parse_options(const char *name, const char *text, int argc, char **argv, simulate_options *o)
 {
     simulate_options defaults;
     simulate_defaults(&defaults);
-    const cli_command command = {"simulate", synopsis, epilogue, simulate_table, &defaults, 0, NULL};
+    const cli_command command = {name, text, epilogue, simulate_table, &defaults, 0, NULL};
     int operands = 0;
     *o = defaults;
     const int rc = cli_parse_options(&command, argc, argv, o, NULL, &operands);
@@ -88,12 +79,7 @@ static int parse_options(int argc, char **argv, simulate_options *o)
     return 0;
 }
 
-/* Discrete model of the chain: a (n x n), b (n), c (m x n), d (m), n = 2 dofs, m = dofs. */
-typedef struct discrete_model {
-    okid_real a[4 * MAX_DOFS * MAX_DOFS], b[2 * MAX_DOFS], c[2 * MAX_DOFS * MAX_DOFS], d[MAX_DOFS];
-} discrete_model;
-
-static okid_status build_model(const simulate_options *o, discrete_model *dm)
+okid_status simulate_build_model(const simulate_options *o, discrete_model *dm)
 {
     const int n2 = o->dofs, n = 2 * n2;
     okid_real masses[MAX_DOFS], dampers[MAX_DOFS + 1], springs[MAX_DOFS + 1];
@@ -122,6 +108,18 @@ static okid_status build_model(const simulate_options *o, discrete_model *dm)
                                                 OKID_ZOH_WORK_REALS(2 * MAX_DOFS, 1));
     free(mm);
     free(work);
+    return st;
+}
+
+okid_status simulate_record(const simulate_options *o, const discrete_model *dm, okid_real *u, okid_real *y)
+{
+    okid_real state[2 * MAX_DOFS], scratch[2 * MAX_DOFS];
+    okid_rng rng;
+    okid_simulator sim;
+    okid_rng_seed(&rng, (uint64_t)o->seed);
+    okid_status st = okid_rng_normal(&rng, 1, (size_t)o->samples, u, 1);
+    if (st == OKID_OK) st = okid_simulator_init(&sim, 2 * o->dofs, 1, o->dofs, dm->a, dm->b, dm->c, dm->d, state, scratch);
+    if (st == OKID_OK) st = okid_simulate(&sim, (size_t)o->samples, u, 1, y, (size_t)o->dofs);
     return st;
 }
 
@@ -158,25 +156,19 @@ static int write_csv(const simulate_options *o, const okid_real *u, const okid_r
 int simulate_command(int argc, char **argv)
 {
     simulate_options o;
-    int rc = parse_options(argc, argv, &o);
+    int rc = simulate_parse_options("simulate", synopsis, argc, argv, &o);
     if (rc != 0) {
         return rc;
     }
     discrete_model *dm = calloc(1, sizeof *dm);
     okid_real *u = malloc(sizeof(okid_real) * (size_t)o.samples);
     okid_real *y = malloc(sizeof(okid_real) * (size_t)o.samples * (size_t)o.dofs);
-    okid_real state[2 * MAX_DOFS], scratch[2 * MAX_DOFS];
     if (dm == NULL || u == NULL || y == NULL) {
         free(dm), free(u), free(y);
         return cli_error(EXIT_DATA, "out of memory");
     }
-    okid_status st = build_model(&o, dm);
-    okid_rng rng;
-    okid_simulator sim;
-    okid_rng_seed(&rng, (uint64_t)o.seed);
-    if (st == OKID_OK) st = okid_rng_normal(&rng, 1, (size_t)o.samples, u, 1);
-    if (st == OKID_OK) st = okid_simulator_init(&sim, 2 * o.dofs, 1, o.dofs, dm->a, dm->b, dm->c, dm->d, state, scratch);
-    if (st == OKID_OK) st = okid_simulate(&sim, (size_t)o.samples, u, 1, y, (size_t)o.dofs);
+    okid_status st = simulate_build_model(&o, dm);
+    if (st == OKID_OK) st = simulate_record(&o, dm, u, y);
     if (st != OKID_OK) {
         rc = cli_error(EXIT_USAGE, "cannot simulate this model: %s", okid_status_str(st));
     } else {

@@ -6,10 +6,12 @@
 #define OKID_OKID_H
 
 #include "okid/identifier.h"
+#include "okid/lifting.h"
 #include "okid/modal.h"
 #include "okid/modal_indicators.h"
 #include "okid/model.h"
 #include "okid/random.h"
+#include "okid/refine.h"
 #include "okid/stabilization.h"
 #include "okid/status.h"
 #include "okid/types.h"

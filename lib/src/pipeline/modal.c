@@ -14,7 +14,7 @@
 #include "real_math.h"
 
 /* Unit 2-norm, largest-modulus component real and positive: a canonical representative of the shape. */
-static void normalise_shape(okid_complex *v, int len)
+void okid_normalise_shape(okid_complex *v, int len)
 {
     okid_real norm2 = 0, best = -1;
     int at = 0;
@@ -86,8 +86,8 @@ static void fill_mode(okid_mode *mode, okid_complex lambda, const okid_complex *
         shape[i] = okid_cmul(psi_c[i], top);
         shape[m + i] = okid_cmul(psi_c[i], bottom);
     }
-    normalise_shape(sensor, m);
-    normalise_shape(shape, 2 * m);
+    okid_normalise_shape(sensor, m);
+    okid_normalise_shape(shape, 2 * m);
     mode->sensor_shape = sensor;
     mode->shape = shape;
     mode->mpc = okid_mpc(sensor, m);

@@ -20,4 +20,7 @@ okid_status okid_modal_compute(int n, int m, const okid_real *a, int lda, const 
                                okid_real dt, okid_sensing sensing, const okid_modal_scratch *scratch,
                                okid_complex *shapes, okid_mode *modes, int *num_modes, unsigned *warnings);
 
+/* Unit 2-norm, largest-modulus component real and positive: the canonical representative of a shape. */
+void okid_normalise_shape(okid_complex *v, int len);
+
 #endif

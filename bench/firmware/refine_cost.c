@@ -1,0 +1,144 @@
+/*
+ * Cost of the prediction-error refinement (okid/refine.h) on the target, for docs/refinement.md:
+ * the paper's plant at dt = 0.05 s, 1001 samples, 5 % output noise, OKID/ERA (p = 20,
+ * alpha = beta = 20, n = 4) as the start; workspace bytes, instructions of the residual pass and
+ * of a Jacobian pass per sample, of each end of pass (the step), passes, total, and the stack
+ * used. Run under qemu-system-arm -icount shift=OKID_ICOUNT_SHIFT,align=off (see cost_report.c).
+ */
+#include <stdint.h>
+#include <stdio.h>
+
+#include "board.h"
+#include "okid/okid.h"
+#include "plant_2dof.h"
+
+#ifndef OKID_ICOUNT_SHIFT
+#define OKID_ICOUNT_SHIFT 5
+#endif
+
+enum { SAMPLES = 1001 };
+#define DT ((okid_real)0.05)
+#define NOISE ((okid_real)0.05)
+
+static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char
+    id_workspace[OKID_WORKSPACE_BYTES(PLANT_INPUTS, PLANT_OUTPUTS, PLANT_OBSERVER_ORDER, PLANT_HANKEL_ROWS,
+                                      PLANT_HANKEL_COLS, PLANT_STATES, 32, 0)];
+static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char
+    rf_workspace[OKID_REFINE_WORKSPACE_BYTES(PLANT_STATES, PLANT_INPUTS, PLANT_OUTPUTS)];
+static okid_real force[SAMPLES], accelerations[PLANT_OUTPUTS * SAMPLES], noise[SAMPLES];
+static okid_identifier identifier;
+static okid_refiner refiner;
+
+extern uint32_t __stack_limit__[];
+enum { STACK_PAINT = 0x5AFE57ACu, STACK_MARGIN_WORDS = 16 };
+
+static uint32_t *stack_pointer(void)
+{
+    uint32_t *sp;
+    __asm volatile("mov %0, sp" : "=r"(sp));
+    return sp;
+}
+
+static __attribute__((noinline)) void paint_stack(void)
+{
+    for (uint32_t *w = __stack_limit__; w < stack_pointer() - STACK_MARGIN_WORDS; ++w) {
+        *w = STACK_PAINT;
+    }
+}
+
+static unsigned long stack_used(const uint32_t *sp_at_call)
+{
+    const uint32_t *w = __stack_limit__;
+    while (w < sp_at_call && *w == STACK_PAINT) {
+        ++w;
+    }
+    return (unsigned long)((const char *)sp_at_call - (const char *)w);
+}
+
+static uint64_t instructions(uint32_t ticks)
+{
+    return board_ticks_to_instructions(ticks, OKID_ICOUNT_SHIFT);
+}
+
+/* The noisy record: white force, exact ZOH responses, white noise of NOISE x RMS per output. */
+static int make_data(void)
+{
+    plant_2dof plant;
+    okid_simulator sim;
+    okid_real state[PLANT_STATES], scratch[PLANT_STATES];
+    okid_rng rng;
+    okid_rng_seed(&rng, 7);
+    if (plant_2dof_build(&plant, DT) != OKID_OK || okid_rng_normal(&rng, 1, SAMPLES, force, 1) != OKID_OK ||
+        okid_simulator_init(&sim, PLANT_STATES, PLANT_INPUTS, PLANT_OUTPUTS, plant.a, plant.b, plant.c, plant.d,
+                            state, scratch) != OKID_OK ||
+        okid_simulate(&sim, SAMPLES, force, PLANT_INPUTS, accelerations, PLANT_OUTPUTS) != OKID_OK) {
+        return 0;
+    }
+    for (int i = 0; i < PLANT_OUTPUTS; ++i) {
+        okid_real power = 0;
+        for (int k = 0; k < SAMPLES; ++k) power += accelerations[PLANT_OUTPUTS * k + i] * accelerations[PLANT_OUTPUTS * k + i];
+        const okid_real rms = (okid_real)__builtin_sqrt((double)(power / SAMPLES));
+        if (okid_rng_normal(&rng, NOISE * rms, SAMPLES, noise, 1) != OKID_OK) return 0;
+        for (int k = 0; k < SAMPLES; ++k) accelerations[PLANT_OUTPUTS * k + i] += noise[k];
+    }
+    return 1;
+}
+
+int main(void)
+{
+    board_counter_start();
+    printf("real %s\n", OKID_REAL_IS_FLOAT ? "float" : "double");
+    if (!make_data()) return 2;
+    okid_config cfg;
+    plant_2dof_identifier_config(&cfg, DT, 32);
+    okid_result start;
+    size_t bytes = 0;
+    if (okid_workspace_size(&cfg, &bytes) != OKID_OK || okid_init(&identifier, &cfg, id_workspace, bytes, NULL) != OKID_OK ||
+        okid_push_block(&identifier, SAMPLES, force, 1, accelerations, PLANT_OUTPUTS, NULL) != OKID_OK ||
+        okid_identify(&identifier, &start) != OKID_OK) {
+        return 3;
+    }
+    okid_refine_config rc;
+    okid_refine_config_default(&rc);
+    if (okid_refine_init(&refiner, &rc, &start, OKID_SENSING_ACCELERATION, rf_workspace, sizeof rf_workspace, NULL) !=
+        OKID_OK) {
+        return 4;
+    }
+    printf("refine.workspace_bytes %lu\n", (unsigned long)sizeof rf_workspace);
+    printf("refine.refiner_struct_bytes %lu\n", (unsigned long)sizeof refiner);
+    const uint32_t *sp = stack_pointer();
+    paint_stack();
+    uint64_t total = 0, worst_step = 0;
+    okid_refine_state state = OKID_REFINE_NEED_PASS;
+    for (int pass = 0; state == OKID_REFINE_NEED_PASS; ++pass) {
+        uint32_t t0 = board_counter_ticks();
+        if (okid_refine_begin_pass(&refiner) != OKID_OK ||
+            okid_refine_push_block(&refiner, SAMPLES, force, 1, accelerations, PLANT_OUTPUTS) != OKID_OK) {
+            return 5;
+        }
+        const uint64_t feed = instructions(board_counter_ticks() - t0);
+        t0 = board_counter_ticks();
+        if (okid_refine_end_pass(&refiner, &state) != OKID_OK) return 6;
+        const uint64_t step = instructions(board_counter_ticks() - t0);
+        if (pass <= 1) {
+            printf("refine.%s_pass_instructions_per_sample %lu\n", pass == 0 ? "residual" : "jacobian",
+                   (unsigned long)(feed / SAMPLES));
+        }
+        worst_step = step > worst_step ? step : worst_step;
+        total += feed + step;
+    }
+    const unsigned long stack = stack_used(sp);
+    okid_refine_result out;
+    if (okid_refine_get_result(&refiner, &out) != OKID_OK) return 7;
+    printf("refine.state %s\n", okid_refine_state_str(out.state));
+    printf("refine.passes %d\n", out.passes);
+    printf("refine.end_pass_instructions_worst %lu\n", (unsigned long)worst_step);
+    printf("refine.total_instructions %lu\n", (unsigned long)total);
+    printf("refine.stack_bytes %lu\n", stack);
+    for (int i = 0; i < out.num_modes; ++i) {
+        printf("refine.mode%d %.6f +- %.6f Hz, damping %.5f +- %.5f\n", i + 1, (double)out.modes[i].frequency_hz,
+               (double)out.mode_std[i].frequency_hz, (double)out.modes[i].damping_ratio,
+               (double)out.mode_std[i].damping_ratio);
+    }
+    return out.state == OKID_REFINE_CONVERGED ? 0 : 1;
+}

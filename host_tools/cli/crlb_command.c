@@ -1,0 +1,120 @@
+/*
+ * okid crlb: the Cramer-Rao lower bound of the modes of a planned chain experiment (the record
+ * okid simulate writes with the same options): the standard deviation below which no unbiased
+ * estimate of a frequency or damping ratio can go, for the exact model of order 2 dofs, that
+ * force record and output noise of F times each output's RMS. The library computes it as the
+ * refinement of the true model with the noise fixed (okid_refine_set_noise, docs/refinement.md).
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli_common.h"
+#include "simulate_model.h"
+
+static const char synopsis[] =
+    "usage: okid crlb [options]\n"
+    "\n"
+    "The Cramer-Rao lower bound (one standard deviation) of the natural frequencies and damping\n"
+    "ratios of the chain experiment that 'okid simulate' writes with the same options (model,\n"
+    "--samples, --dt, --seed of the force), with output noise --noise F (> 0) times each output's\n"
+    "RMS, for a model of order 2 x masses with feedthrough and unknown initial state. Compare it\n"
+    "with the frequency_std and damping_std of 'okid identify --refine' (docs/refinement.md).\n"
+    "\n";
+
+/* The bound: start from the exact model, noise fixed, one pass over the noise-free record. */
+static int compute_bound(const simulate_options *o, const discrete_model *dm, const okid_real *u, const okid_real *y,
+                         okid_refiner *rf, void **ws, okid_refine_result *out, okid_real *sigma)
+{
+    const int n = 2 * o->dofs, m = o->dofs;
+    okid_result truth;
+    memset(&truth, 0, sizeof truth);
+    truth.order = n;
+    truth.dt = (okid_real)o->dt;
+    truth.A = (okid_matrix){dm->a, n, n, n};
+    truth.B = (okid_matrix){dm->b, n, 1, n};
+    truth.C = (okid_matrix){dm->c, m, n, m};
+    truth.D = (okid_matrix){dm->d, m, 1, m};
+    for (int i = 0; i < m; ++i) {
+        double power = 0;
+        for (int k = 0; k < o->samples; ++k) power += (double)y[(size_t)k * (size_t)m + (size_t)i] * (double)y[(size_t)k * (size_t)m + (size_t)i];
+        sigma[i] = (okid_real)(o->noise * sqrt(power / o->samples));
+    }
+    okid_refine_config rc;
+    okid_refine_config_default(&rc);
+    rc.max_passes = 2;
+    size_t bytes = 0;
+    okid_status st = okid_refine_workspace_size(n, 1, m, &bytes);
+    *ws = st == OKID_OK ? aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16) : NULL;
+    if (*ws == NULL) return cli_error(EXIT_DATA, "out of memory");
+    st = okid_refine_init(rf, &rc, &truth, (okid_sensing)o->sensing, *ws, bytes, NULL);
+    if (st == OKID_OK) st = okid_refine_set_noise(rf, sigma);
+    if (st == OKID_OK) st = okid_refine_begin_pass(rf);
+    if (st == OKID_OK) st = okid_refine_push_block(rf, (size_t)o->samples, u, 1, y, (size_t)m);
+    okid_refine_state state = OKID_REFINE_NEED_PASS;
+    if (st == OKID_OK) st = okid_refine_end_pass(rf, &state);
+    if (st == OKID_OK) st = okid_refine_get_result(rf, out);
+    if (st != OKID_OK) return cli_error(EXIT_DATA, "cannot compute the bound: %s", okid_status_str(st));
+    if (state != OKID_REFINE_CONVERGED) {
+        return cli_error(EXIT_DATA, "cannot compute the bound: %s", okid_refine_state_str(state));
+    }
+    return 0;
+}
+
+static int print_bound(const simulate_options *o, const okid_refine_result *rr, const okid_real *sigma, FILE *out)
+{
+    fprintf(out, "# okid crlb: %d masses, %d samples, dt = %g s, force seed %d, noise %g x RMS (std", o->dofs,
+            o->samples, o->dt, o->seed, o->noise);
+    for (int i = 0; i < o->dofs; ++i) fprintf(out, " %.6g", (double)sigma[i]);
+    fprintf(out, "), %d parameters\n", rr->num_parameters);
+    fputs("mode,frequency_hz,frequency_std,damping_ratio,damping_std\n", out);
+    for (int i = 0; i < rr->num_modes; ++i) {
+        fprintf(out, "%d,%.10g,%.6g,%.10g,%.6g\n", i + 1, (double)rr->modes[i].frequency_hz,
+                (double)rr->mode_std[i].frequency_hz, (double)rr->modes[i].damping_ratio,
+                (double)rr->mode_std[i].damping_ratio);
+    }
+    return (fflush(out) != 0 || ferror(out)) ? -1 : 0;
+}
+
+int crlb_command(int argc, char **argv)
+{
+    simulate_options o;
+    int rc = simulate_parse_options("crlb", synopsis, argc, argv, &o);
+    if (rc != 0) return rc;
+    if (!(o.noise > 0)) return cli_error(EXIT_USAGE, "--noise %g: the bound needs output noise, F > 0", o.noise);
+    discrete_model *dm = calloc(1, sizeof *dm);
+    okid_real *u = malloc(sizeof(okid_real) * (size_t)o.samples);
+    okid_real *y = malloc(sizeof(okid_real) * (size_t)o.samples * (size_t)o.dofs);
+    okid_real sigma[MAX_DOFS];
+    void *ws = NULL;
+    if (dm == NULL || u == NULL || y == NULL) {
+        free(dm), free(u), free(y);
+        return cli_error(EXIT_DATA, "out of memory");
+    }
+    okid_status st = simulate_build_model(&o, dm);
+    if (st == OKID_OK) st = simulate_record(&o, dm, u, y);
+    okid_refiner rf;
+    okid_refine_result rr;
+    if (st != OKID_OK) {
+        rc = cli_error(EXIT_USAGE, "cannot simulate this model: %s", okid_status_str(st));
+    } else {
+        rc = compute_bound(&o, dm, u, y, &rf, &ws, &rr, sigma);
+    }
+    if (rc == 0) {
+        FILE *out = o.output ? fopen(o.output, "w") : stdout;
+        if (out == NULL) {
+            rc = cli_error(EXIT_DATA, "cannot write '%s': %s", o.output, strerror(errno));
+        } else {
+            int failed = print_bound(&o, &rr, sigma, out) != 0;
+            failed |= o.output != NULL && fclose(out) != 0;
+            if (failed) rc = cli_error(EXIT_DATA, "cannot write '%s'", o.output ? o.output : "standard output");
+        }
+    }
+    free(ws);
+    free(dm);
+    free(u);
+    free(y);
+    return rc;
+}

@@ -1,0 +1,155 @@
+/* okid identify --refine: the refinement over the record, the choice of its start, their output. */
+#include "identify_refine.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "cli_common.h"
+#include "json_writer.h"
+
+int identify_refine(const identify_options *o, const okid_result *res, size_t n, const okid_real *u,
+                    const okid_real *y, int quiet, okid_refiner *rf, void **ws, okid_refine_result *out)
+{
+    enum { BLOCK = 4096 };
+    const int r = res->B.cols, m = res->C.rows;
+    if (res->decimation > 1) {
+        return cli_error(EXIT_USAGE, "--refine with --decimation %d: the refinement needs the record at the model's "
+                         "sample interval; identify without decimation", res->decimation);
+    }
+    size_t bytes = 0;
+    okid_status st = okid_refine_workspace_size(res->order, r, m, &bytes);
+    *ws = st == OKID_OK ? aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16) : NULL;
+    if (*ws == NULL) {
+        return cli_error(EXIT_DATA, "refinement: %s", st == OKID_OK ? "out of memory" : okid_status_str(st));
+    }
+    st = okid_refine_init(rf, &o->refine_cfg, res, o->cfg.sensing, *ws, bytes, NULL);
+    okid_refine_state state = OKID_REFINE_NEED_PASS;
+    while (st == OKID_OK && state == OKID_REFINE_NEED_PASS) {
+        st = okid_refine_begin_pass(rf);
+        for (size_t k = 0; st == OKID_OK && k < n; k += BLOCK) {
+            const size_t len = n - k < BLOCK ? n - k : BLOCK;
+            st = okid_refine_push_block(rf, len, u + k * (size_t)r, (size_t)r, y + k * (size_t)m, (size_t)m);
+        }
+        if (st == OKID_OK) st = okid_refine_end_pass(rf, &state);
+    }
+    if (st == OKID_OK) st = okid_refine_get_result(rf, out);
+    if (st != OKID_OK) {
+        return quiet ? EXIT_DATA : cli_error(EXIT_DATA, "refinement failed: %s", okid_status_str(st));
+    }
+    if (state != OKID_REFINE_CONVERGED && !quiet) {
+        fprintf(stderr, "okid: warning: the refinement did not converge (%s after %d passes)%s\n",
+                okid_refine_state_str(state), out->passes,
+                state == OKID_REFINE_DIVERGED ? ": the modes are OKID/ERA's" : ": the modes are the best found");
+    }
+    return 0;
+}
+
+/*
+ * The lowest cost is the highest likelihood (the record and the model order are the same for
+ * all starts). OKID/ERA's own settings matter little once refined, but a start whose modes are
+ * wrong (a real pole for a lightly damped pair) ends in another, worse, local minimum. The grid
+ * runs from cheap to costly and stops once two starts reach the same cost.
+ */
+static const int start_observer_orders[START_P] = {10, 20, 40, 80};
+static const int start_hankel_blocks[START_H] = {20, 50, 100};
+
+void identify_choose_start(const identify_options *o, okid_config *cfg, size_t n, const okid_real *u,
+                           const okid_real *y, start_search *search)
+{
+    search->count = 0;
+    search->best = -1;
+    int agree = 0;
+    for (int i = 0; i < START_P && agree < 2; ++i) {
+        for (int j = 0; j < START_H && agree < 2; ++j) {
+            start_candidate *c = &search->candidates[search->count++];
+            okid_config trial = *cfg;
+            trial.observer_order = c->observer_order = start_observer_orders[i];
+            trial.hankel_rows = trial.hankel_cols = c->hankel_blocks = start_hankel_blocks[j];
+            c->identified = 0;
+            c->state = -1;
+            c->cost = NAN;
+            size_t bytes = 0;
+            if (okid_workspace_size(&trial, &bytes) != OKID_OK) continue;
+            void *ws = aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16), *rf_ws = NULL;
+            okid_identifier id;
+            okid_result res;
+            okid_refiner rf;
+            okid_refine_result out;
+            if (ws != NULL && okid_init(&id, &trial, ws, bytes, NULL) == OKID_OK &&
+                okid_push_block(&id, n, u, (size_t)trial.num_inputs, y, (size_t)trial.num_outputs, NULL) == OKID_OK &&
+                okid_identify(&id, &res) == OKID_OK) {
+                c->identified = 1;
+                if (identify_refine(o, &res, n, u, y, 1, &rf, &rf_ws, &out) == 0) {
+                    c->state = (int)out.state;
+                    c->cost = (double)out.cost;
+                    const int usable = out.state != OKID_REFINE_DIVERGED && isfinite(c->cost);
+                    /* a thousandth of a log-likelihood unit is a tie: the earlier, cheaper start keeps it */
+                    if (usable && (search->best < 0 || c->cost < search->candidates[search->best].cost - 1e-3)) {
+                        search->best = search->count - 1;
+                    }
+                }
+            }
+            free(rf_ws);
+            free(ws);
+            /* two starts that end in the same optimum: the likely global one; stop before the costly starts */
+            agree = 0;
+            for (int k = 0; search->best >= 0 && k < search->count; ++k) {
+                agree += fabs(search->candidates[k].cost - search->candidates[search->best].cost) <= 1e-3;
+            }
+        }
+    }
+    if (search->best >= 0) {
+        cfg->observer_order = search->candidates[search->best].observer_order;
+        cfg->hankel_rows = cfg->hankel_cols = search->candidates[search->best].hankel_blocks;
+    }
+}
+
+void print_start_search(const start_search *search)
+{
+    printf("\nstart of the refinement chosen from the data (lowest cost after refining each):\n");
+    printf("    p  Hankel  state            cost\n");
+    for (int i = 0; i < search->count; ++i) {
+        const start_candidate *c = &search->candidates[i];
+        printf("%5d  %6d  %-15s  %.8g%s\n", c->observer_order, c->hankel_blocks,
+               c->state >= 0 ? json_refine_state_name((okid_refine_state)c->state) : c->identified ? "refine failed" : "identify failed",
+               c->cost, i == search->best ? "  <- chosen" : "");
+    }
+}
+
+void json_start_search(FILE *out, const start_search *search)
+{
+    fprintf(out, ",\n  \"start_search\": {\"chosen\": %d, \"candidates\": [", search->best);
+    for (int i = 0; i < search->count; ++i) {
+        const start_candidate *c = &search->candidates[i];
+        fprintf(out, "%s{\"observer_order\": %d, \"hankel_rows\": %d, \"hankel_cols\": %d, \"state\": ",
+                i ? ",\n    " : "\n    ", c->observer_order, c->hankel_blocks, c->hankel_blocks);
+        if (c->state >= 0) {
+            fprintf(out, "\"%s\"", json_refine_state_name((okid_refine_state)c->state));
+        } else {
+            fputs(c->identified ? "\"refine_failed\"" : "\"identify_failed\"", out);
+        }
+        fputs(", \"cost\": ", out);
+        json_number(out, c->cost);
+        fputc('}', out);
+    }
+    fputs("]}", out);
+}
+
+void print_refinement(const okid_refine_result *rr, int m)
+{
+    printf("\nrefinement (prediction error, %d parameters): %s after %d passes, %d steps\n", rr->num_parameters,
+           okid_refine_state_str(rr->state), rr->passes, rr->iterations);
+    printf("residual RMS per output, start -> end:");
+    for (int i = 0; i < m; ++i) {
+        printf(" %.4g -> %.4g", (double)rr->residual_rms_start[i], (double)rr->residual_rms[i]);
+    }
+    for (unsigned bit = 1; bit != 0 && bit <= rr->warnings; bit <<= 1) {
+        if (rr->warnings & bit) printf("\nwarning: %s", okid_warning_str(bit));
+    }
+    printf("\n mode  frequency [Hz]  +/- 1 std       damping ratio  +/- 1 std\n");
+    for (int i = 0; i < rr->num_modes; ++i) {
+        printf("%5d  %14.8f  %-14.3g  %13.8f  %.3g%s\n", i + 1, (double)rr->modes[i].frequency_hz,
+               (double)rr->mode_std[i].frequency_hz, (double)rr->modes[i].damping_ratio,
+               (double)rr->mode_std[i].damping_ratio, rr->modes[i].is_pair ? "" : "  (real)");
+    }
+}

@@ -1,0 +1,43 @@
+/* okid identify --refine: the refinement over the record, the choice of its start, their output. */
+#ifndef OKID_CLI_IDENTIFY_REFINE_H
+#define OKID_CLI_IDENTIFY_REFINE_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include "identify_options.h"
+
+/* The starts --refine tries when no horizon is given (identify_choose_start). */
+enum { START_P = 4, START_H = 3 };
+typedef struct start_candidate {
+    int observer_order, hankel_blocks, identified, state; /* state: okid_refine_state, -1 when not refined */
+    double cost;
+} start_candidate;
+typedef struct start_search {
+    start_candidate candidates[START_P * START_H];
+    int count, best; /* best: index of the chosen start, -1 when none refined */
+} start_search;
+
+/*
+ * The prediction-error refinement of res over the record u (r x n), y (m x n), fed to the refiner
+ * once per pass in blocks as a file reader would. *ws (the refiner's workspace) is the caller's to
+ * free. A refinement that stops without converging is a warning on stderr (unless quiet); its
+ * result is still returned. 0, or an exit code after one line on stderr (quiet: no line).
+ */
+int identify_refine(const identify_options *o, const okid_result *res, size_t n, const okid_real *u,
+                    const okid_real *y, int quiet, okid_refiner *rf, void **ws, okid_refine_result *out);
+
+/*
+ * --refine without --observer-order or --hankel-*: OKID/ERA from each (p, alpha = beta) of a
+ * grid, each refined; the start whose refinement reaches the lowest cost wins and cfg gets its p
+ * and Hankel size (cfg is untouched when no start could be refined).
+ */
+void identify_choose_start(const identify_options *o, okid_config *cfg, size_t n, const okid_real *u,
+                           const okid_real *y, start_search *search);
+
+/* The table's and the JSON's parts: the starts tried, and the refined modes with their std. */
+void print_start_search(const start_search *search);
+void json_start_search(FILE *out, const start_search *search);
+void print_refinement(const okid_refine_result *rr, int m);
+
+#endif

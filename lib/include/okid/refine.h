@@ -1,0 +1,256 @@
+/**
+ * \file refine.h
+ * \brief Prediction-error (output-error maximum-likelihood) refinement of an identified model,
+ *        streamed over the record in passes, with the standard deviation of every mode.
+ *
+ * OKID/ERA is consistent but not efficient: under output noise its modes scatter two to five
+ * times more than the Cramer-Rao bound allows. Starting from its model, the refinement minimises
+ * the Gaussian negative log-likelihood of the output error, (N/2) sum_i log(sum_k e_i(k)^2), with
+ * e(k) = y(k) - C x(k) - D u(k), x(k+1) = A x(k) + B u(k), by Levenberg-Marquardt on the real
+ * modal form: A block diagonal with one 2 x 2 block [Re l, Im l; -Im l, Re l] per complex pair
+ * and a 1 x 1 block per real eigenvalue, one entry of B per mode fixed (the mode's coordinate
+ * scale), C, D and the initial state free. Parameters: n (r + m + 1) + m r at most.
+ *
+ * The identifier keeps no record, so the caller feeds it once per pass in blocks of any size
+ * (from RAM, flash, a file): okid_refine_begin_pass(), okid_refine_push_block() ...,
+ * okid_refine_end_pass(), which says whether another pass is needed. Pass 1 measures the starting
+ * model's residuals (the channel weights); every later pass evaluates one candidate model and
+ * its Jacobian (forward sensitivities, O(parameters^2 m) per sample). The refiner keeps only
+ * parameter-sized state. Every pass must feed the same samples: the record the model describes,
+ * at its sample interval (not a model of okid_config::decimation's filtered record: refine one
+ * identified without it, or one identified on the lifted record of okid_lift()).
+ *
+ * \code
+ *   okid_refine_config rc; okid_refine_config_default(&rc);
+ *   size_t bytes; okid_refine_workspace_size(res.order, r, m, &bytes);
+ *   okid_refiner rf; okid_refine_init(&rf, &rc, &res, OKID_SENSING_ACCELERATION, ws, bytes, NULL);
+ *   okid_refine_state st = OKID_REFINE_NEED_PASS;
+ *   while (st == OKID_REFINE_NEED_PASS) {
+ *       okid_refine_begin_pass(&rf);
+ *       for (each block) okid_refine_push_block(&rf, count, u, r, y, m);
+ *       okid_refine_end_pass(&rf, &st);
+ *   }
+ *   okid_refine_result out; okid_refine_get_result(&rf, &out);  // modes and their std
+ * \endcode
+ */
+#ifndef OKID_REFINE_H
+#define OKID_REFINE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "okid/identifier.h"
+#include "okid/modal.h"
+#include "okid/status.h"
+#include "okid/types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Where a refinement stands after a pass. */
+typedef enum okid_refine_state {
+    /** Feed the record once more. */
+    OKID_REFINE_NEED_PASS = 0,
+    /**
+     * The Gauss-Newton step is below step_tolerance (or, on noise-free data, the model reproduces
+     * the record to within 1000 epsilon relative RMS): the estimate is the maximum-likelihood one.
+     */
+    OKID_REFINE_CONVERGED = 1,
+    /**
+     * The starting model's predictions are not finite over the record (or no damped step keeps
+     * the model stable and finite): nothing was refined; the result is the starting model.
+     */
+    OKID_REFINE_DIVERGED = 2,
+    /** The damping grew to its limit without lowering the cost: the best model so far is kept. */
+    OKID_REFINE_NOT_IMPROVING = 3,
+    /** max_passes were fed before convergence: the best model so far is kept. */
+    OKID_REFINE_ITERATION_LIMIT = 4
+} okid_refine_state;
+
+/** Settings of a refinement (docs/refinement.md); okid_refine_config_default() fills them. */
+typedef struct okid_refine_config {
+    /** Passes over the record at most (the first measures the channel weights), 2..1000; 0 = 30. */
+    int max_passes;
+    /**
+     * Converged when the Gauss-Newton decrement g' N^-1 g (the expected decrease of twice the
+     * negative log-likelihood; a step of s standard deviations gives about s^2) falls below it.
+     * Finite, >= 0; 0 = OKID_REFINE_STEP_TOLERANCE: 1e-6 in double (steps of a thousandth of a
+     * standard deviation), 1e-2 in float (a tenth: float's round-off in the normal equations of a
+     * long record is larger than 1e-6; a smaller value then ends in OKID_REFINE_NOT_IMPROVING).
+     */
+    okid_real step_tolerance;
+} okid_refine_config;
+
+/** The default step_tolerance for the working precision. */
+#if OKID_REAL_IS_FLOAT
+#define OKID_REFINE_STEP_TOLERANCE 1e-2f
+#else
+#define OKID_REFINE_STEP_TOLERANCE 1e-6
+#endif
+
+/** Standard deviations of one mode, from the inverse of the final Fisher information. */
+typedef struct okid_mode_std {
+    okid_complex eigenvalue;   /**< std of Re and of Im of the discrete eigenvalue */
+    okid_complex pole;         /**< std of Re and of Im of the continuous pole [1/s] */
+    okid_real frequency_hz;    /**< std of the undamped natural frequency [Hz] */
+    okid_real damping_ratio;   /**< std of the damping ratio */
+    /** m values: std of Re and of Im of each component of the normalised okid_mode::sensor_shape. */
+    const okid_complex *sensor_shape;
+} okid_mode_std;
+
+/** The refined model. Every pointer points into the refiner's workspace. */
+typedef struct okid_refine_result {
+    okid_refine_state state;
+    int passes;                 /**< passes fed */
+    int iterations;             /**< accepted Levenberg-Marquardt steps */
+    int num_parameters;         /**< free parameters */
+    int order;                  /**< n */
+    int num_modes;
+    const okid_mode *modes;     /**< sorted by frequency, then damping; indicators other than mpc are -1 */
+    const okid_mode_std *mode_std; /**< num_modes entries, in the order of modes */
+    okid_matrix A, B, C, D;     /**< the model in real modal form */
+    const okid_real *initial_state; /**< n values: the estimated x(0) */
+    /** m values: residual RMS of each output at the start (the starting model) and at the end. */
+    const okid_real *residual_rms_start, *residual_rms;
+    /**
+     * The final cost: (N/2) sum_i log(s_i / N) (estimated noise) or sum_i s_i / (2 sigma_i^2)
+     * (okid_refine_set_noise), N samples, s_i output i's residual sum of squares. Lower is more
+     * likely: refinements of the same record from different starts compare by it. Not finite
+     * when the refinement diverged.
+     */
+    okid_real cost;
+    okid_real dt;
+    uint64_t samples;           /**< samples per pass */
+    unsigned warnings;          /**< okid_warning bits of the refined modes */
+} okid_refine_result;
+
+/** The refiner. Caller-owned; every field is internal. */
+typedef struct okid_refiner {
+    uint32_t magic_;
+    okid_refine_config cfg_;
+    int n_, r_, m_, np_, nblocks_;
+    okid_sensing sensing_;
+    okid_real dt_;
+    okid_refine_state state_;
+    int passes_, iterations_, in_pass_, finished_, noise_fixed_;
+    int best_;                  /* which of the two normal-matrix buffers holds the accepted one */
+    okid_real mu_, cost_best_;
+    uint64_t samples_, pass_samples_, samples_used_;
+    unsigned warnings_;
+    int num_modes_;
+    /* workspace views */
+    int *ptab_;                 /* 4 ints per parameter: kind, block, row, col */
+    int *blk_;                  /* 4 ints per block: first state, size, eigenvalue parameter, fixed input */
+    okid_real *theta_best_, *theta_, *lam_re_, *lam_im_, *b_, *c_, *d_, *x0_;
+    okid_real *x_, *sens_, *jrow_, *nrm_[2], *grad_, *grad_best_, *step_, *diag_;
+    okid_real *ss_, *yy_, *weight_, *rms_start_, *rms_, *e_, *wj_; /* e_, wj_: one sample's residual, weighted row */
+    okid_real *a_full_;
+    okid_mode *modes_;
+    okid_mode_std *mode_std_;
+    okid_complex *shapes_, *shape_std_;
+} okid_refiner;
+
+/** Parameters of the refinement of an n-state model with r inputs and m outputs (at most). */
+#define OKID_REFINE_PARAMETERS(n, r, m) ((size_t)(n) * ((size_t)(r) + (size_t)(m) + 1u) + (size_t)(m) * (size_t)(r))
+
+/* Reals of each of the two normal-matrix buffers (internal; the eigenvalue scratch shares them). */
+#define OKID__REFINE_SCRATCH(n, np)                                                                  \
+    OKID__MAX(2u * (size_t)(n) * (size_t)(n) + 2u * (size_t)(n) + OKID__LWORK_GEEV(n), (size_t)(np) * (size_t)(np))
+
+/**
+ * Workspace bytes of a refinement of an n-state model with r inputs and m outputs, at compile
+ * time (equal to okid_refine_workspace_size(); checked by test_refine).
+ */
+#define OKID_REFINE_WORKSPACE_BYTES(n, r, m)                                                                       \
+    (OKID__ALIGN16(sizeof(int) * 4u * OKID_REFINE_PARAMETERS(n, r, m)) + OKID__ALIGN16(sizeof(int) * 4u * (size_t)(n)) \
+     + 2u * OKID__RB(OKID_REFINE_PARAMETERS(n, r, m)) + 2u * OKID__RB(n) + OKID__RB((size_t)(n) * (size_t)(r))        \
+     + OKID__RB((size_t)(m) * (size_t)(n)) + OKID__RB((size_t)(m) * (size_t)(r)) + 2u * OKID__RB(n)                    \
+     + OKID__RB(2u * OKID_REFINE_PARAMETERS(n, r, m)) + OKID__RB((size_t)(m) * OKID_REFINE_PARAMETERS(n, r, m))        \
+     + 2u * OKID__RB(OKID__REFINE_SCRATCH(n, OKID_REFINE_PARAMETERS(n, r, m)))                                       \
+     + OKID__RB((size_t)(m) * OKID_REFINE_PARAMETERS(n, r, m)) + 3u * OKID__RB(OKID_REFINE_PARAMETERS(n, r, m))        \
+     + 7u * OKID__RB(m) + OKID__RB((size_t)(n) * (size_t)(n)) + OKID__ALIGN16(sizeof(okid_mode) * (size_t)(n))         \
+     + OKID__ALIGN16(sizeof(okid_mode_std) * (size_t)(n)) + OKID__ALIGN16(sizeof(okid_complex) * (size_t)(n) * 3u * (size_t)(m)) \
+     + OKID__ALIGN16(sizeof(okid_complex) * (size_t)(n) * (size_t)(m)))
+
+/**
+ * Fill the settings with their defaults: max_passes 30, step_tolerance OKID_REFINE_STEP_TOLERANCE.
+ * \return OKID_OK, OKID_E_NULL_POINTER
+ */
+okid_status okid_refine_config_default(okid_refine_config *cfg);
+
+/**
+ * Workspace bytes a refinement of an n-state model with r inputs and m outputs needs.
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE (n outside 1..OKID_MAX_ORDER, r or m
+ *         outside 1..OKID_MAX_DIMENSION)
+ */
+okid_status okid_refine_workspace_size(int n, int r, int m, size_t *bytes);
+
+/**
+ * Start a refinement from an identified model (its A, B, C, D and dt). Unstable eigenvalues are
+ * reflected into the unit circle.
+ * \param[in] start    a result of okid_identify() (or any model in that form)
+ * \param[in] sensing  what the outputs measure (the shapes' eq. 64 power)
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE, OKID_E_BAD_PARAMETER (a setting out of
+ *         range, dt, sensing, a non-finite matrix entry), OKID_E_WORKSPACE_TOO_SMALL,
+ *         OKID_E_WORKSPACE_ALIGNMENT, OKID_E_DECOMPOSITION_FAILED (A has no eigenvector basis),
+ *         OKID_E_RANK_DEFICIENT (a mode that no input drives: B has a zero row in modal form)
+ */
+okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, const okid_result *start,
+                             okid_sensing sensing, void *workspace, size_t bytes, size_t *bytes_needed);
+
+/**
+ * Fix the standard deviation of each output's noise (sensor specifications, or a planned
+ * experiment) instead of estimating it from the residuals. Call it after okid_refine_init() and
+ * before the first pass: the cost becomes sum_i s_i / (2 sigma_i^2) and the residual pass is
+ * skipped. The Cramer-Rao bound of an experiment is the refinement of its true model over its
+ * noise-free record with the planned noise: the first pass converges at once (zero residuals)
+ * and okid_refine_result::mode_std holds the bound (okid crlb, docs/refinement.md).
+ * \param[in] noise_std  m values, finite and > 0
+ * 
+eturn OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_BAD_PARAMETER (a value
+ *         not finite or not > 0: nothing changes), OKID_E_NOT_AVAILABLE (a pass has begun)
+ */
+okid_status okid_refine_set_noise(okid_refiner *rf, const okid_real *noise_std);
+
+/**
+ * Begin a pass: the next samples pushed are the record from its first sample on.
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_NOT_AVAILABLE (the
+ *         refinement has finished)
+ */
+okid_status okid_refine_begin_pass(okid_refiner *rf);
+
+/**
+ * Feed count samples of the record (u: r x count, leading dimension ldu; y: m x count, ldy).
+ * A sample with a non-finite output is left out of the cost (the model still runs through it).
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_BAD_SIZE (ldu < r, ldy < m),
+ *         OKID_E_NOT_AVAILABLE (no pass begun), OKID_E_NONFINITE_SAMPLE (an input is not finite:
+ *         the pass is void, begin it again; the refinement's state is unchanged)
+ */
+okid_status okid_refine_push_block(okid_refiner *rf, size_t count, const okid_real *u, size_t ldu,
+                                   const okid_real *y, size_t ldy);
+
+/**
+ * End a pass and take the step it allows.
+ * \param[out] state  OKID_REFINE_NEED_PASS, or the reason the refinement finished
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_NOT_AVAILABLE (no pass
+ *         begun), OKID_E_NOT_ENOUGH_DATA (m samples <= parameters: nothing changes),
+ *         OKID_E_BAD_SIZE (the pass fed another number of samples than the first: the pass is void)
+ */
+okid_status okid_refine_end_pass(okid_refiner *rf, okid_refine_state *state);
+
+/**
+ * Read the refined model, its modes and their standard deviations (after the refinement
+ * finished; the views stay valid until the next okid_refine_init() on this refiner).
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_NOT_AVAILABLE (not finished)
+ */
+okid_status okid_refine_get_result(const okid_refiner *rf, okid_refine_result *result);
+
+/** A short, static description of a refinement state (never NULL). */
+const char *okid_refine_state_str(okid_refine_state state);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
