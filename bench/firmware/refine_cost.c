@@ -32,16 +32,9 @@ static okid_refiner refiner;
 extern uint32_t __stack_limit__[];
 enum { STACK_PAINT = 0x5AFE57ACu, STACK_MARGIN_WORDS = 16 };
 
-static uint32_t *stack_pointer(void)
-{
-    uint32_t *sp;
-    __asm volatile("mov %0, sp" : "=r"(sp));
-    return sp;
-}
-
 static __attribute__((noinline)) void paint_stack(void)
 {
-    for (uint32_t *w = __stack_limit__; w < stack_pointer() - STACK_MARGIN_WORDS; ++w) {
+    for (uint32_t *w = __stack_limit__; w < board_stack_pointer() - STACK_MARGIN_WORDS; ++w) {
         *w = STACK_PAINT;
     }
 }
@@ -106,7 +99,7 @@ int main(void)
     }
     printf("refine.workspace_bytes %lu\n", (unsigned long)sizeof rf_workspace);
     printf("refine.refiner_struct_bytes %lu\n", (unsigned long)sizeof refiner);
-    const uint32_t *sp = stack_pointer();
+    const uint32_t *sp = board_stack_pointer();
     paint_stack();
     uint64_t total = 0, worst_step = 0;
     okid_refine_state state = OKID_REFINE_NEED_PASS;
