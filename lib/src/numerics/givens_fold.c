@@ -86,7 +86,7 @@ static OKID_INLINE_ALWAYS void rotate_two(okid_real minus_t, okid_real s, okid_r
  * order, so the bits are the same, but a column of r is contiguous, the row elements are not
  * loaded and stored at every step, and each (t, s) serves two columns, four rotations a pass:
  * 52 instructions for its 8 elements on a Cortex-M4F at -Os (each a load and a store of r and
- * three VMLA/VMLS, and a load of t or s for every other), against 14 an element for the textbook
+ * three VMLA, and a load of t or s for every other), against 14 an element for the textbook
  * loop. (On an out-of-order host it is some 15 % slower: a row element's rotations form a
  * dependent chain.)
  */
