@@ -19,7 +19,7 @@ static unsigned identify_paper(okid_config *cfg, double noise, okid_result *res,
    Markov parameters are), flagged as an observer order above the minimum; the realization
    condition is sigma_1 / sigma_4 of the exact Hankel matrix (numpy), 4.44e3: below 1 / sqrt(eps)
    in double, above it (2.9e3) in float, where the fourth state keeps only 3.6 of float's 7.2
-   digits (README "Accuracy in float"). In float the condition is off by up to 2u sigma_1 / sigma_4
+   digits (docs/accuracy.md). In float the condition is off by up to 2u sigma_1 / sigma_4
    (Weyl: each sigma moves by about u sigma_1), identify_tol(). */
 static void test_noise_free_above_minimum(void **state)
 {

@@ -29,9 +29,15 @@ static void textbook_fold(int n, okid_real *r, int ldr, okid_real *row, int inc)
         const okid_real s = x / (sign * h), t = x / (sign * (d + h)); /* t = s / (1 + c) */
         *rjj = sign * h;
         for (int k = j + 1; k < n; ++k) { /* the rotation as three shears */
+#if OKID_FUSED_FOLD /* each rounded once (CMake OKID_FUSED_FOLD) */
+            const okid_real x1 = okid_fma(-t, r[j + k * ldr], row[k * inc]);
+            r[j + k * ldr] = okid_fma(s, x1, r[j + k * ldr]);
+            row[k * inc] = okid_fma(-t, r[j + k * ldr], x1);
+#else
             const okid_real x1 = row[k * inc] - t * r[j + k * ldr];
             r[j + k * ldr] += s * x1;
             row[k * inc] = x1 - t * r[j + k * ldr];
+#endif
         }
     }
 }

@@ -12,8 +12,8 @@
 #include "okid/okid.h"
 
 /*
- * The tolerance of a check: the first in double, the second when okid_real is float (the README's
- * "Accuracy in float" explains the float figures: eps 6e-8 times the conditioning of each step).
+ * The tolerance of a check: the first in double, the second when okid_real is float
+ * (docs/accuracy.md explains the float figures: eps 6e-8 times the conditioning of each step).
  */
 #if OKID_REAL_IS_FLOAT
 #define TOL(double_tol, float_tol) (float_tol)
@@ -86,7 +86,7 @@ void assert_relative(double got, double want, double tol, const char *what, int 
  * The relative eigenvalue error noise-free identification of rc must meet (poles, damping and shapes
  * to it magnified as assert_modes_match() says): 1e-9 in double; in float 2u sigma_1 / sigma_n of
  * rc's exact Hankel matrix (u = 6e-8): the first-order effect of H's round-off, u sigma_1, on the
- * realization, doubled because it is an estimate, not a bound (README "Accuracy in float").
+ * realization, doubled because it is an estimate, not a bound (docs/accuracy.md).
  */
 double identify_tol(const ref_case *rc);
 

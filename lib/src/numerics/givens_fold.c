@@ -32,11 +32,13 @@
    t = s / (1 + c) for the shears (c = |*diag| / hypot >= 0, so |t| <= 1); for x == 0 the
    identity. The hypot is *diag's magnitude plus the increment x^2 / (|*diag| + hypot), which
    depends on the first hypot's rounding only to second order: correctly rounded but for a few
-   eps of the increment. */
-static void make_rotation(okid_real *diag, okid_real x, okid_real *t, okid_real *s)
+   eps of the increment. It stores -t, *minus_t: each shear is then a plain multiply-add,
+   x + (-t) a (negation is exact: the same bits as x - t a), where t itself costs RV32F an fneg
+   per rotation and column pair. The identity's -0 keeps x - 0 a's sign of zero. */
+static void make_rotation(okid_real *diag, okid_real x, okid_real *minus_t, okid_real *s)
 {
     if (x == 0) {
-        *t = 0;
+        *minus_t = -(okid_real)0;
         *s = 0;
         return;
     }
@@ -44,23 +46,37 @@ static void make_rotation(okid_real *diag, okid_real x, okid_real *t, okid_real 
     const okid_real h = d + x_abs * (x_abs / (d + okid_hypot(d, x_abs)));
     const okid_real sign = *diag < 0 ? -1 : 1;
     *s = x / (sign * h);
-    *t = x / (sign * (d + h));
+    *minus_t = x / (-sign * (d + h));
     *diag = sign * h;
 }
 
-/* (a, x) <- (c a + s x, c x - s a) as three shears (see above). */
-static OKID_INLINE_ALWAYS void rotate(okid_real t, okid_real s, okid_real *a, okid_real *x)
+/*
+ * (a, x) <- (c a + s x, c x - s a) as three shears (see above). RV32F has no unfused multiply-add:
+ * each shear is an fmul and an fadd there, six instructions an element where the Arm cores'
+ * VMLA takes three. With OKID_FUSED_FOLD (CMake option; the riscv32 preset turns it on) the
+ * shears are fmaf/fma, which C defines as correctly rounded: one fmadd.s on RV32F (VFMA on the
+ * Arm FPUs), and the same bits from the host's libm, so the host twin still matches the target
+ * bit for bit (-ffp-contract=fast fuses where the compiler chooses, which no host build
+ * reproduces).
+ */
+static OKID_INLINE_ALWAYS void rotate(okid_real minus_t, okid_real s, okid_real *a, okid_real *x)
 {
-    const okid_real x1 = *x - t * *a;
+#if OKID_FUSED_FOLD
+    const okid_real x1 = okid_fma(minus_t, *a, *x);
+    *a = okid_fma(s, x1, *a);
+    *x = okid_fma(minus_t, *a, x1);
+#else
+    const okid_real x1 = *x + minus_t * *a;
     *a += s * x1;
-    *x = x1 - t * *a;
+    *x = x1 + minus_t * *a;
+#endif
 }
 
-/* Rotation (t, s) on an element of each of the two columns, a and b, and their row elements. */
-static OKID_INLINE_ALWAYS void rotate_two(okid_real t, okid_real s, okid_real *a, okid_real *b, okid_real *xa, okid_real *xb)
+/* Rotation (-t, s) on an element of each of the two columns, a and b, and their row elements. */
+static OKID_INLINE_ALWAYS void rotate_two(okid_real minus_t, okid_real s, okid_real *a, okid_real *b, okid_real *xa, okid_real *xb)
 {
-    rotate(t, s, a, xa);
-    rotate(t, s, b, xb);
+    rotate(minus_t, s, a, xa);
+    rotate(minus_t, s, b, xb);
 }
 
 /*
@@ -70,12 +86,13 @@ static OKID_INLINE_ALWAYS void rotate_two(okid_real t, okid_real s, okid_real *a
  * order, so the bits are the same, but a column of r is contiguous, the row elements are not
  * loaded and stored at every step, and each (t, s) serves two columns, four rotations a pass:
  * 52 instructions for its 8 elements on a Cortex-M4F at -Os (each a load and a store of r and
- * three VMLA/VMLS, and a load of t or s for every other), against 14 an element for the textbook
+ * three VMLA, and a load of t or s for every other), against 14 an element for the textbook
  * loop. (On an out-of-order host it is some 15 % slower: a row element's rotations form a
  * dependent chain.)
  */
 void okid_givens_fold_row(int n, okid_real *r, int ldr, const okid_real *row, int inc, okid_real *t, okid_real *s)
 {
+    /* rotation j: t[j] holds its -t (make_rotation), s[j] its s */
     int k = n & 1; /* an odd n starts with column 0 alone: it meets no rotation */
     if (k == 1) {
         make_rotation(r, row[0], t, s);

@@ -18,6 +18,7 @@
 #define okid_sin sinf
 #define okid_pow powf
 #define okid_copysign copysignf
+#define okid_fma fmaf
 #define OKID_EPSILON FLT_EPSILON
 #define OKID_REAL_MIN FLT_MIN
 #define OKID_REAL_MAX FLT_MAX
@@ -32,6 +33,7 @@
 #define okid_sin sin
 #define okid_pow pow
 #define okid_copysign copysign
+#define okid_fma fma
 #define OKID_EPSILON DBL_EPSILON
 #define OKID_REAL_MIN DBL_MIN
 #define OKID_REAL_MAX DBL_MAX
