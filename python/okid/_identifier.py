@@ -11,8 +11,9 @@ import numpy as np
 
 from . import _config, _core
 from ._config import DEFAULTS
-from ._errors import (E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_ENOUGH_DATA, OK, BadSizeError, NonFiniteSampleWarning,
-                      check, error_for)
+from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_AVAILABLE, E_NOT_ENOUGH_DATA, OK,
+                      BadParameterError, BadSizeError, NonFiniteSampleWarning, check, error_for)
+from ._refine import REFINE_DEFAULTS, check_settings
 from ._result import Result
 
 
@@ -59,6 +60,7 @@ class Identifier:
         self.num_outputs: int = self._config["num_outputs"]
         self.dt: float = dt  #: sample interval of the pushed data [s]
         self._core: Optional[Any] = _core.IdentifierCore()
+        self._last: Optional[Result] = None
         check(self._core.init(self._config), "okid_init")
 
     @property
@@ -108,7 +110,18 @@ class Identifier:
             raise error_for(status, f"{p.rows} regressor rows from {p.samples} samples, {p.rows_needed} needed "
                                     f"(q = r + (r + m) observer_order)")
         check(status, "identify")
-        return Result._from_core(result, self.config, core, core.generation)
+        self._last = Result._from_core(result, self.config, core, core.generation)
+        return self._last
+
+    def refine(self, u: Any, y: Any, *, max_passes: int = REFINE_DEFAULTS["max_passes"],
+               step_tolerance: float = REFINE_DEFAULTS["step_tolerance"]) -> Result:
+        """The last identify()'s result refined over the record (u, y) the caller gives: the
+        samples that model describes, (N, r) and (N, m) at dt (the identifier keeps no record).
+        See :meth:`okid.Result.refine`; a refinement that stops without converging warns
+        (okid.RefinementWarning)."""
+        if self._last is None:
+            raise error_for(E_NOT_AVAILABLE, "refine() before identify(): nothing to refine")
+        return self._last._refine(u, y, max_passes, step_tolerance, stacklevel=2)
 
     def predict(self, u: Any) -> np.ndarray:
         """One-step-ahead prediction of y(k) (m values) from u(k) and the last observer_order samples,
@@ -163,7 +176,10 @@ def identify(u: Any, y: Any, dt: float, *,
              decimation: int = DEFAULTS["decimation"],
              scaling: str = DEFAULTS["scaling"],
              estimator: str = DEFAULTS["estimator"],
-             instrument_lags: int = DEFAULTS["instrument_lags"]) -> Result:
+             instrument_lags: int = DEFAULTS["instrument_lags"],
+             refine: bool = False,
+             max_passes: int = REFINE_DEFAULTS["max_passes"],
+             step_tolerance: float = REFINE_DEFAULTS["step_tolerance"]) -> Result:
     """Identify a state-space model and its modes from one record (OKID/ERA).
 
     u: forces, (N, r) or (N,) for one input; y: responses, (N, m) or (N,); time along axis 0.
@@ -184,11 +200,27 @@ def identify(u: Any, y: Any, dt: float, *,
     estimator: "least_squares" or "instrumental" (removes the bias of output noise)
     instrument_lags: L of the instrumental estimator (0 = automatic)
 
+    refine: also run the prediction-error (maximum-likelihood) refinement of the OKID/ERA model
+    over the same record (``okid identify --refine``, docs/refinement.md): Result.refinement then
+    holds the refined modes with the standard deviation of each (frequency_std [Hz], damping_std,
+    eigenvalue_std, pole_std [1/s], sensor_shape_std). Not with decimation > 1. Unlike the CLI,
+    the observer order and Hankel size are the ones given here (default 20, 20 x 20): the CLI's
+    search over starts when no horizon is given is not run.
+    max_passes: with refine, passes over the record at most (2..1000, default 30)
+    step_tolerance: with refine, converged when the Gauss-Newton decrement (about the squared step
+    in standard deviations) falls below it (> 0, default 1e-6)
+
     Returns an immutable :class:`okid.Result`. Raises a :class:`okid.ConfigurationError` (a
     ValueError) naming a setting out of range, :class:`okid.NotEnoughDataError`,
     :class:`okid.NotPersistentlyExcitingError` for a force that does not excite the system.
-    Samples with NaN or Inf are rejected with a NonFiniteSampleWarning.
+    Samples with NaN or Inf are rejected with a NonFiniteSampleWarning. A refinement that stops
+    without converging gives an :class:`okid.RefinementWarning`.
     """
+    if refine:
+        max_passes, step_tolerance = check_settings(max_passes, step_tolerance)
+        if decimation > 1:
+            raise BadParameterError(f"refine=True with decimation = {decimation}: the refinement needs the record "
+                                    f"at the model's sample interval; identify without decimation", E_BAD_PARAMETER)
     options = dict(observer_order=observer_order, order=order, hankel_rows=hankel_rows, hankel_cols=hankel_cols,
                    block_rows=block_rows, forgetting_factor=forgetting_factor, rank_tolerance=rank_tolerance,
                    sensing=sensing, realization=realization, zero_initial_state=zero_initial_state,
@@ -209,4 +241,5 @@ def identify(u: Any, y: Any, dt: float, *,
                       NonFiniteSampleWarning, stacklevel=2)
     elif status != OK:
         raise error_for(status, "push")
-    return identifier.identify()
+    result = identifier.identify()
+    return result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2) if refine else result
