@@ -4,7 +4,7 @@ without a copy."""
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Optional
 
 import numpy as np
@@ -12,9 +12,10 @@ import numpy as np
 from . import _config, _core
 from ._config import DEFAULTS
 from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_AVAILABLE, E_NOT_ENOUGH_DATA, OK,
-                      BadParameterError, BadSizeError, NonFiniteSampleWarning, check, error_for)
+                      BadParameterError, BadSizeError, NonFiniteSampleWarning, OkidError, check, error_for)
 from ._refine import REFINE_DEFAULTS, check_settings
 from ._result import Result
+from ._start_search import choose_start
 
 
 @dataclass(frozen=True)
@@ -163,10 +164,10 @@ class Identifier:
 
 
 def identify(u: Any, y: Any, dt: float, *,
-             observer_order: int = DEFAULTS["observer_order"],
+             observer_order: Optional[int] = None,
              order: int = DEFAULTS["order"],
-             hankel_rows: int = DEFAULTS["hankel_rows"],
-             hankel_cols: int = DEFAULTS["hankel_cols"],
+             hankel_rows: Optional[int] = None,
+             hankel_cols: Optional[int] = None,
              block_rows: int = DEFAULTS["block_rows"],
              forgetting_factor: float = DEFAULTS["forgetting_factor"],
              rank_tolerance: float = DEFAULTS["rank_tolerance"],
@@ -186,9 +187,11 @@ def identify(u: Any, y: Any, dt: float, *,
     dt: sample interval [s]. The keywords are okid_config's fields with okid_config_default()'s
     defaults (docs/cli.md):
 
-    observer_order: p, observer Markov parameters (1..1000; m p >= order)
+    observer_order: p, observer Markov parameters (1..1000; m p >= order); None is okid_config_default()'s
+    (20), or with refine=True and no Hankel size either, chosen from the data (below)
     order: model order n (states); 0 picks the largest gap of the Hankel singular values
-    hankel_rows, hankel_cols: alpha, beta block rows/columns of the ERA Hankel matrix (1..1000)
+    hankel_rows, hankel_cols: alpha, beta block rows/columns of the ERA Hankel matrix (1..1000);
+    None is the default (20), or chosen from the data like observer_order
     block_rows: regressor rows folded per update (0 = 32)
     forgetting_factor: lambda in (0, 1] (0 reads as 1): a row k samples old weighs lambda^k
     rank_tolerance: relative tolerance of the rank-revealing least squares (0 = 1e-10)
@@ -221,10 +224,14 @@ def identify(u: Any, y: Any, dt: float, *,
         if decimation > 1:
             raise BadParameterError(f"refine=True with decimation = {decimation}: the refinement needs the record "
                                     f"at the model's sample interval; identify without decimation", E_BAD_PARAMETER)
+    horizons_given = not (observer_order is None and hankel_rows is None and hankel_cols is None)
     options = dict(observer_order=observer_order, order=order, hankel_rows=hankel_rows, hankel_cols=hankel_cols,
                    block_rows=block_rows, forgetting_factor=forgetting_factor, rank_tolerance=rank_tolerance,
                    sensing=sensing, realization=realization, zero_initial_state=zero_initial_state,
                    decimation=decimation, scaling=scaling, estimator=estimator, instrument_lags=instrument_lags)
+    for name in ("observer_order", "hankel_rows", "hankel_cols"):
+        if options[name] is None:
+            options[name] = DEFAULTS[name]
     ua = np.asarray(u, dtype=np.float64)
     ya = np.asarray(y, dtype=np.float64)
     r = 1 if ua.ndim == 1 else (ua.shape[1] if ua.ndim == 2 else -1)
@@ -235,6 +242,22 @@ def identify(u: Any, y: Any, dt: float, *,
     ub, yb = _block(ua, r, "u"), _block(ya, m, "y")
     if ub.shape[0] != yb.shape[0]:
         raise BadSizeError(f"u has {ub.shape[0]} samples and y {yb.shape[0]}: time along axis 0 must match", E_BAD_SIZE)
+    search = None
+    if refine and not horizons_given:
+        def trial(opts):
+            start = Identifier(r, m, dt, **opts)
+            if start._core.push_block(ub, yb)[0] != OK:
+                return None, None
+            try:
+                result = start.identify()
+            except OkidError:
+                return None, None
+            try:
+                return result, result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2).refinement
+            except OkidError:
+                return result, None
+        options, search = choose_start(trial, options)
+        identifier = Identifier(r, m, dt, **options)
     status, accepted = identifier._core.push_block(ub, yb)
     if status == E_NONFINITE_SAMPLE:
         warnings.warn(f"{ub.shape[0] - accepted} of {ub.shape[0]} samples held NaN or Inf and were rejected",
@@ -242,4 +265,6 @@ def identify(u: Any, y: Any, dt: float, *,
     elif status != OK:
         raise error_for(status, "push")
     result = identifier.identify()
-    return result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2) if refine else result
+    if not refine:
+        return result
+    return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2), start_search=search)

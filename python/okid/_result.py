@@ -150,6 +150,9 @@ class Result:
     _identifier: Any = field(repr=False)
     _generation: int = field(repr=False)
     _refine_core: Any = field(repr=False, default=None)
+    #: with refine=True and no horizon given: the starts tried ({"chosen": index, "candidates":
+    #: [{observer_order, hankel_rows, hankel_cols, state, cost}]}, the JSON's "start_search"), else None
+    start_search: Optional[Mapping[str, Any]] = None
 
     @classmethod
     def _from_core(cls, core, config: Mapping[str, Any], identifier, generation: int) -> "Result":
@@ -177,7 +180,10 @@ class Result:
         if self._refine_core is not None:
             # json_result()'s members, then json_refinement()'s, as okid identify --refine writes them
             text = text[:text.rindex("}")].rstrip() + self._refine_core.to_json() + "\n}\n"
-        return json.loads(text)
+        out = json.loads(text)
+        if self.start_search is not None:
+            out["start_search"] = json.loads(json.dumps(self.start_search))
+        return out
 
     def refine(self, u: Any, y: Any, *, max_passes: int = REFINE_DEFAULTS["max_passes"],
                step_tolerance: float = REFINE_DEFAULTS["step_tolerance"]) -> "Result":

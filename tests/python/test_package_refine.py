@@ -211,3 +211,31 @@ def test_crlb_scales_with_the_noise_and_takes_any_model():
         okid.crlb(u, 0.02)
     with pytest.raises(okid.BadParameterError, match="noise"):
         okid.crlb(u, 0.02, noise=0)
+
+
+def test_without_horizons_the_start_is_chosen_as_the_cli_does(tmp_path):
+    """Issue 18's newcomer case (100 s at 100 Hz, 2 % noise, order 4 and nothing else): OKID/ERA's
+    defaults miss the 0.5 Hz pair; refine=True without horizons searches the starts like
+    ``okid identify --refine`` and to_dict() equals its JSON, "start_search" included."""
+    path = tmp_path / "newcomer.csv"
+    assert cli("simulate", "--samples", 10001, "--dt", 0.01, "--noise", 0.02, "--seed", 3, "--output", path).returncode == 0
+    u, y = columns(path.read_text().splitlines()[0].split(","), np.loadtxt(path, delimiter=",", skiprows=1))
+    assert sum(m.is_pair for m in okid.identify(u, y, 0.01, order=4).modes) < 2  # the failure the issue shows
+    res = okid.identify(u, y, 0.01, order=4, refine=True)
+    proc = cli("identify", "--order", 4, "--refine", "--json", path)
+    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    theirs = {k: v for k, v in json.loads(proc.stdout).items() if k not in CLI_ONLY}
+    ours = res.to_dict()
+    assert list(ours)[-2:] == ["refinement", "start_search"]
+    assert_close(ours, theirs)
+    chosen = res.start_search["candidates"][res.start_search["chosen"]]
+    assert res.config["observer_order"] == chosen["observer_order"] and chosen["state"] == "converged"
+    freq, zeta = exact_modes()
+    pairs = [m for m in res.refinement.modes if m.is_pair]
+    assert len(pairs) == 2
+    for k, mode in enumerate(pairs):
+        assert abs(mode.frequency_hz - freq[k]) < 4 * mode.frequency_std
+        assert abs(mode.damping_ratio - zeta[k]) < 4 * mode.damping_std
+    # a horizon given: no search, the caller's settings stand
+    given = okid.identify(u, y, 0.01, order=4, refine=True, observer_order=40, hankel_rows=100, hankel_cols=100)
+    assert given.start_search is None and given.config["observer_order"] == 40
