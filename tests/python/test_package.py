@@ -106,7 +106,7 @@ def test_keywords_are_the_okid_config_fields():
     fields = re.findall(r"(\w+)\s*;", body)
     params = inspect.signature(okid.identify).parameters
     keyword_only = [n for n, p in params.items() if p.kind is p.KEYWORD_ONLY]
-    assert [f for f in fields if f not in ("num_inputs", "num_outputs", "dt")] == keyword_only
+    assert [f for f in fields if f not in ("num_inputs", "num_outputs", "dt")] == keyword_only[:len(fields) - 3]
     assert list(params)[:3] == ["u", "y", "dt"]
     # the okid_config fields, then okid_refine_config's behind refine (docs/cli.md)
     assert keyword_only == list(okid.OPTION_NAMES) + ["refine", "max_passes", "step_tolerance"]
