@@ -45,7 +45,7 @@ const char *okid_refine_state_str(okid_refine_state state)
 static size_t layout(okid_refiner *rf, void *base, int n, int r, int m)
 {
     const size_t np = OKID_REFINE_PARAMETERS(n, r, m), nn = (size_t)n, rr = (size_t)r, mm = (size_t)m;
-    const size_t scratch = OKID__REFINE_SCRATCH(n, np);
+    const size_t scratch = (size_t)OKID__REFINE_SCRATCH(n, np); /* fits: okid_refine_workspace_size() checked */
     okid_carver c = {(unsigned char *)base, 0};
     rf->ptab_ = (int *)okid_carve_bytes(&c, sizeof(int) * 4u * np);
     rf->blk_ = (int *)okid_carve_bytes(&c, sizeof(int) * OKID_RB_INTS * nn);
