@@ -206,9 +206,11 @@ def identify(u: Any, y: Any, dt: float, *,
     refine: also run the prediction-error (maximum-likelihood) refinement of the OKID/ERA model
     over the same record (``okid identify --refine``, docs/refinement.md): Result.refinement then
     holds the refined modes with the standard deviation of each (frequency_std [Hz], damping_std,
-    eigenvalue_std, pole_std [1/s], sensor_shape_std). Not with decimation > 1. Unlike the CLI,
-    the observer order and Hankel size are the ones given here (default 20, 20 x 20): the CLI's
-    search over starts when no horizon is given is not run.
+    eigenvalue_std, pole_std [1/s], sensor_shape_std). Not with decimation > 1. With none of
+    observer_order, hankel_rows, hankel_cols given, the start is chosen from the data as the CLI
+    does: OKID/ERA and a refinement from p in (10, 20, 40, 80) x alpha = beta in (20, 50, 100),
+    cheap first, until two reach the same cost; the lowest cost wins, its settings are
+    Result.config's and the starts tried Result.start_search (the JSON's "start_search").
     max_passes: with refine, passes over the record at most (2..1000, default 30)
     step_tolerance: with refine, converged when the Gauss-Newton decrement (about the squared step
     in standard deviations) falls below it (> 0, default 1e-6)

@@ -17,8 +17,6 @@ _MAX_PASSES, _STEP_TOLERANCE = _core.refine_config_default()
 #: okid_refine_config_default()'s values (docs/cli.md: --max-passes, --step-tolerance).
 REFINE_DEFAULTS = {"max_passes": _MAX_PASSES, "step_tolerance": _STEP_TOLERANCE}
 
-STATES = ("converged", "diverged", "not_improving", "iteration_limit")
-
 
 class RefinementWarning(RuntimeWarning):
     """A refinement stopped without converging (diverged, not improving, or max_passes reached):
