@@ -16,6 +16,7 @@ from ._errors import (BadOrderError, BadParameterError, BadSizeError, Concurrent
                       DecompositionError, InternalError, NonFiniteSampleError, NonFiniteSampleWarning,
                       NotAvailableError, NotEnoughDataError, NotPersistentlyExcitingError, OkidError)
 from ._identifier import Identifier, Progress, identify
+from ._refine import REFINE_DEFAULTS, CramerRaoBound, Refinement, RefinementWarning, crlb
 from ._result import Mode, Result, StabilityFlag, Stabilization, StabilizationOrder, WarningFlag
 from . import model
 
@@ -23,7 +24,8 @@ __version__ = _core.VERSION
 
 __all__ = [
     "identify", "Identifier", "Progress", "Result", "Mode", "WarningFlag", "Stabilization", "StabilizationOrder",
-    "StabilityFlag", "model", "DEFAULTS", "OPTION_NAMES",
+    "StabilityFlag", "model", "DEFAULTS", "OPTION_NAMES", "Refinement", "RefinementWarning", "REFINE_DEFAULTS",
+    "crlb", "CramerRaoBound",
     "OkidError", "ConfigurationError", "BadSizeError", "BadOrderError", "BadParameterError", "NotEnoughDataError",
     "NotPersistentlyExcitingError", "DecompositionError", "NotAvailableError", "NonFiniteSampleError",
     "ConcurrentUseError", "InternalError", "NonFiniteSampleWarning",

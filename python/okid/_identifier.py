@@ -4,16 +4,18 @@ without a copy."""
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Optional
 
 import numpy as np
 
 from . import _config, _core
 from ._config import DEFAULTS
-from ._errors import (E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_ENOUGH_DATA, OK, BadSizeError, NonFiniteSampleWarning,
-                      check, error_for)
+from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_AVAILABLE, E_NOT_ENOUGH_DATA, OK,
+                      BadParameterError, BadSizeError, NonFiniteSampleWarning, OkidError, check, error_for)
+from ._refine import REFINE_DEFAULTS, check_settings
 from ._result import Result
+from ._start_search import choose_start
 
 
 @dataclass(frozen=True)
@@ -59,6 +61,7 @@ class Identifier:
         self.num_outputs: int = self._config["num_outputs"]
         self.dt: float = dt  #: sample interval of the pushed data [s]
         self._core: Optional[Any] = _core.IdentifierCore()
+        self._last: Optional[Result] = None
         check(self._core.init(self._config), "okid_init")
 
     @property
@@ -108,7 +111,18 @@ class Identifier:
             raise error_for(status, f"{p.rows} regressor rows from {p.samples} samples, {p.rows_needed} needed "
                                     f"(q = r + (r + m) observer_order)")
         check(status, "identify")
-        return Result._from_core(result, self.config, core, core.generation)
+        self._last = Result._from_core(result, self.config, core, core.generation)
+        return self._last
+
+    def refine(self, u: Any, y: Any, *, max_passes: int = REFINE_DEFAULTS["max_passes"],
+               step_tolerance: float = REFINE_DEFAULTS["step_tolerance"]) -> Result:
+        """The last identify()'s result refined over the record (u, y) the caller gives: the
+        samples that model describes, (N, r) and (N, m) at dt (the identifier keeps no record).
+        See :meth:`okid.Result.refine`; a refinement that stops without converging warns
+        (okid.RefinementWarning)."""
+        if self._last is None:
+            raise error_for(E_NOT_AVAILABLE, "refine() before identify(): nothing to refine")
+        return self._last._refine(u, y, max_passes, step_tolerance, stacklevel=2)
 
     def predict(self, u: Any) -> np.ndarray:
         """One-step-ahead prediction of y(k) (m values) from u(k) and the last observer_order samples,
@@ -150,10 +164,10 @@ class Identifier:
 
 
 def identify(u: Any, y: Any, dt: float, *,
-             observer_order: int = DEFAULTS["observer_order"],
+             observer_order: Optional[int] = None,
              order: int = DEFAULTS["order"],
-             hankel_rows: int = DEFAULTS["hankel_rows"],
-             hankel_cols: int = DEFAULTS["hankel_cols"],
+             hankel_rows: Optional[int] = None,
+             hankel_cols: Optional[int] = None,
              block_rows: int = DEFAULTS["block_rows"],
              forgetting_factor: float = DEFAULTS["forgetting_factor"],
              rank_tolerance: float = DEFAULTS["rank_tolerance"],
@@ -163,16 +177,21 @@ def identify(u: Any, y: Any, dt: float, *,
              decimation: int = DEFAULTS["decimation"],
              scaling: str = DEFAULTS["scaling"],
              estimator: str = DEFAULTS["estimator"],
-             instrument_lags: int = DEFAULTS["instrument_lags"]) -> Result:
+             instrument_lags: int = DEFAULTS["instrument_lags"],
+             refine: bool = False,
+             max_passes: int = REFINE_DEFAULTS["max_passes"],
+             step_tolerance: float = REFINE_DEFAULTS["step_tolerance"]) -> Result:
     """Identify a state-space model and its modes from one record (OKID/ERA).
 
     u: forces, (N, r) or (N,) for one input; y: responses, (N, m) or (N,); time along axis 0.
     dt: sample interval [s]. The keywords are okid_config's fields with okid_config_default()'s
     defaults (docs/cli.md):
 
-    observer_order: p, observer Markov parameters (1..1000; m p >= order)
+    observer_order: p, observer Markov parameters (1..1000; m p >= order); None is okid_config_default()'s
+    (20), or with refine=True and no Hankel size either, chosen from the data (below)
     order: model order n (states); 0 picks the largest gap of the Hankel singular values
-    hankel_rows, hankel_cols: alpha, beta block rows/columns of the ERA Hankel matrix (1..1000)
+    hankel_rows, hankel_cols: alpha, beta block rows/columns of the ERA Hankel matrix (1..1000);
+    None is the default (20), or chosen from the data like observer_order
     block_rows: regressor rows folded per update (0 = 32)
     forgetting_factor: lambda in (0, 1] (0 reads as 1): a row k samples old weighs lambda^k
     rank_tolerance: relative tolerance of the rank-revealing least squares (0 = 1e-10)
@@ -184,15 +203,37 @@ def identify(u: Any, y: Any, dt: float, *,
     estimator: "least_squares" or "instrumental" (removes the bias of output noise)
     instrument_lags: L of the instrumental estimator (0 = automatic)
 
+    refine: also run the prediction-error (maximum-likelihood) refinement of the OKID/ERA model
+    over the same record (``okid identify --refine``, docs/refinement.md): Result.refinement then
+    holds the refined modes with the standard deviation of each (frequency_std [Hz], damping_std,
+    eigenvalue_std, pole_std [1/s], sensor_shape_std). Not with decimation > 1. With none of
+    observer_order, hankel_rows, hankel_cols given, the start is chosen from the data as the CLI
+    does: OKID/ERA and a refinement from p in (10, 20, 40, 80) x alpha = beta in (20, 50, 100),
+    cheap first, until two reach the same cost; the lowest cost wins, its settings are
+    Result.config's and the starts tried Result.start_search (the JSON's "start_search").
+    max_passes: with refine, passes over the record at most (2..1000, default 30)
+    step_tolerance: with refine, converged when the Gauss-Newton decrement (about the squared step
+    in standard deviations) falls below it (> 0, default 1e-6)
+
     Returns an immutable :class:`okid.Result`. Raises a :class:`okid.ConfigurationError` (a
     ValueError) naming a setting out of range, :class:`okid.NotEnoughDataError`,
     :class:`okid.NotPersistentlyExcitingError` for a force that does not excite the system.
-    Samples with NaN or Inf are rejected with a NonFiniteSampleWarning.
+    Samples with NaN or Inf are rejected with a NonFiniteSampleWarning. A refinement that stops
+    without converging gives an :class:`okid.RefinementWarning`.
     """
+    if refine:
+        max_passes, step_tolerance = check_settings(max_passes, step_tolerance)
+        if decimation > 1:
+            raise BadParameterError(f"refine=True with decimation = {decimation}: the refinement needs the record "
+                                    f"at the model's sample interval; identify without decimation", E_BAD_PARAMETER)
+    horizons_given = not (observer_order is None and hankel_rows is None and hankel_cols is None)
     options = dict(observer_order=observer_order, order=order, hankel_rows=hankel_rows, hankel_cols=hankel_cols,
                    block_rows=block_rows, forgetting_factor=forgetting_factor, rank_tolerance=rank_tolerance,
                    sensing=sensing, realization=realization, zero_initial_state=zero_initial_state,
                    decimation=decimation, scaling=scaling, estimator=estimator, instrument_lags=instrument_lags)
+    for name in ("observer_order", "hankel_rows", "hankel_cols"):
+        if options[name] is None:
+            options[name] = DEFAULTS[name]
     ua = np.asarray(u, dtype=np.float64)
     ya = np.asarray(y, dtype=np.float64)
     r = 1 if ua.ndim == 1 else (ua.shape[1] if ua.ndim == 2 else -1)
@@ -203,10 +244,29 @@ def identify(u: Any, y: Any, dt: float, *,
     ub, yb = _block(ua, r, "u"), _block(ya, m, "y")
     if ub.shape[0] != yb.shape[0]:
         raise BadSizeError(f"u has {ub.shape[0]} samples and y {yb.shape[0]}: time along axis 0 must match", E_BAD_SIZE)
+    search = None
+    if refine and not horizons_given:
+        def trial(opts):
+            start = Identifier(r, m, dt, **opts)
+            if start._core.push_block(ub, yb)[0] != OK:
+                return None, None
+            try:
+                result = start.identify()
+            except OkidError:
+                return None, None
+            try:
+                return result, result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2).refinement
+            except OkidError:
+                return result, None
+        options, search = choose_start(trial, options)
+        identifier = Identifier(r, m, dt, **options)
     status, accepted = identifier._core.push_block(ub, yb)
     if status == E_NONFINITE_SAMPLE:
         warnings.warn(f"{ub.shape[0] - accepted} of {ub.shape[0]} samples held NaN or Inf and were rejected",
                       NonFiniteSampleWarning, stacklevel=2)
     elif status != OK:
         raise error_for(status, "push")
-    return identifier.identify()
+    result = identifier.identify()
+    if not refine:
+        return result
+    return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2), start_search=search)

@@ -4,14 +4,15 @@ from __future__ import annotations
 
 import enum
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from types import MappingProxyType
 from typing import Any, Dict, Mapping, Optional, Tuple
 
 import numpy as np
 
 from . import _core
-from ._errors import check
+from ._errors import E_BAD_PARAMETER, BadParameterError, check
+from ._refine import REFINE_DEFAULTS, Refinement, check_settings, run as _run_refinement, warn_if_stopped
 
 
 class WarningFlag(enum.IntFlag):
@@ -49,7 +50,10 @@ class Mode:
     unit norm, largest component real positive; shape: eq. 64 with continuous poles, (2 m,) complex,
     displacements then velocities; emac, emac_output, emac_input: extended modal amplitude
     coherence [0, 1]; mpc: modal phase collinearity [0, 1]; msv: mode singular value (units of the
-    Hankel singular values); cmi: consistent mode indicator EMAC x MPC [0, 1].
+    Hankel singular values); cmi: consistent mode indicator EMAC x MPC [0, 1]. A refined mode
+    (Result.refinement.modes, okid.crlb) also has one standard deviation of each: frequency_std
+    [Hz], damping_std [-], eigenvalue_std and pole_std [1/s] (std of the real part as the real
+    part, std of the imaginary part as the imaginary part), sensor_shape_std ((m,) complex, alike).
     """
     eigenvalue: complex       #: discrete-time eigenvalue of A
     pole: complex             #: continuous-time pole ln(eigenvalue) / dt [1/s]
@@ -64,6 +68,13 @@ class Mode:
     mpc: float                #: modal phase collinearity of sensor_shape, [0, 1]
     msv: float                #: mode singular value (units of the Hankel singular values)
     cmi: float                #: consistent mode indicator EMAC * MPC, [0, 1]
+    # Set on the modes of a refinement (Result.refinement.modes, okid.crlb), None on OKID/ERA's;
+    # one standard deviation each, from the inverse Fisher information (-1 when it diverged).
+    frequency_std: Optional[float] = None          #: std of frequency_hz [Hz]
+    damping_std: Optional[float] = None            #: std of damping_ratio [-]
+    eigenvalue_std: Optional[complex] = None       #: std of Re (real part) and of Im (imaginary part) of eigenvalue
+    pole_std: Optional[complex] = None             #: std of Re and of Im of pole, as a complex number [1/s]
+    sensor_shape_std: Optional[np.ndarray] = None  #: (m,) complex: std of Re and of Im of each sensor_shape entry
 
 
 def _modes(dicts) -> Tuple[Mode, ...]:
@@ -134,16 +145,21 @@ class Result:
     modes: Tuple[Mode, ...]             #: sorted by frequency, then damping
     warnings: WarningFlag               #: what deserves a look
     config: Mapping[str, Any]           #: the okid_config used (keyword names and values)
+    refinement: Optional[Refinement]    #: the prediction-error refinement (refine=True, refine()), else None
     _core: Any = field(repr=False)
     _identifier: Any = field(repr=False)
     _generation: int = field(repr=False)
+    _refine_core: Any = field(repr=False, default=None)
+    #: with refine=True and no horizon given: the starts tried ({"chosen": index, "candidates":
+    #: [{observer_order, hankel_rows, hankel_cols, state, cost}]}, the JSON's "start_search"), else None
+    start_search: Optional[Mapping[str, Any]] = None
 
     @classmethod
     def _from_core(cls, core, config: Mapping[str, Any], identifier, generation: int) -> "Result":
         f = core.fields()
         values = {name: f[name] for name in _FIELDS}
         return cls(**values, modes=_modes(f["modes"]), warnings=WarningFlag(f["warnings"]),
-                   config=MappingProxyType(dict(config)), _core=core, _identifier=identifier,
+                   config=MappingProxyType(dict(config)), refinement=None, _core=core, _identifier=identifier,
                    _generation=generation)
 
     @property
@@ -158,8 +174,41 @@ class Result:
 
     def to_dict(self) -> Dict[str, Any]:
         """The object ``okid identify --json`` prints for the same data and options, written by the
-        CLI's own JSON writer (without the CLI-only "inputs", "outputs" and "elapsed_seconds")."""
-        return json.loads(self._core.to_json())
+        CLI's own JSON writer (without the CLI-only "inputs", "outputs" and "elapsed_seconds"), with
+        the "refinement" object of ``--refine`` when this result was refined."""
+        text = self._core.to_json()
+        if self._refine_core is not None:
+            # json_result()'s members, then json_refinement()'s, as okid identify --refine writes them
+            text = text[:text.rindex("}")].rstrip() + self._refine_core.to_json() + "\n}\n"
+        out = json.loads(text)
+        if self.start_search is not None:
+            out["start_search"] = json.loads(json.dumps(self.start_search))
+        return out
+
+    def refine(self, u: Any, y: Any, *, max_passes: int = REFINE_DEFAULTS["max_passes"],
+               step_tolerance: float = REFINE_DEFAULTS["step_tolerance"]) -> "Result":
+        """This result with its prediction-error refinement over the record (u, y): the same
+        arrays this model describes, (N, r) and (N, m), at its sample interval dt (docs/refinement.md).
+
+        The record is fed to okid_refine_push_block() from the caller's arrays (no copy, the GIL
+        released) once per pass until the refinement finishes. max_passes: passes at most
+        (2..1000); step_tolerance: converged when the Gauss–Newton decrement (about the squared
+        step in standard deviations) falls below it (> 0). Returns a new Result whose
+        ``refinement`` holds the refined model and its modes with their standard deviations; a
+        refinement that stops without converging gives an okid.RefinementWarning.
+        """
+        if self.decimation > 1:
+            raise BadParameterError(f"refine() of a result with decimation = {self.decimation}: the refinement needs "
+                                    f"the record at the model's sample interval; identify without decimation",
+                                    E_BAD_PARAMETER)
+        return self._refine(u, y, max_passes, step_tolerance, stacklevel=2)
+
+    def _refine(self, u: Any, y: Any, max_passes: Any, step_tolerance: Any, stacklevel: int) -> "Result":
+        passes, tol = check_settings(max_passes, step_tolerance)
+        core, refined = _run_refinement((self.A, self.B, self.C, self.D), self.dt, self.config["sensing"], u, y,
+                                        passes, tol)
+        warn_if_stopped(refined, stacklevel + 1)
+        return replace(self, refinement=refined, _refine_core=core)
 
     def to_frame(self):
         """The modes as a pandas DataFrame, one row per mode (needs pandas)."""

@@ -20,6 +20,7 @@ NB_MODULE(_core, m)
     m.def("warning_str", [](unsigned bit) { return std::string(okid_warning_str(bit)); });
     bind_identifier(m);
     bind_model(m);
+    bind_refine(m);
 }
 
 }  // namespace okid_py

@@ -106,9 +106,14 @@ def test_keywords_are_the_okid_config_fields():
     fields = re.findall(r"(\w+)\s*;", body)
     params = inspect.signature(okid.identify).parameters
     keyword_only = [n for n, p in params.items() if p.kind is p.KEYWORD_ONLY]
-    assert [f for f in fields if f not in ("num_inputs", "num_outputs", "dt")] == keyword_only
+    assert [f for f in fields if f not in ("num_inputs", "num_outputs", "dt")] == keyword_only[:len(fields) - 3]
     assert list(params)[:3] == ["u", "y", "dt"]
-    assert keyword_only == list(okid.OPTION_NAMES)
+    # the okid_config fields, then okid_refine_config's behind refine (docs/cli.md)
+    assert keyword_only == list(okid.OPTION_NAMES) + ["refine", "max_passes", "step_tolerance"]
+    text = header_with(r"typedef struct okid_refine_config\s*\{")
+    body = re.search(r"typedef struct okid_refine_config\s*\{(.*?)\}\s*okid_refine_config;", text, re.S).group(1)
+    assert re.findall(r"(\w+)\s*;", re.sub(r"/\*.*?\*/", "", body, flags=re.S)) == ["max_passes", "step_tolerance"]
+    assert {k: params[k].default for k in ("max_passes", "step_tolerance")} == okid.REFINE_DEFAULTS
 
 
 def test_warning_flags_are_the_c_bits():

@@ -152,26 +152,32 @@ typedef struct okid_refiner {
 } okid_refiner;
 
 /** Parameters of the refinement of an n-state model with r inputs and m outputs (at most). */
-#define OKID_REFINE_PARAMETERS(n, r, m) ((size_t)(n) * ((size_t)(r) + (size_t)(m) + 1u) + (size_t)(m) * (size_t)(r))
+#define OKID_REFINE_PARAMETERS(n, r, m) ((size_t)OKID__REFINE_PARAMETERS64(n, r, m))
+/* The same in 64 bits (at most 512 x 129 + 64 x 64 = 70144, but its square does not fit 32 bits). */
+#define OKID__REFINE_PARAMETERS64(n, r, m) (OKID__Z(n) * (OKID__Z(r) + OKID__Z(m) + 1u) + OKID__Z(m) * OKID__Z(r))
 
 /* Reals of each of the two normal-matrix buffers (internal; the eigenvalue scratch shares them). */
 #define OKID__REFINE_SCRATCH(n, np)                                                                  \
-    OKID__MAX(2u * (size_t)(n) * (size_t)(n) + 2u * (size_t)(n) + OKID__LWORK_GEEV(n), (size_t)(np) * (size_t)(np))
+    OKID__MAX(2u * OKID__Z(n) * OKID__Z(n) + 2u * OKID__Z(n) + OKID__Z(OKID__LWORK_GEEV(n)), OKID__Z(np) * OKID__Z(np))
 
 /**
  * Workspace bytes of a refinement of an n-state model with r inputs and m outputs, at compile
- * time (equal to okid_refine_workspace_size(); checked by test_refine).
+ * time (equal to okid_refine_workspace_size(); checked by test_refine). Computed in 64 bits; where
+ * the size exceeds SIZE_MAX (n = 512, r = m = 64 on a 32-bit target: the normal matrix alone is
+ * 70144^2 reals) the value is SIZE_MAX, never a wrapped-around smaller number, and
+ * okid_refine_workspace_size() refuses with OKID_E_BAD_SIZE (test_workspace_overflow).
  */
-#define OKID_REFINE_WORKSPACE_BYTES(n, r, m)                                                                       \
-    (OKID__ALIGN16(sizeof(int) * 4u * OKID_REFINE_PARAMETERS(n, r, m)) + OKID__ALIGN16(sizeof(int) * 4u * (size_t)(n)) \
-     + 2u * OKID__RB(OKID_REFINE_PARAMETERS(n, r, m)) + 2u * OKID__RB(n) + OKID__RB((size_t)(n) * (size_t)(r))        \
-     + OKID__RB((size_t)(m) * (size_t)(n)) + OKID__RB((size_t)(m) * (size_t)(r)) + 2u * OKID__RB(n)                    \
-     + OKID__RB(2u * OKID_REFINE_PARAMETERS(n, r, m)) + OKID__RB((size_t)(m) * OKID_REFINE_PARAMETERS(n, r, m))        \
-     + 2u * OKID__RB(OKID__REFINE_SCRATCH(n, OKID_REFINE_PARAMETERS(n, r, m)))                                       \
-     + OKID__RB((size_t)(m) * OKID_REFINE_PARAMETERS(n, r, m)) + 3u * OKID__RB(OKID_REFINE_PARAMETERS(n, r, m))        \
-     + 7u * OKID__RB(m) + OKID__RB((size_t)(n) * (size_t)(n)) + OKID__ALIGN16(sizeof(okid_mode) * (size_t)(n))         \
-     + OKID__ALIGN16(sizeof(okid_mode_std) * (size_t)(n)) + OKID__ALIGN16(sizeof(okid_complex) * (size_t)(n) * 3u * (size_t)(m)) \
-     + OKID__ALIGN16(sizeof(okid_complex) * (size_t)(n) * (size_t)(m)))
+#define OKID_REFINE_WORKSPACE_BYTES(n, r, m) OKID__SIZE(OKID__REFINE_WORKSPACE_BYTES64(n, r, m))
+#define OKID__REFINE_WORKSPACE_BYTES64(n, r, m)                                                                        \
+    (OKID__ALIGN16(sizeof(int) * 4u * OKID__REFINE_PARAMETERS64(n, r, m)) + OKID__ALIGN16(sizeof(int) * 4u * OKID__Z(n)) \
+     + 2u * OKID__RB(OKID__REFINE_PARAMETERS64(n, r, m)) + 2u * OKID__RB(n) + OKID__RB(OKID__Z(n) * OKID__Z(r))         \
+     + OKID__RB(OKID__Z(m) * OKID__Z(n)) + OKID__RB(OKID__Z(m) * OKID__Z(r)) + 2u * OKID__RB(n)                        \
+     + OKID__RB(2u * OKID__REFINE_PARAMETERS64(n, r, m)) + OKID__RB(OKID__Z(m) * OKID__REFINE_PARAMETERS64(n, r, m))    \
+     + 2u * OKID__RB(OKID__REFINE_SCRATCH(n, OKID__REFINE_PARAMETERS64(n, r, m)))                                     \
+     + OKID__RB(OKID__Z(m) * OKID__REFINE_PARAMETERS64(n, r, m)) + 3u * OKID__RB(OKID__REFINE_PARAMETERS64(n, r, m))    \
+     + 7u * OKID__RB(m) + OKID__RB(OKID__Z(n) * OKID__Z(n)) + OKID__ALIGN16(sizeof(okid_mode) * OKID__Z(n))             \
+     + OKID__ALIGN16(sizeof(okid_mode_std) * OKID__Z(n)) + OKID__ALIGN16(sizeof(okid_complex) * OKID__Z(n) * 3u * OKID__Z(m)) \
+     + OKID__ALIGN16(sizeof(okid_complex) * OKID__Z(n) * OKID__Z(m)))
 
 /**
  * Fill the settings with their defaults: max_passes 30, step_tolerance OKID_REFINE_STEP_TOLERANCE.
@@ -182,7 +188,7 @@ okid_status okid_refine_config_default(okid_refine_config *cfg);
 /**
  * Workspace bytes a refinement of an n-state model with r inputs and m outputs needs.
  * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE (n outside 1..OKID_MAX_ORDER, r or m
- *         outside 1..OKID_MAX_DIMENSION)
+ *         outside 1..OKID_MAX_DIMENSION, or more than SIZE_MAX bytes: 4 GiB on a 32-bit target)
  */
 okid_status okid_refine_workspace_size(int n, int r, int m, size_t *bytes);
 

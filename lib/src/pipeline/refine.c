@@ -45,7 +45,7 @@ const char *okid_refine_state_str(okid_refine_state state)
 static size_t layout(okid_refiner *rf, void *base, int n, int r, int m)
 {
     const size_t np = OKID_REFINE_PARAMETERS(n, r, m), nn = (size_t)n, rr = (size_t)r, mm = (size_t)m;
-    const size_t scratch = OKID__REFINE_SCRATCH(n, np);
+    const size_t scratch = (size_t)OKID__REFINE_SCRATCH(n, np); /* fits: okid_refine_workspace_size() checked */
     okid_carver c = {(unsigned char *)base, 0};
     rf->ptab_ = (int *)okid_carve_bytes(&c, sizeof(int) * 4u * np);
     rf->blk_ = (int *)okid_carve_bytes(&c, sizeof(int) * OKID_RB_INTS * nn);
@@ -81,12 +81,22 @@ static size_t layout(okid_refiner *rf, void *base, int n, int r, int m)
     return c.used;
 }
 
+/* The workspace of accepted dimensions can exceed the address space of a 32-bit target: counted
+ * in 64 bits first, so that layout()'s size_t arithmetic never wraps. */
+static int refine_size_fits(int n, int r, int m)
+{
+    return OKID__REFINE_WORKSPACE_BYTES64(n, r, m) <= (unsigned long long)(size_t)-1;
+}
+
 okid_status okid_refine_workspace_size(int n, int r, int m, size_t *bytes)
 {
     if (bytes == NULL) {
         return OKID_E_NULL_POINTER;
     }
     if (n < 1 || n > OKID_MAX_ORDER || r < 1 || r > OKID_MAX_DIMENSION || m < 1 || m > OKID_MAX_DIMENSION) {
+        return OKID_E_BAD_SIZE;
+    }
+    if (!refine_size_fits(n, r, m)) {
         return OKID_E_BAD_SIZE;
     }
     okid_refiner dry;
@@ -108,7 +118,7 @@ okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, co
     if (n < 1 || n > OKID_MAX_ORDER || r < 1 || r > OKID_MAX_DIMENSION || m < 1 || m > OKID_MAX_DIMENSION ||
         start->A.rows != n || start->A.cols != n || start->B.rows != n || start->C.cols != n ||
         start->D.rows != m || start->D.cols != r || start->A.ld < n || start->B.ld < n || start->C.ld < m ||
-        start->D.ld < m) {
+        start->D.ld < m || !refine_size_fits(n, r, m)) {
         return OKID_E_BAD_SIZE;
     }
     if (cfg->max_passes < 0 || cfg->max_passes == 1 || cfg->max_passes > 1000 ||

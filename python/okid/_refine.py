@@ -1,0 +1,211 @@
+"""The prediction-error refinement (docs/refinement.md) and the Cramér–Rao bound: the library's
+okid_refine_* API over the caller's arrays, fed once per pass without a copy."""
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from typing import Any, Optional, Tuple
+
+import numpy as np
+
+from . import _core
+from ._config import SENSING
+from ._errors import E_BAD_PARAMETER, E_BAD_SIZE, BadParameterError, BadSizeError, check
+
+_MAX_PASSES, _STEP_TOLERANCE = _core.refine_config_default()
+#: okid_refine_config_default()'s values (docs/cli.md: --max-passes, --step-tolerance).
+REFINE_DEFAULTS = {"max_passes": _MAX_PASSES, "step_tolerance": _STEP_TOLERANCE}
+
+
+class RefinementWarning(RuntimeWarning):
+    """A refinement stopped without converging (diverged, not improving, or max_passes reached):
+    its modes are the best found (diverged: OKID/ERA's, with std -1), not the maximum-likelihood ones."""
+
+
+@dataclass(frozen=True, eq=False)
+class Refinement:
+    """An okid_refine_result: the refined model in real modal form, its modes with their standard
+    deviations, and how the refinement ended. Every array is a read-only copy."""
+    state: str                      #: "converged", "diverged", "not_improving" or "iteration_limit"
+    message: str                    #: the library's sentence for the state
+    passes: int                     #: passes fed over the record (the first measures the channel weights)
+    iterations: int                 #: accepted Levenberg–Marquardt steps
+    num_parameters: int             #: free parameters, n (r + m + 1) + m r at most
+    order: int                      #: n
+    samples: int                    #: samples per pass
+    dt: float                       #: sample interval [s]
+    cost: float                     #: final negative log-likelihood (lower is more likely; nan when diverged)
+    warnings: int                   #: okid_warning bits of the refined modes (see okid.WarningFlag)
+    max_passes: int                 #: the setting it ran with
+    step_tolerance: float           #: the setting it ran with
+    A: np.ndarray                   #: (n, n) real modal form
+    B: np.ndarray                   #: (n, r)
+    C: np.ndarray                   #: (m, n)
+    D: np.ndarray                   #: (m, r)
+    initial_state: np.ndarray       #: (n,) estimated x(0)
+    residual_rms_start: np.ndarray  #: (m,) residual RMS of each output with the starting model [output units]
+    residual_rms: np.ndarray        #: (m,) the same with the refined model
+    modes: Tuple[Any, ...]          #: okid.Mode with frequency_std, damping_std, ... set; sorted by frequency
+
+    @property
+    def converged(self) -> bool:
+        return self.state == "converged"
+
+    @property
+    def frequencies_hz(self) -> np.ndarray:
+        """Natural frequency of every refined mode [Hz]."""
+        return np.array([md.frequency_hz for md in self.modes])
+
+    @property
+    def frequency_std(self) -> np.ndarray:
+        """One standard deviation of every refined frequency [Hz]."""
+        return np.array([md.frequency_std for md in self.modes])
+
+    @property
+    def damping_ratios(self) -> np.ndarray:
+        """Damping ratio of every refined mode [-]."""
+        return np.array([md.damping_ratio for md in self.modes])
+
+    @property
+    def damping_std(self) -> np.ndarray:
+        """One standard deviation of every refined damping ratio [-]."""
+        return np.array([md.damping_std for md in self.modes])
+
+
+def _refinement(core) -> Refinement:
+    from ._result import Mode  # _result imports this module
+    f = core.fields()
+    modes = tuple(Mode(**d) for d in f.pop("modes"))
+    return Refinement(**f, modes=modes)
+
+
+def check_settings(max_passes: Any, step_tolerance: Any) -> Tuple[int, float]:
+    """The CLI's ranges: --max-passes 2..1000, --step-tolerance > 0 (finite)."""
+    if isinstance(max_passes, bool) or not hasattr(max_passes, "__index__") or not 2 <= max_passes.__index__() <= 1000:
+        raise BadParameterError(f"max_passes = {max_passes!r}: an integer in 2..1000 (default {_MAX_PASSES})",
+                                E_BAD_PARAMETER)
+    try:
+        tol = float(step_tolerance)
+    except (TypeError, ValueError):
+        tol = math.nan
+    if not (math.isfinite(tol) and tol > 0):
+        raise BadParameterError(f"step_tolerance = {step_tolerance!r}: a finite number > 0 (default {_STEP_TOLERANCE:g})",
+                                E_BAD_PARAMETER)
+    return int(max_passes.__index__()), tol
+
+
+def _record(u: Any, y: Any, r: int, m: int) -> Tuple[np.ndarray, np.ndarray]:
+    ua = np.ascontiguousarray(np.asarray(u, dtype=np.float64))
+    ya = np.ascontiguousarray(np.asarray(y, dtype=np.float64))
+    if ua.ndim == 1 and r == 1:
+        ua = ua.reshape(-1, 1)
+    if ya.ndim == 1 and m == 1:
+        ya = ya.reshape(-1, 1)
+    if ua.ndim != 2 or ua.shape[1] != r or ya.ndim != 2 or ya.shape[1] != m or ua.shape[0] != ya.shape[0]:
+        raise BadSizeError(f"u has shape {np.shape(u)} and y {np.shape(y)}: expected ({len(ua)}, {r}) and "
+                           f"({len(ua)}, {m}), time along axis 0", E_BAD_SIZE)
+    return ua, ya
+
+
+def _model(a, b, c, d) -> Tuple[np.ndarray, ...]:
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    n = a.shape[0] if a.ndim == 2 else -1
+    if n < 1 or a.shape != (n, n):
+        raise BadSizeError(f"A has shape {a.shape}: expected (n, n)", E_BAD_SIZE)
+    b = np.ascontiguousarray(np.reshape(np.asarray(b, dtype=np.float64), (n, -1)))
+    c = np.ascontiguousarray(np.asarray(c, dtype=np.float64))
+    if c.ndim != 2 or c.shape[1] != n:
+        raise BadSizeError(f"C has shape {c.shape}: expected (m, {n})", E_BAD_SIZE)
+    d = np.ascontiguousarray(np.reshape(np.asarray(d, dtype=np.float64), (c.shape[0], b.shape[1])))
+    return a, b, c, d
+
+
+def run(model, dt: float, sensing: str, u: Any, y: Any, max_passes: int, step_tolerance: float,
+        noise_std: Optional[np.ndarray] = None, what: str = "refine"):
+    """okid_refine_* over the record: (RefineCore, Refinement)."""
+    a, b, c, d = _model(*model)
+    ua, ya = _record(u, y, b.shape[1], c.shape[0])
+    status, core = _core.refine(a, b, c, d, float(dt), SENSING[sensing], ua, ya, max_passes, step_tolerance,
+                                noise_std)
+    check(status, f"{what} (n = {a.shape[0]}, r = {b.shape[1]}, m = {c.shape[0]}, {ua.shape[0]} samples: more "
+                  f"output samples than parameters, finite inputs)")
+    return core, _refinement(core)
+
+
+def warn_if_stopped(refined: Refinement, stacklevel: int) -> None:
+    """The RefinementWarning of a refinement that did not converge (the CLI's stderr line)."""
+    if not refined.converged:
+        tail = ": the modes are OKID/ERA's" if refined.state == "diverged" else ": the modes are the best found"
+        warnings.warn(f"the refinement did not converge ({refined.message} after {refined.passes} passes){tail}",
+                      RefinementWarning, stacklevel=stacklevel + 1)
+
+
+@dataclass(frozen=True, eq=False)
+class CramerRaoBound:
+    """The Cramér–Rao lower bound of a planned (or performed) experiment: the standard deviation
+    below which no unbiased estimate of a mode's frequency or damping ratio can go."""
+    modes: Tuple[Any, ...]     #: the model's modes (okid.Mode), their *_std fields the bound
+    noise_std: np.ndarray      #: (m,) the output noise standard deviations used [output units]
+    num_parameters: int        #: parameters of the model class (order n with feedthrough and x(0))
+    samples: int               #: N
+
+    @property
+    def frequencies_hz(self) -> np.ndarray:
+        return np.array([md.frequency_hz for md in self.modes])
+
+    @property
+    def frequency_std(self) -> np.ndarray:
+        """The bound of every frequency (one standard deviation) [Hz]."""
+        return np.array([md.frequency_std for md in self.modes])
+
+    @property
+    def damping_ratios(self) -> np.ndarray:
+        return np.array([md.damping_ratio for md in self.modes])
+
+    @property
+    def damping_std(self) -> np.ndarray:
+        """The bound of every damping ratio (one standard deviation) [-]."""
+        return np.array([md.damping_std for md in self.modes])
+
+
+def crlb(u: Any, dt: float, *, model: Optional[Tuple[Any, Any, Any, Any]] = None, noise: Optional[float] = None,
+         noise_std: Any = None, sensing: str = "acceleration") -> CramerRaoBound:
+    """The Cramér–Rao lower bound of the natural frequencies and damping ratios of a model driven by
+    the force record u, with white Gaussian output noise.
+
+    u: (N, r) forces (or (N,)), time along axis 0; dt: sample interval [s]. model: (A, B, C, D),
+    discrete time at dt, starting at rest (default: okid.model.paper_system(dt, sensing)). The noise,
+    one of: noise = F > 0, each output's standard deviation F times the RMS of its noise-free
+    response (as ``okid crlb --noise F``); noise_std = the standard deviation of each output (m
+    values or one for all) [output units]. sensing: what the outputs measure ("acceleration",
+    "velocity", "displacement"), for the mode shapes.
+
+    The bound is for the model class the refinement estimates (order n, feedthrough, unknown x(0)):
+    the library refines the true model over its noise-free response with the noise fixed
+    (okid_refine_set_noise), which converges at once, and its standard deviations are the bound.
+    """
+    from . import model as _model_mod
+    if sensing not in SENSING:
+        raise BadParameterError(f"sensing = {sensing!r}: 'acceleration', 'velocity' or 'displacement'", E_BAD_PARAMETER)
+    if (noise is None) == (noise_std is None):
+        raise BadParameterError("give exactly one of noise (relative to each output's RMS) and noise_std", E_BAD_PARAMETER)
+    if not (math.isfinite(float(dt)) and dt > 0):
+        raise BadParameterError(f"dt = {dt!r}: a finite sample interval > 0 [s]", E_BAD_PARAMETER)
+    a, b, c, d = _model(*(model if model is not None else _model_mod.paper_system(dt, sensing)))
+    ua, _ = _record(u, np.zeros((np.shape(u)[0], c.shape[0])), b.shape[1], c.shape[0])
+    y, _ = _model_mod.simulate(a, b, c, d, ua)
+    if noise is not None:
+        if not (math.isfinite(float(noise)) and noise > 0):
+            raise BadParameterError(f"noise = {noise!r}: F > 0, the noise std relative to each output's RMS",
+                                    E_BAD_PARAMETER)
+        sigma = float(noise) * np.sqrt(np.mean(y * y, axis=0))
+    else:
+        sigma = np.broadcast_to(np.asarray(noise_std, dtype=np.float64).reshape(-1), (c.shape[0],)).copy()
+    if not np.all(np.isfinite(sigma) & (sigma > 0)):
+        raise BadParameterError(f"noise std {sigma.tolist()}: every value finite and > 0", E_BAD_PARAMETER)
+    sigma = np.ascontiguousarray(sigma)
+    _, bound = run((a, b, c, d), dt, sensing, ua, y, 2, _STEP_TOLERANCE, sigma, what="crlb")
+    if not bound.converged:
+        raise BadParameterError(f"cannot compute the bound: {bound.message}", E_BAD_PARAMETER)
+    return CramerRaoBound(bound.modes, sigma, bound.num_parameters, bound.samples)

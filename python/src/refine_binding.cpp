@@ -1,0 +1,156 @@
+// okid._core.refine and RefineCore: the prediction-error refinement (okid/refine.h) of a model
+// over a record the caller holds, fed once per pass from its arrays (no copy, GIL released), with
+// the noise estimated or fixed (okid_refine_set_noise: the Cramer-Rao bound). The CLI's JSON
+// writer gives the "refinement" object of to_dict().
+#include <cstdlib>
+#include <memory>
+#include <optional>
+
+#include <nanobind/stl/complex.h>
+#include <nanobind/stl/optional.h>
+#include <nanobind/stl/string.h>
+
+#include "binding.h"
+
+extern "C" {
+#include "json_writer.h"
+}
+
+namespace okid_py {
+
+namespace {
+
+struct AlignedFree {
+    void operator()(void *p) const noexcept { std::free(p); }
+};
+
+using CMatrix = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+using CVector = nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+
+// A (rows, cols) C-order array copied to column-major storage.
+std::vector<okid_real> column_major(const CMatrix &a)
+{
+    const size_t rows = a.shape(0), cols = a.shape(1);
+    std::vector<okid_real> v(rows * cols);
+    for (size_t i = 0; i < rows; ++i)
+        for (size_t j = 0; j < cols; ++j) v[i + j * rows] = a.data()[i * cols + j];
+    return v;
+}
+
+}  // namespace
+
+// A finished refinement: the refiner and the workspace its result's views point into.
+struct RefineCore {
+    std::unique_ptr<void, AlignedFree> ws;
+    okid_refiner rf{};
+    okid_refine_config cfg{};
+    okid_refine_result out{};
+    int m = 0;
+
+    // ',\n  "refinement": {...}' exactly as okid identify --refine --json writes it.
+    nb::str to_json() const
+    {
+        return write_to_string([this](FILE *f) { json_refinement(f, &cfg, &out, m); });
+    }
+
+    nb::dict fields() const
+    {
+        nb::dict f;
+        f["state"] = json_refine_state_name(out.state);
+        f["message"] = okid_refine_state_str(out.state);
+        f["passes"] = out.passes;
+        f["iterations"] = out.iterations;
+        f["num_parameters"] = out.num_parameters;
+        f["order"] = out.order;
+        f["samples"] = out.samples;
+        f["dt"] = (double)out.dt;
+        f["cost"] = (double)out.cost;
+        f["warnings"] = out.warnings;
+        f["max_passes"] = cfg.max_passes;
+        f["step_tolerance"] = (double)cfg.step_tolerance;
+        f["A"] = matrix_array(out.A);
+        f["B"] = matrix_array(out.B);
+        f["C"] = matrix_array(out.C);
+        f["D"] = matrix_array(out.D);
+        f["initial_state"] = vector_array(out.initial_state, out.order);
+        f["residual_rms_start"] = vector_array(out.residual_rms_start, m);
+        f["residual_rms"] = vector_array(out.residual_rms, m);
+        nb::list modes;
+        for (int i = 0; i < out.num_modes; ++i) {
+            const okid_mode_std &sd = out.mode_std[i];
+            nb::dict d = mode_dict(out.modes[i], m);
+            d["frequency_std"] = (double)sd.frequency_hz;
+            d["damping_std"] = (double)sd.damping_ratio;
+            d["eigenvalue_std"] = std::complex<double>(sd.eigenvalue.re, sd.eigenvalue.im);
+            d["pole_std"] = std::complex<double>(sd.pole.re, sd.pole.im);
+            d["sensor_shape_std"] = complex_array(sd.sensor_shape, m);
+            modes.append(d);
+        }
+        f["modes"] = modes;
+        return f;
+    }
+};
+
+void bind_refine(nb::module_ &m)
+{
+    m.def(
+        "refine_config_default",
+        []() {
+            okid_refine_config c{};
+            okid_refine_config_default(&c);
+            return nb::make_tuple(c.max_passes, (double)c.step_tolerance);
+        },
+        "okid_refine_config_default(): (max_passes, step_tolerance).");
+
+    nb::class_<RefineCore>(m, "RefineCore")
+        .def("to_json", &RefineCore::to_json, "The \"refinement\" member of okid identify --refine --json.")
+        .def("fields", &RefineCore::fields);
+
+    m.def(
+        "refine",
+        [](CMatrix a, CMatrix b, CMatrix c, CMatrix d, double dt, int sensing, CMatrix u, CMatrix y,
+           int max_passes, double step_tolerance, std::optional<CVector> noise_std) {
+            const int n = (int)a.shape(0), r = (int)b.shape(1), mo = (int)c.shape(0);
+            auto core = std::make_unique<RefineCore>();
+            core->m = mo;
+            core->cfg.max_passes = max_passes;
+            core->cfg.step_tolerance = (okid_real)step_tolerance;
+            size_t bytes = 0;
+            int s = okid_refine_workspace_size(n, r, mo, &bytes);
+            if (s != OKID_OK) return nb::make_tuple(s, nb::none());
+            core->ws.reset(std::aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16));
+            if (!core->ws) throw std::bad_alloc();
+            std::vector<okid_real> av = column_major(a), bv = column_major(b), cv = column_major(c),
+                                   dv = column_major(d);
+            okid_result start{};
+            start.order = n;
+            start.dt = (okid_real)dt;
+            start.A = okid_matrix{av.data(), (int)a.shape(0), (int)a.shape(1), (int)a.shape(0)};
+            start.B = okid_matrix{bv.data(), (int)b.shape(0), (int)b.shape(1), (int)b.shape(0)};
+            start.C = okid_matrix{cv.data(), (int)c.shape(0), (int)c.shape(1), (int)c.shape(0)};
+            start.D = okid_matrix{dv.data(), (int)d.shape(0), (int)d.shape(1), (int)d.shape(0)};
+            okid_refine_state state = OKID_REFINE_NEED_PASS;
+            {
+                nb::gil_scoped_release release;
+                s = okid_refine_init(&core->rf, &core->cfg, &start, (okid_sensing)sensing, core->ws.get(), bytes,
+                                     nullptr);
+                if (s == OKID_OK && noise_std) s = okid_refine_set_noise(&core->rf, noise_std->data());
+                // the caller's (count, r) and (count, m) arrays are the record: one block per pass
+                while (s == OKID_OK && state == OKID_REFINE_NEED_PASS) {
+                    s = okid_refine_begin_pass(&core->rf);
+                    if (s == OKID_OK)
+                        s = okid_refine_push_block(&core->rf, u.shape(0), u.data(), u.shape(1), y.data(), y.shape(1));
+                    if (s == OKID_OK) s = okid_refine_end_pass(&core->rf, &state);
+                }
+                if (s == OKID_OK) s = okid_refine_get_result(&core->rf, &core->out);
+            }
+            if (s != OKID_OK) return nb::make_tuple(s, nb::none());
+            return nb::make_tuple(s, nb::cast(core.release(), nb::rv_policy::take_ownership));
+        },
+        nb::arg("a"), nb::arg("b"), nb::arg("c"), nb::arg("d"), nb::arg("dt"), nb::arg("sensing"), nb::arg("u"),
+        nb::arg("y"), nb::arg("max_passes"), nb::arg("step_tolerance"), nb::arg("noise_std").none(),
+        "okid_refine_init from (A, B, C, D, dt), okid_refine_set_noise when noise_std is given, then passes over "
+        "(u, y) until the state is not NEED_PASS: (status, RefineCore).");
+}
+
+}  // namespace okid_py
