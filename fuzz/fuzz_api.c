@@ -36,7 +36,7 @@ static void malloc_hook(const volatile void *ptr, size_t size)
 
 static void check_status(okid_status st)
 {
-    if (st > OKID_OK || st < OKID_E_NOT_AVAILABLE) {
+    if (st > OKID_OK || st < OKID_E_DATA_RANGE) { /* OKID_E_DATA_RANGE: the lowest status (status.h) */
         fprintf(stderr, "undocumented status %d\n", (int)st);
         abort();
     }

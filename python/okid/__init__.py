@@ -13,7 +13,7 @@ import scipy_openblas32 as _scipy_openblas32  # noqa: F401  (loads libscipy_open
 from . import _core
 from ._config import DEFAULTS, OPTION_NAMES
 from ._errors import (BadOrderError, BadParameterError, BadSizeError, ConcurrentUseError, ConfigurationError,
-                      DecompositionError, InternalError, NonFiniteSampleError, NonFiniteSampleWarning,
+                      DataRangeError, DecompositionError, InternalError, NonFiniteSampleError, NonFiniteSampleWarning,
                       NotAvailableError, NotEnoughDataError, NotPersistentlyExcitingError, OkidError)
 from ._identifier import Identifier, Progress, identify
 from ._refine import REFINE_DEFAULTS, CramerRaoBound, Refinement, RefinementWarning, crlb
@@ -27,6 +27,6 @@ __all__ = [
     "StabilityFlag", "model", "DEFAULTS", "OPTION_NAMES", "Refinement", "RefinementWarning", "REFINE_DEFAULTS",
     "crlb", "CramerRaoBound",
     "OkidError", "ConfigurationError", "BadSizeError", "BadOrderError", "BadParameterError", "NotEnoughDataError",
-    "NotPersistentlyExcitingError", "DecompositionError", "NotAvailableError", "NonFiniteSampleError",
+    "NotPersistentlyExcitingError", "DecompositionError", "NotAvailableError", "NonFiniteSampleError", "DataRangeError",
     "ConcurrentUseError", "InternalError", "NonFiniteSampleWarning",
 ]

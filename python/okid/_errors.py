@@ -6,7 +6,7 @@ from . import _core
 __all__ = [
     "OkidError", "ConfigurationError", "BadSizeError", "BadOrderError", "BadParameterError",
     "NotEnoughDataError", "NotPersistentlyExcitingError", "DecompositionError", "NotAvailableError",
-    "NonFiniteSampleError", "ConcurrentUseError", "InternalError", "NonFiniteSampleWarning",
+    "NonFiniteSampleError", "DataRangeError", "ConcurrentUseError", "InternalError", "NonFiniteSampleWarning",
 ]
 
 # okid_status values (lib/include/okid/status.h)
@@ -24,6 +24,7 @@ E_RANK_DEFICIENT = -10
 E_DECOMPOSITION_FAILED = -11
 E_BACKEND_ARGUMENT = -12
 E_NOT_AVAILABLE = -13
+E_DATA_RANGE = -14
 
 
 class OkidError(Exception):
@@ -71,6 +72,11 @@ class NonFiniteSampleError(OkidError, ValueError):
     """An input given to predict() holds NaN or Inf (OKID_E_NONFINITE_SAMPLE)."""
 
 
+class DataRangeError(OkidError, ValueError):
+    """A channel's RMS lies outside the magnitudes the arithmetic carries (1e-75..1e75 in double),
+    or the results would not be finite: rescale the data (scaling="auto" or other units)."""
+
+
 class ConcurrentUseError(OkidError, RuntimeError):
     """Another thread is using this Identifier; one identifier serves one thread at a time."""
 
@@ -92,6 +98,7 @@ _CLASSES = {
     E_DECOMPOSITION_FAILED: DecompositionError,
     E_NOT_AVAILABLE: NotAvailableError,
     E_NONFINITE_SAMPLE: NonFiniteSampleError,
+    E_DATA_RANGE: DataRangeError,
     _core.STATUS_BUSY: ConcurrentUseError,
 }
 

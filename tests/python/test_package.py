@@ -122,6 +122,32 @@ def test_warning_flags_are_the_c_bits():
     assert {name: 1 << int(shift) for name, shift in bits.items()} == {f.name: f.value for f in okid.WarningFlag}
 
 
+def test_every_status_of_the_data_has_its_exception():
+    """Each okid_status that data or settings can cause maps to its own exception class; the rest
+    (pointers, workspace, state, backend arguments: the binding's own contract) to InternalError."""
+    from okid import _errors
+    text = header_with(r"typedef enum okid_status")
+    statuses = {name: int(value) for name, value in re.findall(r"OKID_(E_\w+)\s*=\s*(-\d+)", text)}
+    assert {name: getattr(_errors, name) for name in statuses} == statuses  # the Python constants
+    internal = {"E_NULL_POINTER", "E_WORKSPACE_TOO_SMALL", "E_WORKSPACE_ALIGNMENT", "E_NOT_INITIALIZED",
+                "E_BACKEND_ARGUMENT"}
+    for name, value in statuses.items():
+        cls = type(_errors.error_for(value))
+        assert (cls is okid.InternalError) == (name in internal), (name, cls)
+
+
+def test_channels_beyond_the_arithmetic_raise_data_range_error():
+    a, b, c, d = okid.model.paper_system(dt=0.05)
+    u = np.random.default_rng(3).standard_normal((600, 1))
+    y, _ = okid.model.simulate(a, b, c, d, u)
+    with pytest.raises(okid.DataRangeError) as info:
+        okid.identify(u, y * 1e-160, 0.05, order=4)
+    assert isinstance(info.value, ValueError) and info.value.status == -14
+    res = okid.identify(u * 1e155, y * 1e155, 0.05, order=4, scaling="auto")  # what scaling is for
+    assert np.allclose(sorted(res.frequencies_hz), sorted(okid.identify(u, y, 0.05, order=4).frequencies_hz),
+                       rtol=1e-6)
+
+
 # ---- the CLI's JSON ----
 
 CLI_FLAGS = {  # the CLI spellings of main (the vocabulary branch keeps them as aliases)
