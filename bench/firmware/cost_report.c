@@ -27,26 +27,6 @@ static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char
 static okid_real force[SAMPLES], accelerations[PLANT_OUTPUTS * SAMPLES];
 static okid_identifier identifier;
 
-enum { STACK_PAINT = 0x5AFE57ACu, STACK_MARGIN_WORDS = 16 };
-
-/* Fill the free stack below the caller's frame with a pattern... */
-static __attribute__((noinline)) void paint_stack(void)
-{
-    for (uint32_t *w = __stack_limit__; w < board_stack_pointer() - STACK_MARGIN_WORDS; ++w) {
-        *w = STACK_PAINT;
-    }
-}
-
-/* ...and find how far down the calls since paint_stack() overwrote it (bytes below sp_at_call). */
-static unsigned long stack_used(const uint32_t *sp_at_call)
-{
-    const uint32_t *w = __stack_limit__;
-    while (w < sp_at_call && *w == STACK_PAINT) {
-        ++w;
-    }
-    return (unsigned long)((const char *)sp_at_call - (const char *)w);
-}
-
 static uint64_t instructions(uint32_t ticks)
 {
     return board_ticks_to_instructions(ticks, OKID_ICOUNT_SHIFT);
@@ -78,7 +58,7 @@ static int measure(int block_rows)
     }
     uint64_t push_total = 0, push_worst = 0;
     const uint32_t *sp = board_stack_pointer();
-    paint_stack();
+    board_paint_stack();
     for (int k = 0; k < SAMPLES; ++k) {
         const uint32_t start = board_counter_ticks();
         const okid_status st = okid_push(&identifier, &force[k], &accelerations[PLANT_OUTPUTS * k]);
@@ -89,13 +69,13 @@ static int measure(int block_rows)
         push_total += cost;
         push_worst = cost > push_worst ? cost : push_worst;
     }
-    const unsigned long push_stack = stack_used(sp);
+    const unsigned long push_stack = board_stack_used(sp);
     okid_result result;
-    paint_stack();
+    board_paint_stack();
     const uint32_t start = board_counter_ticks();
     const okid_status st = okid_identify(&identifier, &result);
     const uint64_t identify_cost = instructions(board_counter_ticks() - start);
-    const unsigned long identify_stack = stack_used(sp);
+    const unsigned long identify_stack = board_stack_used(sp);
     printf("block_rows_%d.workspace_bytes %lu\n", block_rows, (unsigned long)bytes);
     printf("block_rows_%d.push_instructions_mean %lu\n", block_rows, (unsigned long)(push_total / SAMPLES));
     printf("block_rows_%d.push_instructions_worst %lu\n", block_rows, (unsigned long)push_worst);

@@ -29,25 +29,6 @@ static okid_real force[SAMPLES], accelerations[PLANT_OUTPUTS * SAMPLES], noise[S
 static okid_identifier identifier;
 static okid_refiner refiner;
 
-extern uint32_t __stack_limit__[];
-enum { STACK_PAINT = 0x5AFE57ACu, STACK_MARGIN_WORDS = 16 };
-
-static __attribute__((noinline)) void paint_stack(void)
-{
-    for (uint32_t *w = __stack_limit__; w < board_stack_pointer() - STACK_MARGIN_WORDS; ++w) {
-        *w = STACK_PAINT;
-    }
-}
-
-static unsigned long stack_used(const uint32_t *sp_at_call)
-{
-    const uint32_t *w = __stack_limit__;
-    while (w < sp_at_call && *w == STACK_PAINT) {
-        ++w;
-    }
-    return (unsigned long)((const char *)sp_at_call - (const char *)w);
-}
-
 static uint64_t instructions(uint32_t ticks)
 {
     return board_ticks_to_instructions(ticks, OKID_ICOUNT_SHIFT);
@@ -100,7 +81,7 @@ int main(void)
     printf("refine.workspace_bytes %lu\n", (unsigned long)sizeof rf_workspace);
     printf("refine.refiner_struct_bytes %lu\n", (unsigned long)sizeof refiner);
     const uint32_t *sp = board_stack_pointer();
-    paint_stack();
+    board_paint_stack();
     uint64_t total = 0, worst_step = 0;
     okid_refine_state state = OKID_REFINE_NEED_PASS;
     for (int pass = 0; state == OKID_REFINE_NEED_PASS; ++pass) {
@@ -120,7 +101,7 @@ int main(void)
         worst_step = step > worst_step ? step : worst_step;
         total += feed + step;
     }
-    const unsigned long stack = stack_used(sp);
+    const unsigned long stack = board_stack_used(sp);
     okid_refine_result out;
     if (okid_refine_get_result(&refiner, &out) != OKID_OK) return 7;
     printf("refine.state %s\n", okid_refine_state_str(out.state));

@@ -38,4 +38,25 @@ static inline uint32_t *board_stack_pointer(void)
     return sp;
 }
 
+/* Stack painting, to measure what calls really use: board_paint_stack() fills the free stack below
+   the caller's frame with a pattern, board_stack_used(sp) finds how far down the calls since then
+   overwrote it (bytes below sp, the caller's board_stack_pointer() before painting). */
+enum { BOARD_STACK_PAINT = 0x5AFE57ACu, BOARD_STACK_MARGIN_WORDS = 16 };
+
+static __attribute__((noinline, unused)) void board_paint_stack(void)
+{
+    for (uint32_t *w = __stack_limit__; w < board_stack_pointer() - BOARD_STACK_MARGIN_WORDS; ++w) {
+        *w = BOARD_STACK_PAINT;
+    }
+}
+
+static inline unsigned long board_stack_used(const uint32_t *sp_at_call)
+{
+    const uint32_t *w = __stack_limit__;
+    while (w < sp_at_call && *w == BOARD_STACK_PAINT) {
+        ++w;
+    }
+    return (unsigned long)((const char *)sp_at_call - (const char *)w);
+}
+
 #endif
