@@ -12,11 +12,14 @@ only whole parts; a part holds every record of its batch (a failed record is a s
 """
 from __future__ import annotations
 
+import contextlib
 import logging
 import math
 import os
 import shutil
+import signal
 import sys
+import threading
 import time
 import uuid
 from dataclasses import dataclass
@@ -152,6 +155,32 @@ def _quiet_shutdown() -> None:
         logging.getLogger(name).setLevel(logging.CRITICAL)
 
 
+@contextlib.contextmanager
+def _ctrl_c_as_flag():
+    """SIGINT sets a flag instead of raising KeyboardInterrupt inside Dask's event-loop wait (where
+    it leaves tracebacks behind); a second Ctrl-C, after the job's loop, interrupts as usual."""
+    interrupted = threading.Event()
+    if threading.current_thread() is not threading.main_thread():
+        yield interrupted
+        return
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: interrupted.set())
+    try:
+        yield interrupted
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _wait_some(pending: set, seconds: float = 0.5):
+    """The futures done within SECONDS (at least one unless time ran out), and the rest."""
+    from distributed import wait
+
+    try:
+        result = wait(list(pending), timeout=seconds, return_when="FIRST_COMPLETED")
+    except TimeoutError:
+        return set(), pending
+    return set(result.done), set(result.not_done)
+
+
 def batch_size_for(records: int, workers: int) -> int:
     """About four tasks per worker (load balance, cheap retries), at most MAX_BATCH records a task."""
     return max(1, min(MAX_BATCH, math.ceil(records / (4 * max(workers, 1)))))
@@ -197,23 +226,24 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
                                  key=f"okid-fleet-{run}-{i:05d}", retries=2, pure=False)
                    for i, batch in enumerate(batches)]
         records = failed = rows = 0
-        try:
-            from distributed import as_completed
-
-            for future in as_completed(futures):
-                result = future.result()
-                records += result["records"]
-                failed += result["failed"]
-                rows += result["rows"]
-                if bar:
-                    bar.update(result["records"], result["failed"])
-        except KeyboardInterrupt:
+        with _ctrl_c_as_flag() as interrupted:
+            pending = set(futures)
+            while pending and not interrupted.is_set():
+                done_now, pending = _wait_some(pending)
+                for future in done_now:
+                    result = future.result()
+                    records += result["records"]
+                    failed += result["failed"]
+                    rows += result["rows"]
+                    if bar:
+                        bar.update(result["records"], result["failed"])
+        if pending:  # Ctrl-C: the tasks still out are cancelled, the parts written are whole
             _quiet_shutdown()
-            client.cancel(futures)
+            client.cancel(list(pending))
             if bar:
                 bar.close()
             raise Interrupted(f"interrupted: {len(records_done(out_dir))} of {len(refs)} records are in "
-                              f"{out_dir}; run again with --resume to finish") from None
+                              f"{out_dir}; run again with --resume to finish")
         if bar:
             bar.close()
         return Summary(records, failed, len(done), rows, len(batches), n_workers, time.monotonic() - t0)
