@@ -95,9 +95,9 @@ done
 
 # Every target side by side; the budgets of issue 4 (Cortex-M4F, float, paper configuration,
 # block_rows 1 as in the example) applied to each float target.
-verdict() {  # preset key budget
+verdict() {  # preset key budget ("-": none)
     local v=${figure[$1.$2]}
-    if [[ ${figure[$1.real]} != float ]]; then printf '%10s  ' "$v"
+    if [[ ${figure[$1.real]} != float || $3 == - ]]; then printf '%10s  ' "$v"
     elif (( v <= $3 )); then printf '%10s ok' "$v"
     else printf '%10s !!' "$v"; fi
 }
@@ -109,7 +109,9 @@ row() {  # label key budget
     printf '%12s\n' "$3"
 }
 printf '%-36s' "okid_real"; for p in "${presets[@]}"; do printf '%14s' "${figure[$p.real]}"; done; echo
-row "library flash, whole libokid.a (B)" lib_flash 65536
+# The flash budget is what the paper configuration links (--gc-sections); the whole archive also
+# holds what only some firmware calls (the refinement, lifting, the stabilization diagram).
+row "library flash, whole libokid.a (B)" lib_flash -
 row "library flash as linked (B)" linked_flash 65536
 row "library RAM, data + bss (B)" lib_ram 0
 row "workspace (B)" workspace 24576
