@@ -23,8 +23,34 @@ class RefinementWarning(RuntimeWarning):
     its modes are the best found (diverged: OKID/ERA's, with std -1), not the maximum-likelihood ones."""
 
 
+class _ModeArrays:
+    """Each mode's frequency, damping ratio and their standard deviations as arrays (for a
+    refinement the estimate's, for a Cramer-Rao bound the bound's)."""
+    modes: Tuple[Any, ...]
+
+    @property
+    def frequencies_hz(self) -> np.ndarray:
+        """Natural frequency of every mode [Hz]."""
+        return np.array([md.frequency_hz for md in self.modes])
+
+    @property
+    def frequency_std(self) -> np.ndarray:
+        """One standard deviation of every frequency [Hz]."""
+        return np.array([md.frequency_std for md in self.modes])
+
+    @property
+    def damping_ratios(self) -> np.ndarray:
+        """Damping ratio of every mode [-]."""
+        return np.array([md.damping_ratio for md in self.modes])
+
+    @property
+    def damping_std(self) -> np.ndarray:
+        """One standard deviation of every damping ratio [-]."""
+        return np.array([md.damping_std for md in self.modes])
+
+
 @dataclass(frozen=True, eq=False)
-class Refinement:
+class Refinement(_ModeArrays):
     """An okid_refine_result: the refined model in real modal form, its modes with their standard
     deviations, and how the refinement ended. Every array is a read-only copy."""
     state: str                      #: "converged", "diverged", "not_improving" or "iteration_limit"
@@ -52,25 +78,6 @@ class Refinement:
     def converged(self) -> bool:
         return self.state == "converged"
 
-    @property
-    def frequencies_hz(self) -> np.ndarray:
-        """Natural frequency of every refined mode [Hz]."""
-        return np.array([md.frequency_hz for md in self.modes])
-
-    @property
-    def frequency_std(self) -> np.ndarray:
-        """One standard deviation of every refined frequency [Hz]."""
-        return np.array([md.frequency_std for md in self.modes])
-
-    @property
-    def damping_ratios(self) -> np.ndarray:
-        """Damping ratio of every refined mode [-]."""
-        return np.array([md.damping_ratio for md in self.modes])
-
-    @property
-    def damping_std(self) -> np.ndarray:
-        """One standard deviation of every refined damping ratio [-]."""
-        return np.array([md.damping_std for md in self.modes])
 
 
 def _refinement(core) -> Refinement:
@@ -142,7 +149,7 @@ def warn_if_stopped(refined: Refinement, stacklevel: int) -> None:
 
 
 @dataclass(frozen=True, eq=False)
-class CramerRaoBound:
+class CramerRaoBound(_ModeArrays):
     """The Cramér–Rao lower bound of a planned (or performed) experiment: the standard deviation
     below which no unbiased estimate of a mode's frequency or damping ratio can go."""
     modes: Tuple[Any, ...]     #: the model's modes (okid.Mode), their *_std fields the bound
@@ -150,23 +157,6 @@ class CramerRaoBound:
     num_parameters: int        #: parameters of the model class (order n with feedthrough and x(0))
     samples: int               #: N
 
-    @property
-    def frequencies_hz(self) -> np.ndarray:
-        return np.array([md.frequency_hz for md in self.modes])
-
-    @property
-    def frequency_std(self) -> np.ndarray:
-        """The bound of every frequency (one standard deviation) [Hz]."""
-        return np.array([md.frequency_std for md in self.modes])
-
-    @property
-    def damping_ratios(self) -> np.ndarray:
-        return np.array([md.damping_ratio for md in self.modes])
-
-    @property
-    def damping_std(self) -> np.ndarray:
-        """The bound of every damping ratio (one standard deviation) [-]."""
-        return np.array([md.damping_std for md in self.modes])
 
 
 def crlb(u: Any, dt: float, *, model: Optional[Tuple[Any, Any, Any, Any]] = None, noise: Optional[float] = None,
