@@ -87,6 +87,16 @@ okid_status okid_era_realize(const okid_era_problem *pb, const okid_era_scratch 
             }
         }
     }
+    /* Markov parameters that overflowed (data at the edge of the range, an ill-posed solve) would
+       send the SVD into NaN arithmetic (reference LAPACK's xBDSQR then iterates for seconds): a
+       property of the data, reported as such */
+    for (int j = 0; j < hc; ++j) {
+        for (int i = 0; i < hr; ++i) {
+            if (!okid_is_finite(OKID_AT(v->h, ldh, i, j))) {
+                return OKID_E_DATA_RANGE;
+            }
+        }
+    }
     const okid_status st = okid_la_svd(hr, hc, v->h, ldh, out->sv, v->vt, ldvt, v->work);
     if (st != OKID_OK) {
         return st;
