@@ -453,12 +453,27 @@ static okid_status realization_stage(const okid_identifier *id, okid_real *facto
 }
 
 /* Modes (eq. 63-64), their indicators, and the realization's diagnostics. */
+static int all_finite(int rows, int cols, const okid_real *x, int ld)
+{
+    for (int j = 0; j < cols; ++j) {
+        for (int i = 0; i < rows; ++i) {
+            if (!okid_is_finite(OKID_AT(x, ld, i, j))) {
+                return 0;
+            }
+        }
+    }
+    return 1;
+}
+
 static okid_status modal_stage(const okid_identifier *id, const okid_result_views_ *out, identification *info)
 {
     const okid_dims_ *d = &id->dims_;
     const okid_views_ *v = &id->at_;
     const int n = info->order, m = d->m;
     const okid_modal_scratch modal = {v->modal_a, v->modal_vr, v->modal_wr, v->modal_wi, v->modal_work};
+    if (!all_finite(n, n, out->a, n) || !all_finite(m, n, out->c, m)) {
+        return OKID_E_DATA_RANGE; /* S^-1/2 of singular values near underflow: no eigenproblem over Inf/NaN */
+    }
     okid_status st = okid_modal_compute(n, m, out->a, n, out->c, m, id->cfg_.dt, id->cfg_.sensing, &modal,
                                         out->shapes, out->modes, &info->num_modes, &info->warnings);
     if (st != OKID_OK) {
