@@ -88,7 +88,7 @@ def data(tmp_path_factory):
     rng = np.random.default_rng(5)
     still = np.column_stack([t, np.zeros_like(t), rng.standard_normal((t.size, 2))])
     np.savetxt(extra / "still.csv", still, delimiter=",", header="time,force,acc1,acc2", comments="", fmt="%.17g")
-    big = fleet.synthesize(str(root / "big"), fleet.FleetSpec(assets=2, records=8, samples=40000, seed=4))
+    big = fleet.synthesize(str(root / "big"), fleet.FleetSpec(assets=2, records=8, samples=100000, seed=4))
     return {"records": info["records_dir"], "truth": info["truth"], "damaged": info["damaged"],
             "extra": str(root / "extra"), "big": big["records_dir"], "root": root}
 
