@@ -37,15 +37,9 @@ static uint64_t instructions(uint32_t ticks)
 /* The noisy record: white force, exact ZOH responses, white noise of NOISE x RMS per output. */
 static int make_data(void)
 {
-    plant_2dof plant;
-    okid_simulator sim;
-    okid_real state[PLANT_STATES], scratch[PLANT_STATES];
     okid_rng rng;
     okid_rng_seed(&rng, 7);
-    if (plant_2dof_build(&plant, DT) != OKID_OK || okid_rng_normal(&rng, 1, SAMPLES, force, 1) != OKID_OK ||
-        okid_simulator_init(&sim, PLANT_STATES, PLANT_INPUTS, PLANT_OUTPUTS, plant.a, plant.b, plant.c, plant.d,
-                            state, scratch) != OKID_OK ||
-        okid_simulate(&sim, SAMPLES, force, PLANT_INPUTS, accelerations, PLANT_OUTPUTS) != OKID_OK) {
+    if (plant_2dof_record(DT, &rng, SAMPLES, force, accelerations) != OKID_OK) {
         return 0;
     }
     for (int i = 0; i < PLANT_OUTPUTS; ++i) {

@@ -36,3 +36,18 @@ void plant_2dof_identifier_config(okid_config *cfg, okid_real dt, int block_rows
     cfg->sensing = OKID_SENSING_ACCELERATION;
     cfg->zero_initial_state = 1; /* the structure is at rest when the controller starts */
 }
+
+okid_status plant_2dof_record(okid_real dt, okid_rng *rng, int count, okid_real *force, okid_real *accelerations)
+{
+    plant_2dof plant;
+    okid_simulator sim;
+    okid_real state[PLANT_STATES], scratch[PLANT_STATES];
+    okid_status st = plant_2dof_build(&plant, dt);
+    if (st == OKID_OK) st = okid_rng_normal(rng, 1, (size_t)count, force, 1);
+    if (st == OKID_OK) {
+        st = okid_simulator_init(&sim, PLANT_STATES, PLANT_INPUTS, PLANT_OUTPUTS, plant.a, plant.b, plant.c, plant.d,
+                                 state, scratch);
+    }
+    if (st == OKID_OK) st = okid_simulate(&sim, (size_t)count, force, PLANT_INPUTS, accelerations, PLANT_OUTPUTS);
+    return st;
+}

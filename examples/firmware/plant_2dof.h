@@ -27,4 +27,11 @@ okid_status plant_2dof_build(plant_2dof *plant, okid_real dt);
  */
 void plant_2dof_identifier_config(okid_config *cfg, okid_real dt, int block_rows);
 
+/*
+ * A record of the plant from rest: count samples of white force of unit variance drawn from rng
+ * (force[k]) and the exact accelerations they cause (accelerations[PLANT_OUTPUTS k + i]). The
+ * benchmark programs' data; rng goes on from where the force left it.
+ */
+okid_status plant_2dof_record(okid_real dt, okid_rng *rng, int count, okid_real *force, okid_real *accelerations);
+
 #endif
