@@ -331,17 +331,30 @@ static int identify_failure(const okid_config *cfg, okid_identifier *id, okid_st
     return cli_error(EXIT_DATA, "identification failed: %s", okid_status_str(st));
 }
 
+/* All the samples the scan kept, into memory (*u: r per sample, *y: m per sample; the caller frees
+   them). 0, or an exit code after one line on stderr. */
+static int load_samples(record_reader *reader, const record_columns *cols, size_t samples, okid_real **u,
+                        okid_real **y)
+{
+    char error[512];
+    *u = malloc(sizeof(okid_real) * samples * (size_t)cols->r);
+    *y = malloc(sizeof(okid_real) * samples * (size_t)cols->m);
+    if (*u == NULL || *y == NULL || record_read_block(reader, cols, samples, *u, *y, error, sizeof error) < 0) {
+        const int rc = cli_error(EXIT_DATA, "%s", *u == NULL || *y == NULL ? "out of memory" : error);
+        free(*u), free(*y);
+        return rc;
+    }
+    return 0;
+}
+
 /* With --timing: the chosen samples in memory, so that the fastest of --repeat runs times the library alone. */
 static okid_status identify_timed(const identify_options *o, const okid_config *cfg, record_reader *reader,
                                   const record_columns *cols, size_t samples, void *ws, size_t bytes,
                                   okid_identifier *id, okid_result *res, double *elapsed, int *rc)
 {
-    char error[512];
-    okid_real *u = malloc(sizeof(okid_real) * samples * (size_t)cols->r);
-    okid_real *y = malloc(sizeof(okid_real) * samples * (size_t)cols->m);
-    if (u == NULL || y == NULL || record_read_block(reader, cols, samples, u, y, error, sizeof error) < 0) {
-        *rc = cli_error(EXIT_DATA, "%s", u == NULL || y == NULL ? "out of memory" : error);
-        free(u), free(y);
+    okid_real *u, *y;
+    *rc = load_samples(reader, cols, samples, &u, &y);
+    if (*rc != 0) {
         return OKID_OK;
     }
     okid_status st = OKID_OK;
@@ -424,14 +437,11 @@ static int identify_and_refine(const identify_options *o, okid_config *cfg, reco
                                const record_columns *cols, const record_scan *scan, void *ws, size_t bytes,
                                const column_choice *cc)
 {
-    char error[512];
     const size_t n = scan->samples;
-    okid_real *u = malloc(sizeof(okid_real) * n * (size_t)cols->r);
-    okid_real *y = malloc(sizeof(okid_real) * n * (size_t)cols->m);
-    if (u == NULL || y == NULL || record_read_block(reader, cols, n, u, y, error, sizeof error) < 0) {
-        const int rc = cli_error(EXIT_DATA, "%s", u == NULL || y == NULL ? "out of memory" : error);
-        free(u), free(y);
-        return rc;
+    okid_real *u, *y;
+    const int loaded = load_samples(reader, cols, n, &u, &y);
+    if (loaded != 0) {
+        return loaded;
     }
     start_search search = {.count = 0, .best = -1};
     void *grown = NULL;
