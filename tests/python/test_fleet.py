@@ -249,3 +249,28 @@ def test_bad_invocations_say_what_is_wrong(tmp_path):
     assert proc.returncode == 1 and "no such file" in proc.stderr and "Traceback" not in proc.stderr
     proc = okid_fleet("synth", "--out", str(tmp_path / "s"), "--assets", "0", check=False)
     assert proc.returncode == 2 and "at least 1 asset" in proc.stderr
+
+
+def test_csv_time_column_follows_the_cli_rule(tmp_path):
+    """A time column with a unit, in last place, gives dt and is no channel; two are refused; the
+    CLI reads the same file to the same dt (its JSON config) and the same channels."""
+    t = np.arange(400) * 50.0  # milliseconds
+    rng = np.random.default_rng(9)
+    data = np.column_stack([rng.standard_normal((400, 3)), t])
+    path = tmp_path / "asset-x" / "r.csv"
+    path.parent.mkdir()
+    np.savetxt(path, data, delimiter=",", header="force,acc1,acc2,Timestamp [ms]", comments="", fmt="%.17g")
+    rec = fleet.read(fleet.discover([str(path)])[0], fleet.ChannelSpec())
+    assert rec.dt == pytest.approx(0.05, rel=1e-12)
+    assert rec.input_names == ("force",) and rec.output_names == ("acc1", "acc2")
+    cli = os.environ.get("OKID_CLI")
+    if cli:
+        out = json.loads(subprocess.run([cli, "identify", "--json", "--order", "2", str(path)], capture_output=True,
+                                        text=True, check=True).stdout)
+        assert out["config"]["dt"] == pytest.approx(rec.dt, rel=1e-12)
+        assert out["inputs"] == list(rec.input_names) and out["outputs"] == list(rec.output_names)
+    two = tmp_path / "asset-x" / "two.csv"
+    np.savetxt(two, np.column_stack([t, data]), delimiter=",", header="t,force,acc1,acc2,time_ms", comments="",
+               fmt="%.17g")
+    with pytest.raises(fleet.RecordError, match="two time columns"):
+        fleet.read(fleet.discover([str(two)])[0], fleet.ChannelSpec())

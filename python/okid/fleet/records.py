@@ -4,7 +4,8 @@ A record is listed on the client without reading its samples (a RecordRef: a pat
 Parquet, the row groups that hold it); the samples are read inside the task that identifies it.
 
 CSV (the layout of ``okid simulate`` and ``okid identify``): a header line of column names, then
-one sample per line; a first column named like a time (t, time, time_s, seconds, ...) gives dt;
+one sample per line; a time column (t, time, timestamp, seconds, ... with an optional unit such as
+time_ms or "t [s]", in any position: the CLI's rule) gives dt and is never a data channel;
 the asset is the name of the file's folder, the record its path, the start time the file name
 when it reads as an ISO 8601 time (``2026-01-05T10-20-00Z.csv``), else unknown.
 
@@ -26,7 +27,14 @@ from typing import Iterable, List, Optional, Sequence, Tuple
 import numpy as np
 
 META_COLUMNS = ("asset", "record", "start", "dt")
-TIME_NAMES = {"t", "time", "time_s", "time[s]", "time (s)", "time [s]", "seconds", "sec", "s"}
+# The CLI's time-column rule (host_tools/cli/time_column.c, docs/robustness.md): a base name, then
+# optionally a unit after _ - / or in brackets; case and blanks ignored.
+TIME_BASES = ("timestamp", "time_stamp", "elapsed_time", "elapsed", "seconds", "time", "zeit", "t")
+TIME_UNITS = {"s": 1.0, "sec": 1.0, "secs": 1.0, "second": 1.0, "seconds": 1.0, "ms": 1e-3, "msec": 1e-3,
+              "millisecond": 1e-3, "milliseconds": 1e-3, "us": 1e-6, "\u00b5s": 1e-6, "\u03bcs": 1e-6,
+              "usec": 1e-6, "microsecond": 1e-6, "microseconds": 1e-6, "ns": 1e-9, "nanosecond": 1e-9,
+              "nanoseconds": 1e-9, "min": 60.0, "minute": 60.0, "minutes": 60.0, "h": 3600.0, "hour": 3600.0,
+              "hours": 3600.0}
 
 
 class RecordError(Exception):
@@ -86,8 +94,25 @@ class ChannelSpec:
         return picked
 
 
+def time_unit(name: str) -> float:
+    """Seconds per unit when NAME names a time column (the CLI's rule), else 0."""
+    squeezed = "".join(name.split()).lower()
+    for base in TIME_BASES:
+        if not squeezed.startswith(base):
+            continue
+        rest = squeezed[len(base):]
+        if rest == "":
+            return 1.0
+        if rest[0] in "_-/":
+            return TIME_UNITS.get(rest[1:], 0.0)
+        brackets = {"[": "]", "(": ")", "{": "}"}
+        if rest[0] in brackets and rest.endswith(brackets[rest[0]]) and len(rest) >= 3:
+            return TIME_UNITS.get(rest[1:-1], 0.0)
+    return 0.0
+
+
 def is_time_name(name: str) -> bool:
-    return name.strip().lower() in TIME_NAMES
+    return time_unit(name) > 0
 
 
 _ISO_STEM = re.compile(r"^(\d{4})-(\d{2})-(\d{2})[T_ ](\d{2})[-:](\d{2})[-:](\d{2})(?:Z|\+00[-:]?00)?$")
@@ -258,15 +283,20 @@ def _read_csv(ref: RecordRef, channels: ChannelSpec) -> RecordData:
     except (ValueError, TypeError) as exc:
         raise RecordError(f"{ref.path}: a column is not numeric ({exc})") from None
     start = ref.start
-    if is_time_name(names[0]):
-        dt = _uniform_dt(values[:, 0], ref.path)
-        if start is None and values[0, 0] > 1e8:  # absolute time stamps: epoch seconds
-            start = float(values[0, 0])
-        values, names = values[:, 1:], names[1:]
+    times = [i for i, name in enumerate(names) if is_time_name(name)]
+    if len(times) > 1:
+        raise RecordError(f"{ref.path}: two time columns ({', '.join(names[i] for i in times)}): keep one")
+    if times:  # in any position, never a data channel
+        i = times[0]
+        seconds = values[:, i] * time_unit(names[i])
+        dt = _uniform_dt(seconds, ref.path)
+        if start is None and seconds[0] > 1e8:  # absolute time stamps: epoch seconds
+            start = float(seconds[0])
+        values, names = np.delete(values, i, axis=1), names[:i] + names[i + 1:]
     elif channels.dt is not None:
         dt = channels.dt
     else:
-        raise RecordError(f"{ref.path}: no time column (first column '{names[0]}') and no --dt given")
+        raise RecordError(f"{ref.path}: no time column (t, time, timestamp, ... with an optional unit) and no --dt given")
     u, y, inames, onames = _split(values, names, channels)
     return RecordData(u, y, dt, start, inames, onames)
 
