@@ -2,7 +2,8 @@
 # Every test: the default build (-Werror; it cross-builds the FMUs' win64 and aarch64-linux binaries
 # too) with ctest (C, CLI, FMUs in fmpy, ecospy, libcosimpy, and under Wine and qemu-user, the
 # Python package, the fleet on a local Dask cluster, install, both linear-algebra backends
-# compared), the float build, the Eigen-backend build, the 32-bit (gcc -m32) build, the firmware
+# compared), the float build, the double and float C suites again under reference BLAS and each
+# OpenBLAS kernel this CPU runs, the Eigen-backend build, the 32-bit (gcc -m32) build, the firmware
 # cross-builds (Cortex-M4F, M7, M33, M55, RISC-V) with their tests under QEMU and the footprint
 # report, the whole suite again under ASan + UBSan, valgrind memcheck, and bounded fuzzing. Stops at
 # the first failure.
@@ -30,6 +31,9 @@ step "float build (okid_real = float): the C tests with the float tolerances"
 cmake --preset float
 cmake --build --preset float -j "$jobs"
 ctest --preset float -j "$jobs"
+
+step "BLAS kernels: the double and float C suites under reference BLAS/LAPACK and forced OpenBLAS kernels"
+bash scripts/blas_kernels.sh
 
 step "eigen build (the firmware's heap-free Eigen backend on the host): the C tests"
 cmake --preset eigen

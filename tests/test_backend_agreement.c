@@ -32,10 +32,7 @@ static void test_backends_agree(void **state)
             fail_msg("record %d: LAPACK wrote %s, Eigen computed %s", compared, name, e->name);
         }
         const double diff = fabs(e->value - lapacke) / (e->scale > 0 ? e->scale : 1);
-        if (!(diff <= e->tol)) {
-            fail_msg("%s: Eigen %.17g, LAPACK %.17g (relative difference %.3g > %.1e)", name, e->value, lapacke, diff,
-                     e->tol);
-        }
+        check_within_at(__FILE__, __LINE__, "Eigen against LAPACK", compared, diff, e->tol);
         if (e->tol > 0 && diff / e->tol > worst / worst_tol) {
             worst = diff;
             worst_tol = e->tol;

@@ -38,7 +38,7 @@ static void test_decimation_removes_bias_on_paper_case(void **state)
         const double raw = paper_error_with_decimation(1, seed, NULL);
         okid_result res;
         const double decimated = paper_error_with_decimation(2, seed, &res);
-        assert_true(fabs((double)res.dt - 0.02) < TOL(1e-15, 1e-8)); /* modal frequencies used K dt */
+        assert_within(fabs((double)res.dt - 0.02), TOL(1e-15, 1e-8)); /* modal frequencies used K dt */
         assert_int_equal(res.decimation, 2);
         assert_int_equal((int)res.samples, PAPER_SAMPLES);
         assert_int_equal((int)res.rows, (PAPER_SAMPLES + 1) / 2); /* from rest: every kept sample gives a row */
@@ -49,7 +49,7 @@ static void test_decimation_removes_bias_on_paper_case(void **state)
     }
     print_message("worst frequency error over 5 seeds: K = 1 %.4f, K = 2 %.4f\n", worst_raw, worst_decimated);
     assert_true(worst_raw > 0.015);
-    assert_true(worst_decimated < TOL(0.01, 0.02));
+    assert_within(worst_decimated, TOL(0.01, 0.02));
 }
 
 /* The biquad's steady-state gain against the Butterworth magnitude |H|^2 = 1 / (1 + (w / wc)^4),
@@ -135,7 +135,7 @@ static void test_decimation_configuration(void **state)
     assert_int_equal((int)pr.rows, 1000 - 10); /* 1000 kept, the first p fill the window */
     okid_result res;
     assert_int_equal(okid_identify(&id, &res), OKID_OK);
-    assert_true(fabs((double)res.dt - 0.04) < 1e-7);
+    assert_within(fabs((double)res.dt - 0.04), 1e-7);
     okid_real y_hat[2];
     assert_int_equal(okid_predict(&id, u, y_hat), OKID_E_NOT_AVAILABLE);
     free(u);

@@ -20,7 +20,7 @@ static unsigned identify_paper(okid_config *cfg, double noise, okid_result *res,
    condition is sigma_1 / sigma_4 of the exact Hankel matrix (numpy), 4.44e3: below 1 / sqrt(eps)
    in double, above it (2.9e3) in float, where the fourth state keeps only 3.6 of float's 7.2
    digits (docs/accuracy.md). In float the condition is off by up to 2u sigma_1 / sigma_4
-   (Weyl: each sigma moves by about u sigma_1), identify_tol(). */
+   (Weyl: each sigma moves by about u sigma_1); identify_tol() = 4u sigma_1 / sigma_4 allows twice that. */
 static void test_noise_free_above_minimum(void **state)
 {
     (void)state;

@@ -1,11 +1,28 @@
 /* End-to-end identification against exact models (reference values from numpy/scipy and the paper). */
 #include "test_support.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 enum { PAPER_SAMPLES = 1001 }; /* the paper's T = 10 s at dt = 0.01 s */
+
+/* ||H - H_exact||_F of the alpha x beta block Hankel matrices (block (i, j) = Y_{i+j+1}) built from
+   the identified and the exact Markov parameters of rc. */
+static double hankel_error_norm(const okid_result *res, const ref_case *rc, int alpha, int beta)
+{
+    double sum = 0;
+    for (int i = 0; i < alpha; ++i)
+        for (int j = 0; j < beta; ++j)
+            for (int a = 0; a < rc->m; ++a)
+                for (int b = 0; b < rc->r; ++b) {
+                    const int col = (i + j + 1) * rc->r + b;
+                    const double d = okid_matrix_at(res->markov, a, col) - rc->markov[a + (size_t)rc->m * (size_t)col];
+                    sum += d * d;
+                }
+    return sqrt(sum);
+}
 
 static void test_paper_noise_free(void **state)
 {
@@ -19,42 +36,55 @@ static void test_paper_noise_free(void **state)
     assert_int_equal(res.order, 4);
     assert_modes_match(&REF_PAPER, res.modes, res.num_modes, identify_tol(&REF_PAPER), IDENTIFY_MAC_MIN);
 
-    /* The paper's printed eigenvalues (eq. 87, 94 to four decimals in the paper, docs/design.md). */
-    assert_relative(res.modes[1].eigenvalue.re, 0.9767, 0.6e-4, "printed lambda re", 1);
-    assert_relative(res.modes[1].eigenvalue.im, 0.0608, 1e-3, "printed lambda im", 1);
-    assert_relative(res.modes[0].eigenvalue.re, 0.9945, 0.6e-4, "printed lambda re", 0);
-    assert_relative(res.modes[0].eigenvalue.im, 0.0311, 2e-3, "printed lambda im", 0);
+    /* The paper's printed eigenvalues (eq. 87, 94 to four decimals in the paper, docs/design.md): the
+       exact ones lie within half a unit of the fourth decimal of them, the identified ones within
+       identify_tol |lambda| of the exact ones (assert_modes_match above). */
+    const double printed_lambda[2][2] = {{0.9945, 0.0311}, {0.9767, 0.0608}};
+    for (int mode = 0; mode < 2; ++mode) {
+        const okid_complex lambda = res.modes[mode].eigenvalue;
+        const double lambda_tol = 0.5e-4 + identify_tol(&REF_PAPER) * hypot(lambda.re, lambda.im);
+        assert_within(fabs(lambda.re - printed_lambda[mode][0]), lambda_tol);
+        assert_within(fabs(lambda.im - printed_lambda[mode][1]), lambda_tol);
+    }
 
     /* Eq. 98-99 as printed (phi_1 for lambda_1 = 0.98 + 0.061i, phi_3 for 0.99 + 0.031i), up to the
        sign our normalisation picks. Two decimals: the paper prints -0.037 where the exact value is
-       -0.0337 (phi_3), so half a unit of the third decimal would reject the paper itself. */
+       -0.0337 (phi_3), so half a unit of the third decimal would reject the paper itself. The
+       identified shapes add their own error, the shape bound of assert_modes_match times the norm. */
     const okid_real phi1[4][2] = {{0.041, 0.12}, {-0.027, -0.079}, {-0.82, 0}, {0.55, 0}};
     const okid_real phi3[4][2] = {{-0.037, -0.21}, {-0.037, -0.21}, {0.67, 0}, {0.67, 0}};
     const okid_real (*printed[2])[2] = {phi3, phi1};
     for (int mode = 0; mode < 2; ++mode) {
         const okid_complex *s = res.modes[mode].shape;
         const okid_real sign = (s[2].re * printed[mode][2][0] < 0) ? -1 : 1;
+        double norm = 0;
+        for (int i = 0; i < 4; ++i) norm += s[i].re * s[i].re + s[i].im * s[i].im;
+        const double shape_tol = identify_tol(&REF_PAPER) / (hypot(REF_PAPER.pole_re[mode], REF_PAPER.pole_im[mode]) * REF_PAPER.dt);
+        const double printed_tol = 0.005 + shape_tol * sqrt(norm);
         for (int i = 0; i < 4; ++i) {
-            assert_true(fabs(sign * s[i].re - printed[mode][i][0]) <= 0.005);
-            assert_true(fabs(sign * s[i].im - printed[mode][i][1]) <= 0.005);
+            assert_within(fabs(sign * s[i].re - printed[mode][i][0]), printed_tol);
+            assert_within(fabs(sign * s[i].im - printed[mode][i][1]), printed_tol);
         }
     }
 
     /* System Markov parameters (eq. 51) against D, CB, CAB, ... of the exact model. */
     const int count = REF_PAPER.m * REF_PAPER.r * (REF_PAPER.markov_count + 1);
     assert_int_equal(res.markov.cols, REF_PAPER.r * 41);
-    assert_true(max_relative_difference(res.markov.data, REF_PAPER.markov, (size_t)count) < TOL(1e-9, 2e-6));
+    /* the least squares' round-off times its conditioning; measured up to 7.2e-7 in float over five BLAS
+       backends (scripts/blas_kernels.sh), tolerance 3x and more */
+    assert_within(max_relative_difference(res.markov.data, REF_PAPER.markov, (size_t)count), TOL(1e-9, 2.5e-6));
 
-    /* Hankel singular values: n significant ones equal the exact Hankel's, the rest vanish. */
+    /* Hankel singular values: n significant ones equal the exact Hankel's, the rest vanish. Weyl:
+       each moves by at most ||H - H_exact||_2 <= ||H - H_exact||_F, the Hankel of this run's Markov
+       errors, plus the SVD's backward error (LAPACK: a modest multiple of u sigma_1; 4 max(rows, cols) u
+       sigma_1 here). Both come from this run's data, so any BLAS kernel meets them. */
+    const double hankel_error = hankel_error_norm(&res, &REF_PAPER, cfg.hankel_rows, cfg.hankel_cols);
+    const int hankel_dim = cfg.hankel_rows * REF_PAPER.m; /* > hankel_cols * r */
+    const double svd_error = 4.0 * hankel_dim * (OKID_REAL_IS_FLOAT ? (double)FLT_EPSILON : DBL_EPSILON) * REF_PAPER.hankel_sv[0];
     for (int i = 0; i < 4; ++i) {
-#if OKID_REAL_IS_FLOAT
-        /* Weyl: each singular value moves by at most the norm of the Hankel's error (~ eps sigma_1) */
-        assert_relative(res.singular_values[i], REF_PAPER.hankel_sv[i], 1e-5 * REF_PAPER.hankel_sv[0] / REF_PAPER.hankel_sv[i], "hankel sv", i);
-#else
-        assert_relative(res.singular_values[i], REF_PAPER.hankel_sv[i], 1e-9, "hankel sv", i);
-#endif
+        assert_within(fabs(res.singular_values[i] - REF_PAPER.hankel_sv[i]), hankel_error + svd_error);
     }
-    assert_true(res.singular_values[4] < TOL(1e-12, 1e-5) * res.singular_values[0]);
+    assert_within(res.singular_values[4], hankel_error + svd_error);
     /* p = 20 is far above the minimum p = 1 for noise-free data: rank deficient, and said so. */
     assert_true(res.regressor_rank < res.regressor_columns);
     assert_true(res.warnings & OKID_W_REGRESSOR_RANK_DEFICIENT);
@@ -79,7 +109,9 @@ static void test_realization_reproduces_markov(void **state)
         for (int a = 0; a < 2; ++a) {
             okid_real y = 0;
             for (int j = 0; j < n; ++j) y += okid_matrix_at(res.C, a, j) * p[j];
-            assert_relative(y, REF_PAPER.markov[a + 2 * k], TOL(1e-8, 2e-3), "C A^(k-1) B", k);
+            /* float: A^(k-1) amplifies A's round-off up to k = 40; measured up to 8.9e-4 over five BLAS
+               backends (scripts/blas_kernels.sh), 3x that */
+            assert_relative(y, REF_PAPER.markov[a + 2 * k], TOL(1e-8, 3e-3), "C A^(k-1) B", k);
         }
         for (int i = 0; i < n; ++i) {
             next[i] = 0;
@@ -171,7 +203,7 @@ static void test_combined_realization(void **state)
                 okid_real y = 0;
                 for (int j = 0; j < n; ++j) y += okid_matrix_at(res.C, a, j) * p[col * n + j];
                 const okid_real want = okid_matrix_at(res.observer_gain_markov, a, (k - 1) * 2 + col);
-                assert_true(fabs(y - want) <= TOL(1e-7, 1e-5) * scale);
+                assert_within(fabs(y - want), TOL(1e-7, 1e-5) * scale);
             }
             for (int i = 0; i < n; ++i) {
                 next[i] = 0;
@@ -206,13 +238,16 @@ static void test_forgetting_tracks_stiffness_change(void **state)
         assert_int_equal(okid_init(&id, &cfg, ws, bytes, NULL), OKID_OK);
         assert_int_equal(okid_push_block(&id, 2 * HALF, u, 1, y, 2, NULL), OKID_OK);
         assert_int_equal(okid_identify(&id, &res), OKID_OK);
-        okid_real worst = 0;
-        for (int i = 0; i < 2; ++i) {
-            worst = fmax(worst, fabs(res.modes[i].frequency_hz - REF_STIFFER.freq_hz[i]) / REF_STIFFER.freq_hz[i]);
-        }
         if (t == 0) {
-            assert_true(worst < TOL(1e-6, 2e-4)); /* old rows weigh 0.99^3000 ~ 1e-13 */
+            /* The old rows weigh 0.99^3000 ~ 1e-13, below round-off: the stiffer plant's modes to the
+               bound of its own noise-free identification (identify_tol; in float 2u sigma_1 / sigma_n
+               with the magnifications of assert_modes_match). */
+            assert_modes_match(&REF_STIFFER, res.modes, res.num_modes, identify_tol(&REF_STIFFER), IDENTIFY_MAC_MIN);
         } else {
+            okid_real worst = 0;
+            for (int i = 0; i < 2; ++i) {
+                worst = fmax(worst, fabs(res.modes[i].frequency_hz - REF_STIFFER.freq_hz[i]) / REF_STIFFER.freq_hz[i]);
+            }
             assert_true(worst > 1e-3); /* without forgetting the two structures are averaged */
         }
         free(ws);
@@ -302,8 +337,8 @@ static void test_one_step_prediction(void **state)
     for (int k = 0; k < 2 * PAPER_SAMPLES; ++k) scale = fmax(scale, fabs(y[k]));
     for (int k = 600; k < PAPER_SAMPLES; ++k) {
         assert_int_equal(okid_predict(&id, &u[k], y_hat), OKID_OK);
-        assert_true(fabs(y_hat[0] - y[2 * k]) < TOL(1e-9, 5e-6) * scale);
-        assert_true(fabs(y_hat[1] - y[2 * k + 1]) < TOL(1e-9, 5e-6) * scale);
+        assert_within(fabs(y_hat[0] - y[2 * k]), TOL(1e-9, 5e-6) * scale);
+        assert_within(fabs(y_hat[1] - y[2 * k + 1]), TOL(1e-9, 5e-6) * scale);
         assert_int_equal(okid_push(&id, &u[k], &y[2 * k]), OKID_OK);
     }
     const okid_real nan = NAN;

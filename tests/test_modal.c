@@ -2,6 +2,7 @@
    MAC against hand-computed values, and the warnings for poles without a physical meaning. */
 #include "test_support.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -17,16 +18,18 @@ static void check_exact(const ref_case *rc)
                                          sizeof workspace, modes, &count, &warnings),
                      OKID_OK);
     assert_int_equal(warnings, 0);
-    /* 2e-12: Re(s) = ln|lambda| / dt of the chain's lightest mode (|lambda| = 0.99965) turns one
-       rounding of lambda (2e-16) into 6e-13 relative; either backend may round either way. */
-    assert_modes_match(rc, modes, count, TOL(2e-12, 2e-6), 1 - TOL(1e-14, 1e-6));
+    /* Re(s) = ln|lambda| / dt of the chain's lightest mode (|lambda| = 0.99965) turns one rounding of
+       lambda (2e-16) into 6e-13 relative; the eigensolvers of five BLAS backends gave up to 8.9e-13 in
+       double and 1.4e-6 (12 eps) in float (scripts/blas_kernels.sh): 3x that. */
+    assert_modes_match(rc, modes, count, TOL(3e-12, 5e-6), 1 - TOL(1e-14, 1e-6));
     for (int i = 0; i < count; ++i) { /* C psi at the sensors has unit norm and a real largest component */
         okid_real norm = 0;
         for (int a = 0; a < rc->m; ++a) {
             norm += modes[i].sensor_shape[a].re * modes[i].sensor_shape[a].re +
                     modes[i].sensor_shape[a].im * modes[i].sensor_shape[a].im;
         }
-        assert_relative(norm, 1, TOL(1e-14, 1e-6), "sensor shape norm", i);
+        /* a sum of m <= 4 squares, scaled once: a few roundings each; 10 eps (measured: 3 eps in float) */
+        assert_relative(norm, 1, TOL(1e-14, 10 * FLT_EPSILON), "sensor shape norm", i);
     }
 }
 

@@ -22,7 +22,7 @@ static void test_mpc_hand_computed(void **state)
     const double h = sqrt(0.5);
     const okid_complex eighth[2] = {{1, 0}, {h, h}};                 /* phi^T phi = 1 + i, phi^H phi = 2 */
     assert_relative(okid_mpc(real_shape, 2), 1, TOL(1e-15, HAND_FLOAT_TOL), "mpc real", 0);
-    assert_true(okid_mpc(quadrature, 2) < TOL(1e-15, HAND_FLOAT_TOL));
+    assert_within(okid_mpc(quadrature, 2), TOL(1e-15, HAND_FLOAT_TOL));
     assert_relative(okid_mpc(eighth, 2), 0.5, TOL(1e-15, HAND_FLOAT_TOL), "mpc 45 degrees", 0);
     /* A complex scale (here 3 e^{0.7i}) changes nothing. */
     okid_complex turned[2];

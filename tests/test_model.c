@@ -6,13 +6,9 @@
 
 #include "reference/reference_data.h"
 
-static void assert_close_array(const okid_real *got, const okid_real *want, size_t count, double tol)
-{
-    const double diff = max_relative_difference(got, want, count);
-    if (!(diff <= tol)) {
-        fail_msg("arrays differ by %.3g (relative to their largest entry) > %.3g", diff, tol);
-    }
-}
+/* The largest difference of two arrays, relative to want's largest entry, within tol. */
+#define assert_close_array(got, want, count, tol) \
+    check_within_at(__FILE__, __LINE__, #got, 0, max_relative_difference(got, want, count), tol)
 
 static void check_case(const ref_case *rc, const okid_real *masses, const okid_real *dampers, const okid_real *springs)
 {

@@ -82,15 +82,17 @@ static void test_units_do_not_change_the_modes(void **state)
     double worst = 0, mac_min = 0;
     compare_modes(&base.res, &other.res, mm, &worst, &mac_min);
     print_message("m, N vs mm, kN: modes differ by %.3g (relative), MAC >= %.15f\n", worst, mac_min);
-    assert_true(worst < TOL(1e-10, 1e-4));
-    assert_true(mac_min > 1 - TOL(1e-12, 1e-5));
+    /* float: the data differ by a rounding (u = 6e-8) times the identification's conditioning; over
+       five BLAS backends the modes moved by up to 7.5e-5 (scripts/blas_kernels.sh): 3x that */
+    assert_within(worst, TOL(1e-10, 2.5e-4));
+    assert_within(1 - mac_min, TOL(1e-12, 1e-5));
 
     /* A is the same; B, C, D, G change as the units: B' = 1000 B (per kN), C' = 1000 C, D' = 1e6 D, G' = G / 1000 */
     const int n = base.res.order;
     const double tol = TOL(1e-9, 1e-3);
     for (int i = 0; i < n; ++i) {
         for (int j = 0; j < n; ++j) {
-            assert_true(fabs(okid_matrix_at(other.res.A, i, j) - okid_matrix_at(base.res.A, i, j)) <= tol);
+            assert_within(fabs(okid_matrix_at(other.res.A, i, j) - okid_matrix_at(base.res.A, i, j)), tol);
         }
         assert_relative(okid_matrix_at(other.res.B, i, 0), 1e3 * okid_matrix_at(base.res.B, i, 0), tol, "B", i);
         for (int a = 0; a < 2; ++a) {
@@ -134,7 +136,7 @@ static void test_mixed_units_need_scaling(void **state)
     identify_in_units(OKID_SCALING_AUTO, 1, mixed, &b);
     compare_modes(&a.res, &b.res, mixed, &worst, &mac_min);
     print_message("mixed units with scaling: modes differ by %.3g\n", worst);
-    assert_true(worst < TOL(1e-10, 1e-3)); /* float: the data differ by a rounding, 6e-8, times the conditioning */
+    assert_within(worst, TOL(1e-10, 1e-3)); /* float: the data differ by a rounding, 6e-8, times the conditioning */
     free(a.ws);
     free(b.ws);
     identify_in_units(OKID_SCALING_NONE, 1, si, &a);
@@ -218,7 +220,8 @@ static void test_scales_set_by_the_caller(void **state)
         assert_true(res.input_scales[0] == in_scale[0] && res.output_scales[1] == outs[1]);
         for (int i = 0; i < res.num_modes; ++i) freq[pass][i] = res.modes[i].frequency_hz;
     }
-    for (int i = 0; i < res.num_modes; ++i) assert_relative(freq[1][i], freq[0][i], TOL(1e-10, 1e-4), "frequency", i);
+    /* float: measured up to 5.5e-5 over five BLAS backends (scripts/blas_kernels.sh), 3x that */
+    for (int i = 0; i < res.num_modes; ++i) assert_relative(freq[1][i], freq[0][i], TOL(1e-10, 2e-4), "frequency", i);
 
     const okid_real bad[2] = {(okid_real)1.0, (okid_real)0.0};
     assert_int_equal(okid_set_scales(&id, in_scale, out_scale), OKID_E_NOT_AVAILABLE); /* rows folded */

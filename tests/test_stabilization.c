@@ -64,9 +64,7 @@ static void test_true_poles_at_every_order(void **state)
         for (int i = 0; i < REF_PAPER.num_modes; ++i) {
             const okid_mode *md = NULL;
             const double err = nearest(&st, o, REF_PAPER.eig_re[i], fabs(REF_PAPER.eig_im[i]), &md);
-            if (!(err < 0.2 * noise)) {
-                fail_msg("order %d, mode %d: eigenvalue error %.3g", st.orders[o].order, i, err);
-            }
+            check_within_at(__FILE__, __LINE__, "eigenvalue error at each order", st.orders[o].order, err, 0.2 * noise);
             assert_true(md->cmi > 0.99);
             if (st.orders[o].order >= 6) {
                 assert_int_equal(st.stability[md - st.modes], OKID_STABLE_ALL);

@@ -5,6 +5,7 @@
  */
 #include "test_support.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -63,15 +64,23 @@ static void realize_case(const ref_case *rc)
     unsigned warnings = 0;
     assert_int_equal(okid_era_realize(&problem, &scratch, &out, &order, &warnings), OKID_OK);
     assert_int_equal(order, n);
-    for (int i = 0; i < n; ++i) { /* Weyl: each sigma moves by at most the norm of H's round-off */
-        assert_true(fabs((double)sv[i] - (double)rc->hankel_sv[i]) <= TOL(1e-14, 4e-7) * (double)rc->hankel_sv[0]);
+    /* Weyl: each sigma moves by at most the norm of H's perturbation: its entries' rounding to okid_real,
+       u |H|_F, plus the SVD's backward error, a modest multiple of u sigma_1 (4 max(rows, cols) u sigma_1) */
+    double frobenius = 0;
+    for (int i = 0; i < n; ++i) frobenius += (double)rc->hankel_sv[i] * (double)rc->hankel_sv[i];
+    const double u = OKID_REAL_IS_FLOAT ? FLT_EPSILON / 2.0 : DBL_EPSILON / 2;
+    const double weyl = u * sqrt(frobenius) + 4.0 * (hr > hc ? hr : hc) * u * (double)rc->hankel_sv[0];
+    for (int i = 0; i < n; ++i) {
+        assert_within(fabs((double)sv[i] - (double)rc->hankel_sv[i]), weyl);
     }
-    assert_true(sv[n] <= TOL(1e-14, 4e-7) * sv[0]); /* rank n: the next sigma is round-off */
+    assert_within(sv[n], weyl); /* rank n: the next sigma is round-off */
     for (int i = 0; i < m * r; ++i) {
         assert_true(d[i] == rc->markov[i]); /* D = Y_0 */
     }
     const double misfit = markov_misfit(rc, n, a, b, c);
-    assert_true(misfit <= TOL(1e-13, 5e-5)); /* measured 5e-15 (MIMO) in double; 1.2e-5 in float, A^k amplifying */
+    /* measured over five BLAS backends (scripts/blas_kernels.sh): 2.5e-14 in double, 1.8e-5 in float
+       (A^k amplifying the round-off of the realization); tolerance 3x and more */
+    assert_within(misfit, TOL(1e-13, 6e-5));
 
     okid_real a_copy[64];
     for (int i = 0; i < n * n; ++i) {
@@ -83,7 +92,7 @@ static void realize_case(const ref_case *rc)
         for (int i = 0; i < n; ++i) {
             nearest = fmin(nearest, hypot((double)wr[i] - (double)rc->eig_re[j], fabs((double)wi[i]) - (double)rc->eig_im[j]));
         }
-        assert_true(nearest <= TOL(1e-12, identify_tol(rc)) * hypot((double)rc->eig_re[j], (double)rc->eig_im[j]));
+        assert_within(nearest, TOL(1e-12, identify_tol(rc)) * hypot((double)rc->eig_re[j], (double)rc->eig_im[j]));
     }
     /* the indicators' blocks are the last block row of the observability matrix, C A^(alpha-1),
        and the last block column of the controllability matrix, A^(beta-1) B (here alpha = beta) */
@@ -124,8 +133,8 @@ static void realize_case(const ref_case *rc)
             norm_ctrl = fmax(norm_ctrl, fabs(s));
         }
     }
-    assert_true(worst_obs <= TOL(1e-11, 1e-3) * norm_obs); /* measured 1e-13 and 5e-5 */
-    assert_true(worst_ctrl <= TOL(1e-11, 1e-3) * norm_ctrl);
+    assert_within(worst_obs, TOL(1e-11, 1e-3) * norm_obs); /* measured 1e-13 and 5e-5 */
+    assert_within(worst_ctrl, TOL(1e-11, 1e-3) * norm_ctrl);
     free(h);
     free(vt);
     free(t);

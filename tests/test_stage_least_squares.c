@@ -130,7 +130,7 @@ static void test_lsq_against_dense(void **state)
             assert_int_equal(fold_and_solve(rows, lambda, s == 0 ? blocks_a : blocks_b, x, &rank, &input_rank), OKID_OK);
             assert_int_equal(rank, Q);
             assert_int_equal(input_rank, NU);
-            assert_true(max_error(x, ref) <= TOL(1e-13, 5e-6)); /* measured 6e-16, 6e-7 */
+            assert_within(max_error(x, ref), TOL(1e-13, 5e-6)); /* measured 6e-16, 6e-7 */
         }
     }
 }
@@ -186,10 +186,10 @@ static void test_lsq_regressor_rank_deficient(void **state)
             norm = fmax(norm, fabs(want));
         }
     }
-    assert_true(worst <= TOL(1e-13, 5e-6) * norm); /* measured 5e-16, 3e-7 */
+    assert_within(worst, TOL(1e-13, 5e-6) * norm); /* measured 5e-16, 3e-7 */
     /* minimum norm: the two equal columns share their weight */
     for (int a = 0; a < MOUT; ++a) {
-        assert_true(fabs((double)x[Q - 1 + a * Q] - (double)x[Q - 2 + a * Q]) <= TOL(1e-10, 1e-3) * fabs(ref[Q - 2 + a * Q]));
+        assert_within(fabs((double)x[Q - 1 + a * Q] - (double)x[Q - 2 + a * Q]), TOL(1e-10, 1e-3) * fabs(ref[Q - 2 + a * Q]));
     }
 }
 

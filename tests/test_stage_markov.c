@@ -89,8 +89,8 @@ static void test_markov_from_deadbeat_observer(void **state)
             memcpy(pw, next, sizeof(double) * (size_t)(N * cols));
         }
     }
-    assert_true(worst <= TOL(1e-14, 1e-5));
-    assert_true(worst_obs <= TOL(1e-14, 1e-5));
+    assert_within(worst, TOL(1e-14, 1e-5));
+    assert_within(worst_obs, TOL(1e-14, 1e-5));
 }
 
 /* The system realization passes no observer-gain buffer: only Y_k is written. */

@@ -120,19 +120,74 @@ double identify_tol(const ref_case *rc)
 {
 #if OKID_REAL_IS_FLOAT
     const int n = 2 * rc->dofs;
-    return FLT_EPSILON * rc->hankel_sv[0] / rc->hankel_sv[n - 1];
+    return 2 * FLT_EPSILON * rc->hankel_sv[0] / rc->hankel_sv[n - 1];
 #else
     (void)rc;
     return 1e-9;
 #endif
 }
 
-void assert_relative(double got, double want, double tol, const char *what, int index)
+/* The tolerance log: each check site's worst err / tol, written when the test program exits. */
+enum { TOLERANCE_SITES = 1024 };
+typedef struct tolerance_site {
+    const char *file, *what; /* string literals or __FILE__: they live as long as the program */
+    int line;
+    double worst_ratio, err, tol;
+} tolerance_site;
+static tolerance_site tolerance_sites[TOLERANCE_SITES];
+static int tolerance_site_count;
+
+static void write_tolerance_log(void)
+{
+    FILE *log = fopen(getenv("OKID_TOLERANCE_LOG"), "a");
+    if (!log) return;
+    for (int i = 0; i < tolerance_site_count; ++i) {
+        const tolerance_site *s = &tolerance_sites[i];
+        const char *base = strrchr(s->file, '/');
+        fprintf(log, "%s:%d\t%s\t%.3e\t%.3e\t%.3e\n", base ? base + 1 : s->file, s->line, s->what, s->worst_ratio,
+                s->err, s->tol);
+    }
+    fclose(log);
+}
+
+static void log_tolerance(const char *file, int line, const char *what, double err, double tol)
+{
+    static int enabled = -1;
+    if (enabled < 0) {
+        const char *path = getenv("OKID_TOLERANCE_LOG");
+        enabled = path && *path;
+        if (enabled) atexit(write_tolerance_log);
+    }
+    if (!enabled) return;
+    const double ratio = (tol > 0) ? err / tol : (err == 0 ? 0 : HUGE_VAL);
+    for (int i = 0; i < tolerance_site_count; ++i) {
+        tolerance_site *s = &tolerance_sites[i];
+        if (s->line == line && strcmp(s->file, file) == 0 && strcmp(s->what, what) == 0) {
+            if (ratio > s->worst_ratio) { s->worst_ratio = ratio; s->err = err; s->tol = tol; }
+            return;
+        }
+    }
+    if (tolerance_site_count < TOLERANCE_SITES) {
+        tolerance_sites[tolerance_site_count++] = (tolerance_site){file, what, line, ratio, err, tol};
+    }
+}
+
+void check_within_at(const char *file, int line, const char *what, int index, double err, double tol)
+{
+    log_tolerance(file, line, what, err, tol);
+    if (!(err <= tol)) {
+        fail_msg("%s:%d: %s[%d] = %.17g exceeds its tolerance %.3g", file, line, what, index, err, tol);
+    }
+}
+
+void assert_relative_at(const char *file, int line, double got, double want, double tol, const char *what, int index)
 {
     const double scale = (want != 0) ? fabs(want) : 1;
     const double err = fabs(got - want) / scale;
+    log_tolerance(file, line, what, err, tol);
     if (!(err <= tol)) {
-        fail_msg("%s[%d]: got %.17g, want %.17g (relative error %.3g > %.3g)", what, index, got, want, err, tol);
+        fail_msg("%s:%d: %s[%d]: got %.17g, want %.17g (relative error %.3g > %.3g)", file, line, what, index, got, want,
+                 err, tol);
     }
 }
 
@@ -159,16 +214,15 @@ static void compare_shapes(const okid_complex *a, const okid_real *b_re, const o
     *diff = worst / sqrt(bb);
 }
 
-void assert_modes_match(const ref_case *rc, const okid_mode *modes, int num_modes, double tol, double mac_min)
+void assert_modes_match_at(const char *file, int line, const ref_case *rc, const okid_mode *modes, int num_modes,
+                           double tol, double mac_min)
 {
     assert_int_equal(num_modes, rc->num_modes);
     const int len = 2 * rc->dofs;
     for (int i = 0; i < num_modes; ++i) {
-        char what[64];
-        snprintf(what, sizeof what, "%s eigenvalue", rc->name);
         const double lambda_err = hypot(modes[i].eigenvalue.re - rc->eig_re[i], modes[i].eigenvalue.im - rc->eig_im[i]) /
                                   hypot(rc->eig_re[i], rc->eig_im[i]);
-        assert_relative(lambda_err, 0, tol, what, i);
+        assert_relative_at(file, line, lambda_err, 0, tol, "eigenvalue", i);
         assert_int_equal(modes[i].is_pair, 1);
 #if OKID_REAL_IS_FLOAT
         /* s = ln(lambda) / dt magnifies lambda's relative error by 1 / (|s| dt) (oversampling), and
@@ -178,19 +232,17 @@ void assert_modes_match(const ref_case *rc, const okid_mode *modes, int num_mode
 #else
         const double s_tol = tol, zeta_tol = tol;
 #endif
-        assert_relative(modes[i].pole.re, rc->pole_re[i], zeta_tol, "pole re", i);
-        assert_relative(modes[i].pole.im, rc->pole_im[i], s_tol, "pole im", i);
-        assert_relative(modes[i].frequency_hz, rc->freq_hz[i], s_tol, "frequency", i);
-        assert_relative(modes[i].damping_ratio, rc->damping_ratio[i], zeta_tol, "damping ratio", i);
+        assert_relative_at(file, line, modes[i].pole.re, rc->pole_re[i], zeta_tol, "pole re", i);
+        assert_relative_at(file, line, modes[i].pole.im, rc->pole_im[i], s_tol, "pole im", i);
+        assert_relative_at(file, line, modes[i].frequency_hz, rc->freq_hz[i], s_tol, "frequency", i);
+        assert_relative_at(file, line, modes[i].damping_ratio, rc->damping_ratio[i], zeta_tol, "damping ratio", i);
         double mac = 0, diff = 0;
         compare_shapes(modes[i].shape, rc->shape_re + (size_t)i * (size_t)len, rc->shape_im + (size_t)i * (size_t)len,
                        len, &mac, &diff);
-        if (!(mac > mac_min)) {
-            fail_msg("%s mode %d: MAC %.15f <= %.15f", rc->name, i, mac, mac_min);
-        }
-        if (!(diff <= s_tol)) { /* the eq. 64 basis scales by powers of s */
-            fail_msg("%s mode %d: shape differs by %.3g (relative)", rc->name, i, diff);
-        }
+        /* 1 - MAC = sin^2 of the angle <= |a' - b|^2 / |b|^2 <= len diff^2 (diff: the largest component's
+           difference over |b|), so a shape within s_tol has 1 - MAC <= len s_tol^2; mac_min is the floor */
+        check_within_at(file, line, "1 - shape MAC", i, 1 - mac, fmax(1 - mac_min, len * s_tol * s_tol));
+        check_within_at(file, line, "shape difference", i, diff, s_tol); /* the eq. 64 basis scales by powers of s */
     }
 }
 

@@ -85,7 +85,7 @@ static int solve_both(const okid_real *r, const okid_real *b, okid_real rcond, o
     }
     const double tol = TOL(1e-10, 2e-4);
     for (int k = 0; k < N * NRHS; ++k) {
-        assert_true(fabs((double)x[k] - (double)xd[k]) <= tol * (1 + fabs((double)xd[k])));
+        assert_within(fabs((double)x[k] - (double)xd[k]), tol * (1 + fabs((double)xd[k])));
     }
     /* without right-hand sides (the rank checks): the same rank */
     assert_int_equal(okid_triangular_lstsq(N, 0, tri0, LDA, NULL, N, rcond, perm, tri_work), rank);
@@ -114,7 +114,7 @@ static void test_full_rank(void **state)
                 for (int j = i; j < N; ++j) {
                     s += (double)r[i + j * N] * (double)x[j + c * N];
                 }
-                assert_true(fabs(s - (double)b[i + c * N]) <= TOL(1e-9, 1e-3));
+                assert_within(fabs(s - (double)b[i + c * N]), TOL(1e-9, 1e-3));
             }
         }
     }
@@ -134,7 +134,7 @@ static void test_rank_deficient_minimum_norm(void **state)
             const okid_real *xc = x + c * N;
             for (int k = 0; k < 2; ++k) {
                 const double along = (double)xc[dep[k]] - 2 * (double)xc[base[k]] + (double)xc[0];
-                assert_true(fabs(along) <= TOL(1e-9, 1e-3));
+                assert_within(fabs(along), TOL(1e-9, 1e-3));
             }
         }
     }
