@@ -52,11 +52,11 @@ static const fmu_variable_group *group(int g) { return &FMU_MODEL.groups[g]; }
 /* FMI 3 rolls back through states too; only a portable state is serialized (fmu_state.c). */
 static const char *serializable(void) { return FMU_MODEL.state_blocks == NULL ? "true" : "false"; }
 
-/* Sources fmpy and users compile. */
+/* Sources fmpy and users compile: C files and the Eigen backend (C++). */
 static int compiled(const char *name)
 {
     const size_t len = strlen(name);
-    return len > 2 && strcmp(name + len - 2, ".c") == 0;
+    return (len > 2 && strcmp(name + len - 2, ".c") == 0) || (len > 4 && strcmp(name + len - 4, ".cpp") == 0);
 }
 
 /*
@@ -316,16 +316,18 @@ static void build_description(int argc, char **argv)
 {
     puts("<?xml version=\"1.0\" encoding=\"UTF-8\"?>");
     puts("<fmiBuildDescription fmiVersion=\"3.0\">");
-    printf("  <BuildConfiguration modelIdentifier=\"%s\" description=\"C11; link LAPACKE, LAPACK, BLAS and libm\">\n",
+    printf("  <BuildConfiguration modelIdentifier=\"%s\" description=\"C11 sources and the Eigen backend in C++17"
+           " (Eigen's headers in Eigen/, MPL2); link libm and the C++ runtime\">\n",
            FMU_MODEL.name);
-    puts("    <SourceFileSet language=\"C11\">");
+    /* One set for both languages: fmpy 0.3.32 builds the first set only, with CMake, which compiles each
+       file by its extension (a set's language attribute would set one standard for all). */
+    puts("    <SourceFileSet>");
     for (int i = 0; i < argc; ++i) {
-        const size_t len = strlen(argv[i]);
-        if (len > 2 && strcmp(argv[i] + len - 2, ".c") == 0) printf("      <SourceFile name=\"%s\"/>\n", argv[i]);
+        if (compiled(argv[i])) printf("      <SourceFile name=\"%s\"/>\n", argv[i]);
     }
     puts("      <IncludeDirectory name=\".\"/>");
     puts("    </SourceFileSet>");
-    puts("    <Library name=\"lapacke\"/>\n    <Library name=\"lapack\"/>\n    <Library name=\"blas\"/>\n    <Library name=\"m\"/>");
+    puts("    <Library name=\"m\"/>");
     puts("  </BuildConfiguration>\n</fmiBuildDescription>");
 }
 

@@ -333,25 +333,6 @@ def test_plant_parameters_and_time(version):
     p.fmu.freeInstance()
 
 
-@pytest.mark.parametrize("version", VERSIONS)
-@pytest.mark.parametrize("model", MODELS)
-def test_sources_build_without_prefixes(tmp_path, version, model):
-    """sources/ + its build description are enough to rebuild the binary (with a system LAPACK)."""
-    import zipfile
-    with zipfile.ZipFile(fmu(version, model)) as z:
-        z.extractall(tmp_path)
-    src = tmp_path / "sources"
-    files = re.findall(r'SourceFile name="([^"]+)"', (src / "buildDescription.xml").read_text()) if version == 3 \
-        else sorted(p.name for p in src.glob("*.c"))
-    lapacke_cflags = subprocess.run(["pkg-config", "--cflags", "lapacke"], capture_output=True, text=True).stdout.split()
-    so = tmp_path / "rebuilt.so"
-    subprocess.run(["cc", "-std=c11", "-shared", "-fPIC", "-O1", "-I.", *lapacke_cflags, *files, "-o", str(so),
-                    "-llapacke", "-llapack", "-lblas", "-lm"], cwd=src, check=True)
-    out = subprocess.run(["nm", "-D", "--defined-only", str(so)], capture_output=True, text=True).stdout
-    exported = {line.split()[-1] for line in out.splitlines() if line.split()[-1].startswith("fmi")}
-    assert exported == fmi_functions(version)
-
-
 # ---- issue 17 class 4: every output is current or visibly not (docs/fmu.md, "Stale outputs") ----
 
 def outputs_are_flagged(s, t):
@@ -553,22 +534,6 @@ def test_fmi3_structural_parameter_rules():
     assert len(s.get("y_hat")[0]) == 3
     assert status_of(s.fmu.getFloat64, [s.vr("y_hat")], nValues=2) == 3  # nValues must match the size
     s.fmu.freeInstance()
-
-
-@pytest.mark.parametrize("version", VERSIONS)
-def test_sources_build_with_fmpy(tmp_path, version):
-    """fmpy's source build (FMI 2: <SourceFiles> of modelDescription.xml; FMI 3: buildDescription.xml)
-    compiles sources/ into a shared object exporting the FMI functions. fmpy links no libraries:
-    the binary leaves LAPACKE/LAPACK/BLAS and libm to the loading process (docs/fmu.md)."""
-    import zipfile
-    from fmpy.build import build_platform_binary
-    with zipfile.ZipFile(fmu(version)) as z:
-        z.extractall(tmp_path)
-    shutil.rmtree(tmp_path / "binaries")
-    build_platform_binary(str(tmp_path.resolve()))
-    so = next((tmp_path / "binaries").glob("*/okid_identifier.so"))
-    out = subprocess.run(["nm", "-D", "--defined-only", str(so)], capture_output=True, text=True).stdout
-    assert {line.split()[-1] for line in out.splitlines() if line.split()[-1].startswith("fmi")} == fmi_functions(version)
 
 
 # ---- issue 16: FMI 2 FMUs for any configuration from the one prebuilt binary (okid-fmu) ----

@@ -135,7 +135,8 @@ class Table:
                'canNotUseMemoryManagementFunctions="false" canGetAndSetFMUstate="true" '
                f'canSerializeFMUstate="{"true" if t.get("can_serialize_state") else "false"}">',
                "    <SourceFiles>"]
-        xml += [f'      <File name="{s}"/>' for s in sources if s.endswith(".c") and len(s) > 2]
+        xml += [f'      <File name="{s}"/>' for s in sources
+                if (s.endswith(".c") and len(s) > 2) or (s.endswith(".cpp") and len(s) > 4)]
         xml += ["    </SourceFiles>", "  </CoSimulation>"]
         units = []
         for v in self.vars:
