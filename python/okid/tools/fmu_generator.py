@@ -197,8 +197,10 @@ def generate(base, out, settings):
     with zipfile.ZipFile(base) as z:
         table = json.loads(z.read("documentation/model_variables.json"))
         base_md = z.read("modelDescription.xml").decode()
+        # the base's reference input and output are its configuration's: not this one's
         members = [(i, z.read(i)) for i in z.infolist()
-                   if not i.filename.startswith(("modelDescription.xml", "resources/"))]
+                   if not i.filename.startswith(("modelDescription.xml", "resources/"))
+                   and not i.filename.endswith(("_in.csv", "_ref.csv"))]
     known = {v["name"]: v for v in table["variables"] if v["causality"] in ("structural", "parameter")}
     for name, _ in settings:
         if name not in known:
