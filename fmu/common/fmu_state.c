@@ -176,9 +176,10 @@ fmu_status fmu_deserialize(fmu_instance *inst, const unsigned char *bytes, size_
         return fmu_refuse(inst, "DeserializeFMUState: the bytes are not a serialized state of this build of %s",
                           FMU_MODEL.name);
     }
+    if (*state != NULL) inst->memory.release(*state); /* a state of this instance, given for reuse */
     void *s = inst->memory.allocate(1, size);
+    *state = s;
     if (s == NULL) return fmu_refuse(inst, "DeserializeFMUState: out of memory for %zu bytes", size);
     memcpy(s, bytes, size);
-    *state = s;
     return FMU_OK;
 }
