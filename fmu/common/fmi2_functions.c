@@ -133,45 +133,23 @@ fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
     RET(nvr == 0 ? fmu_check(INST, ~0u, "fmi2SetString") : fmu_unsupported(INST, "fmi2SetString (no String variables)"));
 }
 
-fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s)
-{
-    (void)s;
-    RET(fmu_unsupported(INST, "fmi2GetFMUstate"));
-}
-
-fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s)
-{
-    (void)s;
-    RET(fmu_unsupported(INST, "fmi2SetFMUstate"));
-}
-
-fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s)
-{
-    (void)s;
-    RET(fmu_unsupported(INST, "fmi2FreeFMUstate"));
-}
+fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s) { RET(fmu_get_state(INST, s)); }
+fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s) { RET(fmu_set_state(INST, s)); }
+fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s) { RET(fmu_free_state(INST, s)); }
 
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate s, size_t *size)
 {
-    (void)s;
-    (void)size;
-    RET(fmu_unsupported(INST, "fmi2SerializedFMUstateSize"));
+    RET(fmu_serialized_size(INST, s, size));
 }
 
 fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate s, fmi2Byte bytes[], size_t size)
 {
-    (void)s;
-    (void)bytes;
-    (void)size;
-    RET(fmu_unsupported(INST, "fmi2SerializeFMUstate"));
+    RET(fmu_serialize(INST, s, (unsigned char *)bytes, size));
 }
 
 fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte bytes[], size_t size, fmi2FMUstate *s)
 {
-    (void)bytes;
-    (void)size;
-    (void)s;
-    RET(fmu_unsupported(INST, "fmi2DeSerializeFMUstate"));
+    RET(fmu_deserialize(INST, (const unsigned char *)bytes, size, s));
 }
 
 fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference vUnknown[], size_t nUnknown,

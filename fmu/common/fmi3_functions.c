@@ -179,40 +179,23 @@ fmi3Status fmi3GetVariableDependencies(fmi3Instance instance, fmi3ValueReference
     RET(fmu_unsupported(INST, "fmi3GetVariableDependencies"));
 }
 
-fmi3Status fmi3GetFMUState(fmi3Instance instance, fmi3FMUState *s)
-{
-    (void)s;
-    RET(fmu_unsupported(INST, "fmi3GetFMUState"));
-}
-
-fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState s)
-{
-    (void)s;
-    RET(fmu_unsupported(INST, "fmi3SetFMUState"));
-}
-
-fmi3Status fmi3FreeFMUState(fmi3Instance instance, fmi3FMUState *s)
-{
-    (void)s;
-    RET(fmu_unsupported(INST, "fmi3FreeFMUState"));
-}
+fmi3Status fmi3GetFMUState(fmi3Instance instance, fmi3FMUState *s) { RET(fmu_get_state(INST, s)); }
+fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState s) { RET(fmu_set_state(INST, s)); }
+fmi3Status fmi3FreeFMUState(fmi3Instance instance, fmi3FMUState *s) { RET(fmu_free_state(INST, s)); }
 
 fmi3Status fmi3SerializedFMUStateSize(fmi3Instance instance, fmi3FMUState s, size_t *size)
 {
-    (void)s, (void)size;
-    RET(fmu_unsupported(INST, "fmi3SerializedFMUStateSize"));
+    RET(fmu_serialized_size(INST, s, size));
 }
 
 fmi3Status fmi3SerializeFMUState(fmi3Instance instance, fmi3FMUState s, fmi3Byte bytes[], size_t size)
 {
-    (void)s, (void)bytes, (void)size;
-    RET(fmu_unsupported(INST, "fmi3SerializeFMUState"));
+    RET(fmu_serialize(INST, s, bytes, size));
 }
 
 fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte bytes[], size_t size, fmi3FMUState *s)
 {
-    (void)bytes, (void)size, (void)s;
-    RET(fmu_unsupported(INST, "fmi3DeserializeFMUState"));
+    RET(fmu_deserialize(INST, bytes, size, s));
 }
 
 fmi3Status fmi3GetDirectionalDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[], size_t nUnknowns,

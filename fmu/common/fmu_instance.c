@@ -204,6 +204,17 @@ fmu_status fmu_unsupported(fmu_instance *inst, const char *function)
     return FMU_ERROR;
 }
 
+fmu_status fmu_refuse(fmu_instance *inst, const char *format, ...)
+{
+    char message[512];
+    va_list args;
+    va_start(args, format);
+    vsnprintf(message, sizeof message, format, args);
+    va_end(args);
+    if (inst != NULL && inst->magic == FMU_MAGIC) fmu_log(&inst->logger, FMU_ERROR, "logStatusError", "%s", message);
+    return FMU_ERROR;
+}
+
 fmu_status fmu_set_debug_logging(fmu_instance *inst, int logging_on, size_t count, const char *const categories[])
 {
     if (fmu_check(inst, ~0u, "SetDebugLogging") != FMU_OK) return FMU_ERROR;

@@ -96,5 +96,24 @@ fmu_status fmu_set(fmu_instance *inst, fmu_value_kind kind, const unsigned vr[],
 
 /* Logs "function is not supported by this FMU" and returns FMU_ERROR. */
 fmu_status fmu_unsupported(fmu_instance *inst, const char *function);
+/* Logs the reason as an error and returns FMU_ERROR. */
+fmu_status fmu_refuse(fmu_instance *inst, const char *format, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/*
+ * FMU states (fmu_state.c): get into *state (NULL: a new one; else one this instance returned,
+ * reused when it fits), set, free; serialization only for models whose states are portable
+ * (FMU_MODEL.state_blocks == NULL: the capability flags of the modelDescription say so).
+ */
+int fmu_state_portable(void);
+fmu_status fmu_get_state(fmu_instance *inst, void **state);
+fmu_status fmu_set_state(fmu_instance *inst, const void *state);
+fmu_status fmu_free_state(fmu_instance *inst, void **state);
+fmu_status fmu_serialized_size(fmu_instance *inst, const void *state, size_t *size);
+fmu_status fmu_serialize(fmu_instance *inst, const void *state, unsigned char *bytes, size_t size);
+fmu_status fmu_deserialize(fmu_instance *inst, const unsigned char *bytes, size_t size, void **state);
 
 #endif

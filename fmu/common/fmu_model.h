@@ -50,6 +50,12 @@ typedef struct fmu_variable_group {
     const fmu_enum_type *enumeration;
     const char *unit;        /* NULL when dimensionless */
     const char *description;
+    /*
+     * Outputs: the input (its name) this output depends on directly, with a factor fixed after
+     * initialization (the plant's accelerations on the force, D != 0); NULL: on no input, the output
+     * changes only in DoStep. The modelDescription's <ModelStructure> is written from it.
+     */
+    const char *depends_on;
 } fmu_variable_group;
 
 typedef enum fmu_status { FMU_OK = 0, FMU_WARNING = 1, FMU_ERROR = 3 } fmu_status;
@@ -67,6 +73,13 @@ typedef struct fmu_allocator {
     void *(*allocate)(size_t count, size_t size); /* zeroed, like calloc */
     void (*release)(void *memory);
 } fmu_allocator;
+
+/* A block of memory the model allocated whose contents belong to its state (FMU state get/set). */
+typedef struct fmu_block {
+    void *at;
+    size_t bytes;
+} fmu_block;
+enum { FMU_MAX_BLOCKS = 4 };
 
 typedef struct fmu_model {
     const char *name;
@@ -93,6 +106,13 @@ typedef struct fmu_model {
     void (*update_outputs)(void *data);
     /* Free what configure and exit_initialization allocated (NULL: nothing). */
     void (*release)(void *data, const fmu_allocator *memory);
+    /*
+     * The blocks that configure and exit_initialization allocated, now (at most FMU_MAX_BLOCKS;
+     * returns how many). NULL: the model data holds no pointers, so a state is its bytes alone and
+     * can be serialized and restored into any instance of this build; otherwise a state holds the
+     * blocks' contents and restores only into the instance whose blocks they still are.
+     */
+    int (*state_blocks)(void *data, fmu_block blocks[FMU_MAX_BLOCKS]);
 } fmu_model;
 
 /* Each model defines this. */

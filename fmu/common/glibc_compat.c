@@ -2,7 +2,9 @@
  * Keeps the FMU loadable on old Linux distributions: glibc 2.29 gave exp, log, pow, exp2 and log2
  * new symbol versions, which a binary linked here would require. The linker redirects every call
  * (ours and the static LAPACK's) to these wrappers (-Wl,--wrap=NAME), which bind to the baseline
- * x86_64 versions (GLIBC_2.2.5) that every glibc still provides.
+ * x86_64 versions (GLIBC_2.2.5) that every glibc still provides. The wrappers are needed because
+ * the static LAPACK's objects are prebuilt; the ARM64 build has no such objects and binds its own
+ * calls with glibc_baseline.h instead (lld keeps a --wrap'ed symbol's new version in .dynsym).
  */
 #include <stdlib.h> /* defines __GLIBC__ on glibc systems */
 

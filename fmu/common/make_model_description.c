@@ -49,6 +49,43 @@ static void attr(const char *name, const char *text)
 
 static const fmu_variable_group *group(int g) { return &FMU_MODEL.groups[g]; }
 
+/* FMI 3 rolls back through states too; only a portable state is serialized (fmu_state.c). */
+static const char *serializable(void) { return FMU_MODEL.state_blocks == NULL ? "true" : "false"; }
+
+/* Sources fmpy and users compile: C files and the Eigen backend (C++). */
+static int compiled(const char *name)
+{
+    const size_t len = strlen(name);
+    return (len > 2 && strcmp(name + len - 2, ".c") == 0) || (len > 4 && strcmp(name + len - 4, ".cpp") == 0);
+}
+
+/*
+ * The direct dependencies of an output on inputs (<ModelStructure>): "" for none (it changes only
+ * in DoStep, so a master closing a loop through it sees no algebraic loop), else every element of
+ * the input it depends on, with a factor fixed after initialization.
+ */
+static void dependencies(void *data, int version, const fmu_variable_group *v)
+{
+    const int input = v->depends_on ? fmu_group_by_name(&FMU_MODEL, v->depends_on) : -1;
+    printf(" dependencies=\"");
+    if (input < 0) {
+        putchar('"');
+        return;
+    }
+    size_t count = 1;
+    if (version == 2) {
+        unsigned first = 1;
+        for (int g = 0; g < input; ++g) first += (unsigned)fmu_group_size(&FMU_MODEL, data, g);
+        count = fmu_group_size(&FMU_MODEL, data, input);
+        for (size_t e = 0; e < count; ++e) printf("%s%u", e ? " " : "", first + (unsigned)e);
+    } else {
+        printf("%d", input + 1);
+    }
+    printf("\" dependenciesKind=\"");
+    for (size_t e = 0; e < count; ++e) printf("%sfixed", e ? " " : "");
+    putchar('"');
+}
+
 static const char *causality(int version, fmu_causality c)
 {
     switch (c) {
@@ -136,12 +173,12 @@ static void fmi2(void *data, unsigned long config_hash, int num_sources, char **
     header("2.0", "guid", token);
     puts(" numberOfEventIndicators=\"0\">");
     printf("  <CoSimulation modelIdentifier=\"%s\" canHandleVariableCommunicationStepSize=\"%s\""
-           " canBeInstantiatedOnlyOncePerProcess=\"false\" canNotUseMemoryManagementFunctions=\"false\">\n",
-           FMU_MODEL.name, FMU_MODEL.variable_step ? "true" : "false");
+           " canBeInstantiatedOnlyOncePerProcess=\"false\" canNotUseMemoryManagementFunctions=\"false\""
+           " canGetAndSetFMUstate=\"true\" canSerializeFMUstate=\"%s\">\n",
+           FMU_MODEL.name, FMU_MODEL.variable_step ? "true" : "false", serializable());
     puts("    <SourceFiles>");
     for (int i = 0; i < num_sources; ++i) {
-        const size_t len = strlen(sources[i]);
-        if (len > 2 && strcmp(sources[i] + len - 2, ".c") == 0) printf("      <File name=\"%s\"/>\n", sources[i]);
+        if (compiled(sources[i])) printf("      <File name=\"%s\"/>\n", sources[i]);
     }
     puts("    </SourceFiles>\n  </CoSimulation>");
     units();
@@ -176,7 +213,10 @@ static void fmi2(void *data, unsigned long config_hash, int num_sources, char **
     for (int g = 0; g < FMU_MODEL.num_groups; ++g) {
         const size_t size = fmu_group_size(&FMU_MODEL, data, g);
         for (size_t e = 0; e < size; ++e, ++vr) {
-            if (group(g)->causality == FMU_OUTPUT) printf("      <Unknown index=\"%u\"/>\n", vr + 1);
+            if (group(g)->causality != FMU_OUTPUT) continue;
+            printf("      <Unknown index=\"%u\"", vr + 1);
+            dependencies(data, 2, group(g));
+            puts("/>");
         }
     }
     puts("    </Outputs>\n    <InitialUnknowns>");
@@ -206,8 +246,8 @@ static void fmi3(void *data)
     puts(">");
     printf("  <CoSimulation modelIdentifier=\"%s\" canHandleVariableCommunicationStepSize=\"%s\""
            " canBeInstantiatedOnlyOncePerProcess=\"false\" providesIntermediateUpdate=\"false\""
-           " hasEventMode=\"false\"/>\n",
-           FMU_MODEL.name, FMU_MODEL.variable_step ? "true" : "false");
+           " hasEventMode=\"false\" canGetAndSetFMUState=\"true\" canSerializeFMUState=\"%s\"/>\n",
+           FMU_MODEL.name, FMU_MODEL.variable_step ? "true" : "false", serializable());
     units();
     int any_enum = 0;
     for (int g = 0; g < FMU_MODEL.num_groups; ++g) any_enum |= group(g)->enumeration != NULL;
@@ -260,7 +300,10 @@ static void fmi3(void *data)
     }
     puts("  </ModelVariables>\n  <ModelStructure>");
     for (int g = 0; g < FMU_MODEL.num_groups; ++g) {
-        if (group(g)->causality == FMU_OUTPUT) printf("    <Output valueReference=\"%d\"/>\n", g + 1);
+        if (group(g)->causality != FMU_OUTPUT) continue;
+        printf("    <Output valueReference=\"%d\"", g + 1);
+        dependencies(data, 3, group(g));
+        puts("/>");
     }
     for (int g = 0; g < FMU_MODEL.num_groups; ++g) {
         if (group(g)->causality == FMU_OUTPUT) printf("    <InitialUnknown valueReference=\"%d\"/>\n", g + 1);
@@ -273,16 +316,18 @@ static void build_description(int argc, char **argv)
 {
     puts("<?xml version=\"1.0\" encoding=\"UTF-8\"?>");
     puts("<fmiBuildDescription fmiVersion=\"3.0\">");
-    printf("  <BuildConfiguration modelIdentifier=\"%s\" description=\"C11; link LAPACKE, LAPACK, BLAS and libm\">\n",
+    printf("  <BuildConfiguration modelIdentifier=\"%s\" description=\"C11 sources and the Eigen backend in C++17"
+           " (Eigen's headers in Eigen/, MPL2); link libm and the C++ runtime\">\n",
            FMU_MODEL.name);
-    puts("    <SourceFileSet language=\"C11\">");
+    /* One set for both languages: fmpy 0.3.32 builds the first set only, with CMake, which compiles each
+       file by its extension (a set's language attribute would set one standard for all). */
+    puts("    <SourceFileSet>");
     for (int i = 0; i < argc; ++i) {
-        const size_t len = strlen(argv[i]);
-        if (len > 2 && strcmp(argv[i] + len - 2, ".c") == 0) printf("      <SourceFile name=\"%s\"/>\n", argv[i]);
+        if (compiled(argv[i])) printf("      <SourceFile name=\"%s\"/>\n", argv[i]);
     }
     puts("      <IncludeDirectory name=\".\"/>");
     puts("    </SourceFileSet>");
-    puts("    <Library name=\"lapacke\"/>\n    <Library name=\"lapack\"/>\n    <Library name=\"blas\"/>\n    <Library name=\"m\"/>");
+    puts("    <Library name=\"m\"/>");
     puts("  </BuildConfiguration>\n</fmiBuildDescription>");
 }
 
@@ -311,8 +356,8 @@ static void table(void *data)
     json_string(FMU_MODEL.name);
     printf(",\n  \"description\": ");
     json_string(FMU_MODEL.description);
-    printf(",\n  \"generation_tool\": \"okid %s\",\n  \"variable_step\": %s,\n  \"variables\": [\n", OKID_VERSION_STRING,
-           FMU_MODEL.variable_step ? "true" : "false");
+    printf(",\n  \"generation_tool\": \"okid %s\",\n  \"variable_step\": %s,\n  \"can_serialize_state\": %s,\n"
+           "  \"variables\": [\n", OKID_VERSION_STRING, FMU_MODEL.variable_step ? "true" : "false", serializable());
     for (int g = 0; g < FMU_MODEL.num_groups; ++g) {
         const fmu_variable_group *v = group(g);
         printf("    {\"name\": ");
@@ -355,6 +400,9 @@ static void table(void *data)
         }
         printf(", \"description\": ");
         json_string(v->description);
+        printf(", \"depends_on\": ");
+        if (v->depends_on) json_string(v->depends_on);
+        else printf("null");
         printf("}%s\n", g + 1 < FMU_MODEL.num_groups ? "," : "");
     }
     printf("  ]\n}\n");

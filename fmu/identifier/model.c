@@ -54,6 +54,7 @@ typedef struct identifier_data {
     okid_real *u_real, *y_real, *y_hat_real;
     void *arrays;                    /* every array above, one allocation */
     void *workspace_block;           /* the workspace as allocated (aligned inside) */
+    size_t arrays_bytes, workspace_block_bytes;
     int since_identify;
     okid_identifier id;
 } identifier_data;
@@ -81,13 +82,13 @@ static const fmu_enum_type STATUS = {"okid_fmu_status", 3, STATUS_ITEMS};
 
 #define OFF(field) offsetof(identifier_data, field)
 #define STRUCTURAL(name, field, start, max, text) \
-    {name, NULL, FMU_SIZE, FMU_STRUCTURAL, FMU_FIXED, OFF(field), SCALAR, start, 1, max, NULL, NULL, text}
+    {name, NULL, FMU_SIZE, FMU_STRUCTURAL, FMU_FIXED, OFF(field), SCALAR, start, 1, max, NULL, NULL, text, NULL}
 #define PARAM(name, type, field, min, max, enumeration, unit, text) \
-    {name, NULL, type, FMU_PARAMETER, FMU_FIXED, OFF(field), SCALAR, 0, min, max, enumeration, unit, text}
+    {name, NULL, type, FMU_PARAMETER, FMU_FIXED, OFF(field), SCALAR, 0, min, max, enumeration, unit, text, NULL}
 #define OUT(name, type, field, enumeration, unit, text) \
-    {name, NULL, type, FMU_OUTPUT, FMU_DISCRETE, OFF(field), SCALAR, 0, NO_RANGE, enumeration, unit, text}
+    {name, NULL, type, FMU_OUTPUT, FMU_DISCRETE, OFF(field), SCALAR, 0, NO_RANGE, enumeration, unit, text, NULL}
 #define OUTS(name, flat, dims, field, unit, text) \
-    {name, flat, FMU_REAL, FMU_OUTPUT, FMU_DISCRETE, OFF(field), dims, 0, NO_RANGE, NULL, unit, text}
+    {name, flat, FMU_REAL, FMU_OUTPUT, FMU_DISCRETE, OFF(field), dims, 0, NO_RANGE, NULL, unit, text, NULL}
 
 static const fmu_variable_group GROUPS[] = {
     [G_NUM_INPUTS] = STRUCTURAL("num_inputs", num_inputs, 1, MAX_CHANNELS, "r: inputs (forces)"),
@@ -124,8 +125,8 @@ static const fmu_variable_group GROUPS[] = {
     PARAM("instrument_lags", FMU_INTEGER, instrument_lags, 0, OKID_MAX_INSTRUMENT_LAGS, NULL, NULL,
           "L of the instrumental estimator; 0 = automatic"),
     PARAM("identify_every", FMU_INTEGER, identify_every, 1, INT_MAX, NULL, NULL, "re-identify every N samples"),
-    {"u", "u%d", FMU_REAL, FMU_INPUT, FMU_CONTINUOUS, OFF(u), BY_INPUTS, 0, NO_RANGE, NULL, NULL, "input (force)"},
-    {"y", "y%d", FMU_REAL, FMU_INPUT, FMU_CONTINUOUS, OFF(y), BY_OUTPUTS, 0, NO_RANGE, NULL, NULL, "output (sensor)"},
+    {"u", "u%d", FMU_REAL, FMU_INPUT, FMU_CONTINUOUS, OFF(u), BY_INPUTS, 0, NO_RANGE, NULL, NULL, "input (force)", NULL},
+    {"y", "y%d", FMU_REAL, FMU_INPUT, FMU_CONTINUOUS, OFF(y), BY_OUTPUTS, 0, NO_RANGE, NULL, NULL, "output (sensor)", NULL},
     OUT("status", FMU_ENUM, status, &STATUS, NULL,
         "0 collecting (no identification yet), 1 identified (the mode outputs are from the latest identification), "
         "2 failed (the latest identification failed, see last_error; the mode outputs are from identification_time)"),
@@ -249,7 +250,8 @@ static fmu_status configure(void *data, const fmu_allocator *memory, fmu_logger 
     const size_t r = (size_t)d->num_inputs, m = (size_t)d->num_outputs, k = (size_t)d->max_modes;
     const size_t doubles = r + m + 2 * m + (size_t)d->num_singular_values + 7 * k + 2 * k * 2 * m;
     const size_t reals = r + 2 * m;
-    d->arrays = memory->allocate(doubles * sizeof(double) + reals * sizeof(okid_real), 1);
+    d->arrays_bytes = doubles * sizeof(double) + reals * sizeof(okid_real);
+    d->arrays = memory->allocate(d->arrays_bytes, 1);
     if (d->arrays == NULL) {
         fmu_log(logger, FMU_ERROR, "logStatusError", "out of memory for the arrays of %zu doubles", doubles);
         return FMU_ERROR;
@@ -317,7 +319,8 @@ static fmu_status exit_initialization(void *data, const fmu_allocator *memory, f
         return FMU_ERROR;
     }
     if (d->workspace_block) memory->release(d->workspace_block);
-    d->workspace_block = memory->allocate(bytes + OKID_WORKSPACE_ALIGN, 1);
+    d->workspace_block_bytes = bytes + OKID_WORKSPACE_ALIGN;
+    d->workspace_block = memory->allocate(d->workspace_block_bytes, 1);
     if (d->workspace_block == NULL) {
         fmu_log(logger, FMU_ERROR, "logStatusError", "out of memory for the workspace of %zu bytes", bytes);
         return FMU_ERROR;
@@ -416,6 +419,15 @@ static fmu_status do_step(void *data, double t, double h, fmu_logger *logger)
     return FMU_OK;
 }
 
+/* The identifier's state beyond its data: the arrays and the workspace, which okid_identifier points into. */
+static int state_blocks(void *data, fmu_block blocks[FMU_MAX_BLOCKS])
+{
+    identifier_data *d = data;
+    blocks[0] = (fmu_block){d->arrays, d->arrays ? d->arrays_bytes : 0};
+    blocks[1] = (fmu_block){d->workspace_block, d->workspace_block ? d->workspace_block_bytes : 0};
+    return 2;
+}
+
 const fmu_model FMU_MODEL = {
     "okid_identifier",
     "OKID/ERA identification of a structure from forces and responses: modes as they converge",
@@ -431,4 +443,5 @@ const fmu_model FMU_MODEL = {
     do_step,
     NULL,
     release,
+    state_blocks,
 };

@@ -1,7 +1,7 @@
 /*
  * The plant FMU: the paper's 2-DOF system (eq. 65-82), force on mass 1, stepped exactly with a
  * zero-order hold over each communication step (eq. 13-14, the core's model module). Outputs are
- * the accelerations of both masses (with direct feedthrough of the force), displacements, velocities.
+ * the accelerations of both masses (acc1 with direct feedthrough of the force), displacements, velocities.
  */
 #include <math.h>
 #include <stddef.h>
@@ -28,10 +28,10 @@ typedef struct plant_data {
 #define OFF(field) offsetof(plant_data, field)
 #define PARAM(name, field, index, start, min, unit, text) \
     {name, NULL, FMU_REAL, FMU_PARAMETER, FMU_FIXED, OFF(field) + (index) * sizeof(double), {0, 0, 0}, start, min, \
-     (double)INFINITY, NULL, unit, text}
-#define OUT(name, field, index, unit, text) \
+     (double)INFINITY, NULL, unit, text, NULL}
+#define OUT(name, field, index, depends_on, unit, text) \
     {name, NULL, FMU_REAL, FMU_OUTPUT, FMU_CONTINUOUS, OFF(field) + (index) * sizeof(double), {0, 0, 0}, 0, (double)NAN, (double)NAN, \
-     NULL, unit, text}
+     NULL, unit, text, depends_on}
 #define POSITIVE 2.2250738585072014e-308
 
 static const fmu_variable_group GROUPS[] = {
@@ -43,13 +43,15 @@ static const fmu_variable_group GROUPS[] = {
     PARAM("k1", springs, 0, 20.0, 0, "N/m", "spring between the left wall and mass 1"),
     PARAM("k2", springs, 1, 40.0, 0, "N/m", "spring between mass 1 and mass 2"),
     PARAM("k3", springs, 2, 30.0, 0, "N/m", "spring between mass 2 and the right wall"),
-    {"force", NULL, FMU_REAL, FMU_INPUT, FMU_CONTINUOUS, OFF(force), {0, 0, 0}, 0.0, (double)NAN, (double)NAN, NULL, "N", "force on mass 1"},
-    OUT("acc1", acc, 0, "m/s2", "acceleration of mass 1"),
-    OUT("acc2", acc, 1, "m/s2", "acceleration of mass 2"),
-    OUT("x1", disp, 0, "m", "displacement of mass 1"),
-    OUT("x2", disp, 1, "m", "displacement of mass 2"),
-    OUT("v1", vel, 0, "m/s", "velocity of mass 1"),
-    OUT("v2", vel, 1, "m/s", "velocity of mass 2"),
+    {"force", NULL, FMU_REAL, FMU_INPUT, FMU_CONTINUOUS, OFF(force), {0, 0, 0}, 0.0, (double)NAN, (double)NAN, NULL, "N", "force on mass 1", NULL},
+    /* acc = C x + D force, D = M^-1 b = (1/m1, 0): the force acts on mass 1 directly, on mass 2 only
+       through the state (M is diagonal for every parameter value); x and v change in DoStep only */
+    OUT("acc1", acc, 0, "force", "m/s2", "acceleration of mass 1"),
+    OUT("acc2", acc, 1, NULL, "m/s2", "acceleration of mass 2"),
+    OUT("x1", disp, 0, NULL, "m", "displacement of mass 1"),
+    OUT("x2", disp, 1, NULL, "m", "displacement of mass 2"),
+    OUT("v1", vel, 0, NULL, "m/s", "velocity of mass 1"),
+    OUT("v2", vel, 1, NULL, "m/s", "velocity of mass 2"),
 };
 
 static void set_defaults(void *data)
@@ -150,4 +152,5 @@ const fmu_model FMU_MODEL = {
     do_step,
     update_outputs,
     NULL,
+    NULL, /* the plant's data has no pointers: its state serializes */
 };

@@ -132,9 +132,11 @@ class Table:
                f'guid="{escape(self.token())}" variableNamingConvention="flat" numberOfEventIndicators="0">',
                f'  <CoSimulation modelIdentifier="{t["model"]}" canHandleVariableCommunicationStepSize='
                f'"{"true" if t["variable_step"] else "false"}" canBeInstantiatedOnlyOncePerProcess="false" '
-               'canNotUseMemoryManagementFunctions="false">',
+               'canNotUseMemoryManagementFunctions="false" canGetAndSetFMUstate="true" '
+               f'canSerializeFMUstate="{"true" if t.get("can_serialize_state") else "false"}">',
                "    <SourceFiles>"]
-        xml += [f'      <File name="{s}"/>' for s in sources if s.endswith(".c") and len(s) > 2]
+        xml += [f'      <File name="{s}"/>' for s in sources
+                if (s.endswith(".c") and len(s) > 2) or (s.endswith(".cpp") and len(s) > 4)]
         xml += ["    </SourceFiles>", "  </CoSimulation>"]
         units = []
         for v in self.vars:
@@ -148,8 +150,9 @@ class Table:
                 "  <ModelVariables>"]
         causality = {"structural": "calculatedParameter", "parameter": "parameter", "input": "input", "output": "output"}
         kinds = {"real": "Real", "boolean": "Boolean"}
-        outputs, initial = [], []
+        outputs, initial, first = [], [], {}
         for vr, (v, e, name) in enumerate(self.flat(), start=1):
+            first.setdefault(v["name"], vr)
             line = (f'    <!-- {vr} -->\n    <ScalarVariable name="{escape(name)}" valueReference="{vr}" '
                     f'causality="{causality[v["causality"]]}" variability="{v["variability"]}"')
             if v["causality"] == "parameter":
@@ -167,11 +170,21 @@ class Table:
                 line += f' unit="{v["unit"]}"'
             xml.append(line + "/>\n    </ScalarVariable>")
             if v["causality"] == "output":
-                outputs.append(vr)
+                outputs.append((vr, v.get("depends_on")))
             if v["causality"] in ("output", "structural"):
                 initial.append(vr)
         xml += ["  </ModelVariables>", "  <ModelStructure>", "    <Outputs>"]
-        xml += [f'      <Unknown index="{i}"/>' for i in outputs]
+        # direct dependencies on inputs as make_model_description.c writes them ("": none)
+        sizes = {}
+        for v, _, _ in self.flat():
+            sizes[v["name"]] = sizes.get(v["name"], 0) + 1
+        for i, on in outputs:
+            if on is None:
+                xml.append(f'      <Unknown index="{i}" dependencies=""/>')
+            else:
+                known = range(first[on], first[on] + sizes[on])
+                xml.append(f'      <Unknown index="{i}" dependencies="{" ".join(map(str, known))}" '
+                           f'dependenciesKind="{" ".join("fixed" for _ in known)}"/>')
         xml += ["    </Outputs>", "    <InitialUnknowns>"]
         xml += [f'      <Unknown index="{i}"/>' for i in initial]
         xml += ["    </InitialUnknowns>", "  </ModelStructure>", "</fmiModelDescription>"]
@@ -184,8 +197,10 @@ def generate(base, out, settings):
     with zipfile.ZipFile(base) as z:
         table = json.loads(z.read("documentation/model_variables.json"))
         base_md = z.read("modelDescription.xml").decode()
+        # the base's reference input and output are its configuration's: not this one's
         members = [(i, z.read(i)) for i in z.infolist()
-                   if not i.filename.startswith(("modelDescription.xml", "resources/"))]
+                   if not i.filename.startswith(("modelDescription.xml", "resources/"))
+                   and not i.filename.endswith(("_in.csv", "_ref.csv"))]
     known = {v["name"]: v for v in table["variables"] if v["causality"] in ("structural", "parameter")}
     for name, _ in settings:
         if name not in known:
