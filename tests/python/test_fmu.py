@@ -300,7 +300,7 @@ def test_sources_build_without_prefixes(tmp_path, version, model):
         z.extractall(tmp_path)
     src = tmp_path / "sources"
     files = re.findall(r'SourceFile name="([^"]+)"', (src / "buildDescription.xml").read_text()) if version == 3 \
-        else sorted(p.name for p in src.glob("*.c"))
+        else sorted(str(p.relative_to(src)) for p in src.rglob("*.c"))
     lapacke_cflags = subprocess.run(["pkg-config", "--cflags", "lapacke"], capture_output=True, text=True).stdout.split()
     so = tmp_path / "rebuilt.so"
     subprocess.run(["cc", "-std=c11", "-shared", "-fPIC", "-O1", "-I.", *lapacke_cflags, *files, "-o", str(so),

@@ -9,7 +9,7 @@
 #ifndef OKID_SAMPLE_BUFFER_H
 #define OKID_SAMPLE_BUFFER_H
 
-#include "okid/identifier.h" /* okid_ring_ */
+#include "okid/ring_storage.h" /* okid_ring_ */
 
 /* Empty the ring (zero_history: fill it with zeros, as a record that starts at rest). */
 void okid_ring_restart(okid_ring_ *ring, int zero_history);

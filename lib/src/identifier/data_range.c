@@ -1,8 +1,8 @@
 /* See data_range.h. */
-#include "data_range.h"
+#include "identifier/data_range.h"
 
-#include "dense.h"
-#include "real_math.h"
+#include "numerics/dense.h"
+#include "numerics/real_math.h"
 
 /* Norm of column j of the upper triangle of R, by the largest entry first (no overflow or underflow of squares). */
 static okid_real column_norm(const okid_real *r, int ld, int j)
