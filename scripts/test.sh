@@ -73,7 +73,7 @@ step "firmware footprint and cost report (every target, the M4F budgets on the f
 bash scripts/footprint.sh
 
 step "benchmark smoke run (figures only; nothing is timed against a limit)"
-.venv/bin/okid-bench --quick --out build/bench-smoke --results build/bench-smoke/results.json
+.venv/bin/python bench/python/bench_compare.py --quick --out build/bench-smoke --results build/bench-smoke/results.json
 
 step "AddressSanitizer + UndefinedBehaviorSanitizer"
 cmake --preset asan
