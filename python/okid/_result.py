@@ -41,10 +41,10 @@ class Stabilization:
         return json.loads(text[text.index("{"):])
 
 
-_FIELDS = ("order", "A", "B", "C", "D", "G", "singular_values", "markov", "observer_gain_markov", "dt", "samples",
-           "rows", "regressor_rank", "regressor_columns", "input_rank", "regressor_rank_expected", "lsq_condition",
-           "input_condition", "realization_condition", "decimation", "instrument_lags", "input_scales",
-           "output_scales")
+#: Result's fields from the binding's fields(): okid_result's scalars (OKID_RESULT_SCALARS of
+#: host_tools/cli/okid_fields.h) and its arrays.
+_FIELDS = tuple(_core.RESULT_SCALARS) + ("A", "B", "C", "D", "G", "singular_values", "markov", "observer_gain_markov",
+                                         "input_scales", "output_scales")
 
 
 @dataclass(frozen=True, eq=False)

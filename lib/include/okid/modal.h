@@ -51,6 +51,18 @@ typedef struct okid_mode {
     okid_real cmi;         /**< consistent mode indicator EMAC * MPC, [0, 1] */
 } okid_mode;
 
+/*
+ * NOT API: the members of okid_mode as one table, in the order the JSON writer writes them, which
+ * the library's finiteness check of a result and the host tools (the JSON writer, the Python
+ * binding) expand: COMPLEX(name) an okid_complex, REAL(name) an okid_real, FLAG(name) an int 0/1,
+ * SHAPE(name, k) k * num_outputs okid_complex. A new per-mode quantity is a member above and a row
+ * here (docs/design.md, "Adding a per-mode quantity").
+ */
+#define OKID_MODE_FIELDS(COMPLEX, REAL, FLAG, SHAPE)                                                  \
+    COMPLEX(eigenvalue) COMPLEX(pole) REAL(frequency_hz) REAL(damping_ratio) FLAG(is_pair)            \
+    SHAPE(sensor_shape, 1) SHAPE(shape, 2) REAL(emac) REAL(emac_output) REAL(emac_input) REAL(mpc)     \
+    REAL(msv) REAL(cmi)
+
 /** Bytes of workspace okid_modal_analysis() needs for an n-state model with m outputs. */
 #define OKID_MODAL_WORKSPACE_BYTES(n, m) OKID__SIZE(OKID__MODAL_WORKSPACE_BYTES64(n, m))
 
