@@ -45,7 +45,7 @@ cmake --preset m32
 cmake --build --preset m32 -j "$jobs"
 ctest --preset m32 -j "$jobs"
 
-targets=(cortex-m4f cortex-m7 cortex-m33 cortex-m55 riscv32)
+targets=($(bash scripts/firmware_presets.sh))  # the firmware presets of CMakePresets.json
 step "firmware cross-builds: ${targets[*]}"
 for target in "${targets[@]}"; do
     cmake --preset $target
