@@ -4,9 +4,9 @@
  *
  * Fixed memory: the caller owns the identifier struct and one workspace buffer whose size
  * okid_workspace_size() (or the compile-time macro OKID_WORKSPACE_BYTES) gives. The struct's
- * members are in okid/identifier_storage.h and the size formulas in okid/sizes.h, neither of which is API. Nothing is
- * allocated, printed or read from the environment. Two identifiers share nothing. One identifier
- * must not be used from two threads at once.
+ * members are in okid/identifier_storage.h and the size formulas in okid/sizes.h, neither of
+ * which is API. Nothing is allocated, printed or read from the environment. Two identifiers share
+ * nothing. One identifier must not be used from two threads at once.
  *
  * Typical use:
  * \code
