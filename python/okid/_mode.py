@@ -83,12 +83,15 @@ class ModeArrays:
     Refinement, CramerRaoBound)."""
     modes: Tuple[Mode, ...]
 
+    def _column(self, field: str) -> np.ndarray:
+        return np.array([getattr(md, field) for md in self.modes])
+
     @property
     def frequencies_hz(self) -> np.ndarray:
         """Natural frequency of every mode [Hz]."""
-        return np.array([md.frequency_hz for md in self.modes])
+        return self._column("frequency_hz")
 
     @property
     def damping_ratios(self) -> np.ndarray:
         """Damping ratio of every mode [-]."""
-        return np.array([md.damping_ratio for md in self.modes])
+        return self._column("damping_ratio")

@@ -32,12 +32,12 @@ class _ModeArrays(ModeArrays):
     @property
     def frequency_std(self) -> np.ndarray:
         """One standard deviation of every frequency [Hz]."""
-        return np.array([md.frequency_std for md in self.modes])
+        return self._column("frequency_std")
 
     @property
     def damping_std(self) -> np.ndarray:
         """One standard deviation of every damping ratio [-]."""
-        return np.array([md.damping_std for md in self.modes])
+        return self._column("damping_std")
 
 
 @dataclass(frozen=True, eq=False)
