@@ -15,4 +15,4 @@ if ! dpkg-query -W -f='${Status}' libopenblas-dev 2>/dev/null | grep -q "install
 fi
 cmake --preset default >/dev/null
 cmake --build --preset default
-exec .venv/bin/okid-bench "$@"
+exec .venv/bin/python bench/python/bench_compare.py "$@"

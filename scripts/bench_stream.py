@@ -5,7 +5,7 @@ Generates the recording with `okid simulate` in a temporary folder under /tmp (d
 measures the reader alone (build/bench/csv_stream_bench: MB/s and samples/s of CPU time) and
 `okid identify` through GNU time (wall and CPU seconds, peak RSS) on that file and on one a tenth
 its size, writes bench/stream_results.json and the section "The CLI on a 1 GB CSV" of
-docs/benchmarks.md (the benchmark generator, okid-bench, keeps that section from the JSON).
+docs/benchmarks.md (the benchmark generator, bench/python/bench_compare.py, keeps that section from the JSON).
 Usage: scripts/bench_stream.py [--build build] [--gigabytes 1]
 """
 import argparse

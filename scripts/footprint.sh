@@ -14,7 +14,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 shift_=5   # -icount shift: 2^5 ns per instruction
-presets=(${PRESETS:-cortex-m4f cortex-m7 cortex-m33 cortex-m55 riscv32})
+presets=(${PRESETS:-$(bash scripts/firmware_presets.sh)})  # every firmware preset of CMakePresets.json
 O2_PRESETS=" cortex-m4f cortex-m7 cortex-m55 "
 
 run_cost() {   # machine elf: the cost report's "key value" lines (picolibc's console is QEMU's stderr)

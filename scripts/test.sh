@@ -45,7 +45,7 @@ cmake --preset m32
 cmake --build --preset m32 -j "$jobs"
 ctest --preset m32 -j "$jobs"
 
-targets=(cortex-m4f cortex-m7 cortex-m33 cortex-m55 riscv32)
+targets=($(bash scripts/firmware_presets.sh))  # the firmware presets of CMakePresets.json
 step "firmware cross-builds: ${targets[*]}"
 for target in "${targets[@]}"; do
     cmake --preset $target
@@ -73,7 +73,7 @@ step "firmware footprint and cost report (every target, the M4F budgets on the f
 bash scripts/footprint.sh
 
 step "benchmark smoke run (figures only; nothing is timed against a limit)"
-.venv/bin/okid-bench --quick --out build/bench-smoke --results build/bench-smoke/results.json
+.venv/bin/python bench/python/bench_compare.py --quick --out build/bench-smoke --results build/bench-smoke/results.json
 
 step "AddressSanitizer + UndefinedBehaviorSanitizer"
 cmake --preset asan

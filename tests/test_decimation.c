@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "decimator.h"
+#include "pipeline/decimator.h"
 
 static const double PI = 3.14159265358979323846;
 

@@ -9,8 +9,8 @@
 #include <math.h>
 #include <string.h>
 
-#include "givens_fold.h"
-#include "real_math.h"
+#include "numerics/givens_fold.h"
+#include "numerics/real_math.h"
 
 enum { MAX_N = 64, LDR = MAX_N + 3 };
 

@@ -6,7 +6,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "modal_indicators_internal.h"
+#include "quality/modal_indicators_internal.h"
 
 static const double PI = 3.14159265358979323846;
 

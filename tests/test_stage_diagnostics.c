@@ -9,7 +9,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "diagnostics.h"
+#include "quality/diagnostics.h"
 
 enum { Q = 4, NU = 2, W = Q + 2 };
 

@@ -9,9 +9,9 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "era.h"
-#include "linalg.h"
-#include "modal_indicators_internal.h"
+#include "pipeline/era.h"
+#include "numerics/linalg.h"
+#include "quality/modal_indicators_internal.h"
 
 enum { ALPHA = 20, BETA = 20 };
 

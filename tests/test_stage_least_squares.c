@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "least_squares.h"
+#include "pipeline/least_squares.h"
 
 enum { RIN = 1, MOUT = 2, P = 3, Q = RIN + (RIN + MOUT) * P, NU = RIN * (P + 1), W = Q + MOUT, ROWS = 300, NBT = 8 };
 

@@ -11,7 +11,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "markov.h"
+#include "pipeline/markov.h"
 
 enum { N = 3, R = 2, M = 3, P = 3, L = 12, Q = R + (R + M) * P, LDX = Q + 3 };
 

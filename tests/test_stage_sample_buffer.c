@@ -7,8 +7,8 @@
 
 #include <string.h>
 
-#include "instrumental.h"
-#include "sample_buffer.h"
+#include "pipeline/instrumental.h"
+#include "pipeline/sample_buffer.h"
 
 enum { R = 2, M = 3, P = 3, W = R + M, Q = R + (R + M) * P, LD = 4, LAGS = 4 };
 

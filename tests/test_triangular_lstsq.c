@@ -9,8 +9,8 @@
 
 #include "test_support.h"
 
-#include "linalg.h"
-#include "triangular_lstsq.h"
+#include "numerics/linalg.h"
+#include "numerics/triangular_lstsq.h"
 
 #define N 12
 #define ROWS 30

@@ -2,6 +2,7 @@
 #include "json_writer.h"
 
 #include "cli_common.h"
+#include "okid_fields.h"
 
 #include <math.h>
 #include <string.h>
@@ -125,21 +126,17 @@ static void json_string_list(FILE *out, const char *const *texts, int count)
 /* "config": every okid_config field under its C name, enumerations by name (docs/cli.md). */
 static void json_config(FILE *out, const okid_config *cfg)
 {
-    fprintf(out, "  \"config\": {\"num_inputs\": %d, \"num_outputs\": %d, \"observer_order\": %d, \"order\": %d, "
-                 "\"hankel_rows\": %d, \"hankel_cols\": %d, \"block_rows\": %d, \"dt\": ",
-            cfg->num_inputs, cfg->num_outputs, cfg->observer_order, cfg->order, cfg->hankel_rows, cfg->hankel_cols,
-            cfg->block_rows);
-    json_number(out, (double)cfg->dt);
-    fputs(", \"forgetting_factor\": ", out);
-    json_number(out, (double)cfg->forgetting_factor);
-    fputs(", \"rank_tolerance\": ", out);
-    json_number(out, (double)cfg->rank_tolerance);
-    fprintf(out, ", \"sensing\": \"%s\", \"realization\": \"%s\", \"zero_initial_state\": %d, \"decimation\": %d, "
-                 "\"scaling\": \"%s\", \"estimator\": \"%s\", \"instrument_lags\": %d},\n",
-            cli_name_of(cli_sensing_names, (int)cfg->sensing),
-            cli_name_of(cli_realization_names, (int)cfg->realization),
-            cfg->zero_initial_state, cfg->decimation, cli_name_of(cli_scaling_names, (int)cfg->scaling),
-            cli_name_of(cli_estimator_names, (int)cfg->estimator), cfg->instrument_lags);
+    const char *sep = "";
+    fputs("  \"config\": {", out);
+#define INT(name) fprintf(out, "%s\"" #name "\": %d", sep, cfg->name), sep = ", ";
+#define REAL(name) fprintf(out, "%s\"" #name "\": ", sep), json_number(out, (double)cfg->name), sep = ", ";
+#define ENUM(name, type) \
+    fprintf(out, "%s\"" #name "\": \"%s\"", sep, cli_name_of(cli_##name##_names, (int)cfg->name)), sep = ", ";
+    OKID_CONFIG_FIELDS(INT, REAL, ENUM, INT)
+#undef INT
+#undef REAL
+#undef ENUM
+    fputs("},\n", out);
 }
 
 /* The settings' top-level keys of the previous release, with their old values: kept for one
@@ -191,14 +188,11 @@ void json_result(FILE *out, const okid_config *cfg, const okid_result *res, cons
     if (elapsed >= 0) {
         fprintf(out, ",\n  \"elapsed_seconds\": %.9g", elapsed);
     }
-    fprintf(out, ",\n  \"regressor_rank\": %d,\n  \"regressor_columns\": %d,\n  \"input_rank\": %d,\n",
-            res->regressor_rank, res->regressor_columns, res->input_rank);
-    fprintf(out, "  \"regressor_rank_expected\": %d,\n  \"lsq_condition\": ", res->regressor_rank_expected);
-    json_number(out, (double)res->lsq_condition);
-    fputs(",\n  \"input_condition\": ", out);
-    json_number(out, (double)res->input_condition);
-    fputs(",\n  \"realization_condition\": ", out);
-    json_number(out, (double)res->realization_condition);
+#define INT(name) fprintf(out, ",\n  \"" #name "\": %d", res->name);
+#define REAL(name) fputs(",\n  \"" #name "\": ", out), json_number(out, (double)res->name);
+    OKID_RESULT_DIAGNOSTICS(INT, REAL)
+#undef INT
+#undef REAL
     fprintf(out, ",\n  \"warning_bits\": %u,\n  \"warnings\": ", res->warnings);
     json_warnings(out, res->warnings);
     fputs(",\n  \"singular_values\": ", out);
@@ -226,24 +220,18 @@ void json_result(FILE *out, const okid_config *cfg, const okid_result *res, cons
 
 void json_mode_members(FILE *out, const okid_mode *md, int m)
 {
-    fputs("\"eigenvalue\": ", out);
-    json_complex(out, md->eigenvalue);
-    fputs(", \"pole\": ", out);
-    json_complex(out, md->pole);
-    fputs(", \"frequency_hz\": ", out);
-    json_number(out, (double)md->frequency_hz);
-    fputs(", \"damping_ratio\": ", out);
-    json_number(out, (double)md->damping_ratio);
-    fprintf(out, ", \"is_pair\": %s, \"sensor_shape\": ", md->is_pair ? "true" : "false");
-    json_complex_vector(out, md->sensor_shape, m);
-    fputs(", \"shape\": ", out);
-    json_complex_vector(out, md->shape, 2 * m);
-    const char *names[6] = {"emac", "emac_output", "emac_input", "mpc", "msv", "cmi"};
-    const okid_real values[6] = {md->emac, md->emac_output, md->emac_input, md->mpc, md->msv, md->cmi};
-    for (int k = 0; k < 6; ++k) {
-        fprintf(out, ", \"%s\": ", names[k]);
-        json_number(out, (double)values[k]);
-    }
+    const char *sep = "";
+#define KEY(name) fprintf(out, "%s\"" #name "\": ", sep), sep = ", "
+#define COMPLEX(name) KEY(name), json_complex(out, md->name);
+#define REAL(name) KEY(name), json_number(out, (double)md->name);
+#define FLAG(name) KEY(name), fputs(md->name ? "true" : "false", out);
+#define SHAPE(name, k) KEY(name), json_complex_vector(out, md->name, (k) * m);
+    OKID_MODE_FIELDS(COMPLEX, REAL, FLAG, SHAPE)
+#undef KEY
+#undef COMPLEX
+#undef REAL
+#undef FLAG
+#undef SHAPE
 }
 
 void json_stabilization(FILE *out, const okid_stabilization *st, int max_order, int step, int m)

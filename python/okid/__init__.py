@@ -16,8 +16,9 @@ from ._errors import (BadOrderError, BadParameterError, BadSizeError, Concurrent
                       DataRangeError, DecompositionError, InternalError, NonFiniteSampleError, NonFiniteSampleWarning,
                       NotAvailableError, NotEnoughDataError, NotPersistentlyExcitingError, OkidError)
 from ._identifier import Identifier, Progress, identify
+from ._mode import Mode, StabilityFlag, WarningFlag
 from ._refine import REFINE_DEFAULTS, CramerRaoBound, Refinement, RefinementWarning, crlb
-from ._result import Mode, Result, StabilityFlag, Stabilization, StabilizationOrder, WarningFlag
+from ._result import Result, Stabilization, StabilizationOrder
 from . import model
 
 __version__ = _core.VERSION

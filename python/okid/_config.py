@@ -15,14 +15,13 @@ SCALING = {"none": 0, "auto": 1}
 ESTIMATOR = {"least_squares": 0, "instrumental": 1}
 ENUMS = {"sensing": SENSING, "realization": REALIZATION, "scaling": SCALING, "estimator": ESTIMATOR}
 
+#: okid_config's fields in the struct's order with their kinds ("int", "real", "enum", "flag"): the
+#: binding's copy of OKID_CONFIG_FIELDS (host_tools/cli/okid_fields.h), the CLI's JSON writer's table.
+CONFIG_FIELDS = tuple(_core.CONFIG_FIELDS)
 #: The settings of okid_config a caller gives by keyword, in the struct's order (num_inputs,
 #: num_outputs and dt are positional or come from the arrays).
-OPTION_NAMES = ("observer_order", "order", "hankel_rows", "hankel_cols", "block_rows", "forgetting_factor",
-                "rank_tolerance", "sensing", "realization", "zero_initial_state", "decimation", "scaling",
-                "estimator", "instrument_lags")
-_INT_OPTIONS = ("observer_order", "order", "hankel_rows", "hankel_cols", "block_rows", "decimation",
-                "instrument_lags")
-_REAL_OPTIONS = ("forgetting_factor", "rank_tolerance")
+OPTION_NAMES = tuple(name for name, _ in CONFIG_FIELDS if name not in ("num_inputs", "num_outputs", "dt"))
+_KIND = dict(CONFIG_FIELDS)
 
 
 def _defaults() -> Dict[str, Any]:
@@ -71,11 +70,11 @@ def build(num_inputs: int, num_outputs: int, dt: float, options: Dict[str, Any])
                 raise BadParameterError(f"{name} = {value!r}: one of {', '.join(map(repr, ENUMS[name]))}",
                                         E_BAD_PARAMETER)
             value = ENUMS[name][value]
-        elif name == "zero_initial_state":
+        elif _KIND[name] == "flag":
             if value not in (0, 1, False, True):
-                raise BadParameterError(f"zero_initial_state = {value!r}: 0 or 1 (False or True)", E_BAD_PARAMETER)
+                raise BadParameterError(f"{name} = {value!r}: 0 or 1 (False or True)", E_BAD_PARAMETER)
             value = int(value)
-        elif name in _INT_OPTIONS:
+        elif _KIND[name] == "int":
             value = _integer(name, value)
         else:
             value = _real(name, value)

@@ -12,6 +12,10 @@ MAX_INSTRUMENT_LAGS: int
 STATUS_BUSY: int
 VERSION: str
 
+#: the field tables of host_tools/cli/okid_fields.h and okid/modal.h
+CONFIG_FIELDS: Tuple[Tuple[str, str], ...]
+RESULT_SCALARS: Tuple[str, ...]
+MODE_FIELDS: Tuple[str, ...]
 def status_str(status: int) -> str: ...
 def warning_str(bit: int) -> str: ...
 def config_default(r: int, m: int) -> Dict[str, Any]: ...

@@ -10,8 +10,10 @@ from typing import Any, Optional, Tuple
 import numpy as np
 
 from . import _core
+from . import model as _model_mod
 from ._config import SENSING
 from ._errors import E_BAD_PARAMETER, E_BAD_SIZE, BadParameterError, BadSizeError, check
+from ._mode import Mode, ModeArrays, modes_from_dicts
 
 _MAX_PASSES, _STEP_TOLERANCE = _core.refine_config_default()
 #: okid_refine_config_default()'s values (docs/cli.md: --max-passes, --step-tolerance).
@@ -23,30 +25,19 @@ class RefinementWarning(RuntimeWarning):
     its modes are the best found (diverged: OKID/ERA's, with std -1), not the maximum-likelihood ones."""
 
 
-class _ModeArrays:
-    """Each mode's frequency, damping ratio and their standard deviations as arrays (for a
-    refinement the estimate's, for a Cramer-Rao bound the bound's)."""
-    modes: Tuple[Any, ...]
-
-    @property
-    def frequencies_hz(self) -> np.ndarray:
-        """Natural frequency of every mode [Hz]."""
-        return np.array([md.frequency_hz for md in self.modes])
+class _ModeArrays(ModeArrays):
+    """ModeArrays with the standard deviations (for a refinement the estimate's, for a Cramer-Rao
+    bound the bound's)."""
 
     @property
     def frequency_std(self) -> np.ndarray:
         """One standard deviation of every frequency [Hz]."""
-        return np.array([md.frequency_std for md in self.modes])
-
-    @property
-    def damping_ratios(self) -> np.ndarray:
-        """Damping ratio of every mode [-]."""
-        return np.array([md.damping_ratio for md in self.modes])
+        return self._column("frequency_std")
 
     @property
     def damping_std(self) -> np.ndarray:
         """One standard deviation of every damping ratio [-]."""
-        return np.array([md.damping_std for md in self.modes])
+        return self._column("damping_std")
 
 
 @dataclass(frozen=True, eq=False)
@@ -72,7 +63,7 @@ class Refinement(_ModeArrays):
     initial_state: np.ndarray       #: (n,) estimated x(0)
     residual_rms_start: np.ndarray  #: (m,) residual RMS of each output with the starting model [output units]
     residual_rms: np.ndarray        #: (m,) the same with the refined model
-    modes: Tuple[Any, ...]          #: okid.Mode with frequency_std, damping_std, ... set; sorted by frequency
+    modes: Tuple[Mode, ...]         #: okid.Mode with frequency_std, damping_std, ... set; sorted by frequency
 
     @property
     def converged(self) -> bool:
@@ -81,9 +72,8 @@ class Refinement(_ModeArrays):
 
 
 def _refinement(core) -> Refinement:
-    from ._result import Mode  # _result imports this module
     f = core.fields()
-    modes = tuple(Mode(**d) for d in f.pop("modes"))
+    modes = modes_from_dicts(f.pop("modes"))
     return Refinement(**f, modes=modes)
 
 
@@ -152,7 +142,7 @@ def warn_if_stopped(refined: Refinement, stacklevel: int) -> None:
 class CramerRaoBound(_ModeArrays):
     """The Cramér–Rao lower bound of a planned (or performed) experiment: the standard deviation
     below which no unbiased estimate of a mode's frequency or damping ratio can go."""
-    modes: Tuple[Any, ...]     #: the model's modes (okid.Mode), their *_std fields the bound
+    modes: Tuple[Mode, ...]    #: the model's modes (okid.Mode), their *_std fields the bound
     noise_std: np.ndarray      #: (m,) the output noise standard deviations used [output units]
     num_parameters: int        #: parameters of the model class (order n with feedthrough and x(0))
     samples: int               #: N
@@ -175,7 +165,6 @@ def crlb(u: Any, dt: float, *, model: Optional[Tuple[Any, Any, Any, Any]] = None
     the library refines the true model over its noise-free response with the noise fixed
     (okid_refine_set_noise), which converges at once, and its standard deviations are the bound.
     """
-    from . import model as _model_mod
     if sensing not in SENSING:
         raise BadParameterError(f"sensing = {sensing!r}: 'acceleration', 'velocity' or 'displacement'", E_BAD_PARAMETER)
     if (noise is None) == (noise_std is None):

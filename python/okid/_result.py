@@ -1,8 +1,7 @@
-"""Result, Mode, the warning flags and the stabilization diagram: immutable views of an
-identification, copied out of the C workspace."""
+"""Result and the stabilization diagram: immutable views of an identification, copied out of the C
+workspace (Mode and the flags are in _mode)."""
 from __future__ import annotations
 
-import enum
 import json
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
@@ -12,73 +11,8 @@ import numpy as np
 
 from . import _core
 from ._errors import E_BAD_PARAMETER, BadParameterError, check
+from ._mode import Mode, ModeArrays, StabilityFlag, WarningFlag, modes_from_dicts
 from ._refine import REFINE_DEFAULTS, Refinement, check_settings, run as _run_refinement, warn_if_stopped
-
-
-class WarningFlag(enum.IntFlag):
-    """okid_result.warnings (lib/include/okid/status.h): the result is usable but deserves a look."""
-    REGRESSOR_RANK_DEFICIENT = 1 << 0
-    UNSTABLE_POLE = 1 << 1
-    NONPHYSICAL_POLE = 1 << 2
-    ORDER_AT_LIMIT = 1 << 3
-    RANK_BELOW_MODEL = 1 << 4
-    WEAK_EXCITATION = 1 << 5
-    OBSERVER_ORDER_ABOVE_MINIMUM = 1 << 6
-    HANKEL_SPAN_SHORT = 1 << 7
-    REALIZATION_ILL_CONDITIONED = 1 << 8
-
-    def describe(self) -> Tuple[str, ...]:
-        """The library's sentence for each bit set."""
-        return tuple(_core.warning_str(int(bit)) for bit in WarningFlag if bit & self)
-
-
-class StabilityFlag(enum.IntFlag):
-    """A mode's stability against the previous order of a stabilization diagram."""
-    FREQUENCY = 1 << 0
-    DAMPING = 1 << 1
-    SHAPE = 1 << 2
-    ALL = 7
-
-
-@dataclass(frozen=True)
-class Mode:
-    """One mode of the identified model; a complex-conjugate pair is reported once (Im(eigenvalue) > 0).
-
-    eigenvalue: discrete-time eigenvalue of A (complex); pole: continuous-time pole ln(eigenvalue)/dt
-    [1/s]; frequency_hz: undamped natural frequency |pole|/2 pi [Hz]; damping_ratio: -Re(pole)/|pole|
-    [-]; is_pair: a complex pair (two states); sensor_shape: C psi at the m sensors, (m,) complex,
-    unit norm, largest component real positive; shape: eq. 64 with continuous poles, (2 m,) complex,
-    displacements then velocities; emac, emac_output, emac_input: extended modal amplitude
-    coherence [0, 1]; mpc: modal phase collinearity [0, 1]; msv: mode singular value (units of the
-    Hankel singular values); cmi: consistent mode indicator EMAC x MPC [0, 1]. A refined mode
-    (Result.refinement.modes, okid.crlb) also has one standard deviation of each: frequency_std
-    [Hz], damping_std [-], eigenvalue_std and pole_std [1/s] (std of the real part as the real
-    part, std of the imaginary part as the imaginary part), sensor_shape_std ((m,) complex, alike).
-    """
-    eigenvalue: complex       #: discrete-time eigenvalue of A
-    pole: complex             #: continuous-time pole ln(eigenvalue) / dt [1/s]
-    frequency_hz: float       #: undamped natural frequency |pole| / 2 pi [Hz]
-    damping_ratio: float      #: -Re(pole) / |pole| [-]
-    is_pair: bool             #: True for a complex pair (two states), False for a real eigenvalue
-    sensor_shape: np.ndarray  #: C psi, (m,) complex, unit norm
-    shape: np.ndarray         #: eq. 64 with continuous poles: (2 m,) complex, displacements then velocities
-    emac: float               #: extended modal amplitude coherence, [0, 1]
-    emac_output: float        #: output (C-side) EMAC, [0, 1]
-    emac_input: float         #: input (B-side) EMAC, [0, 1]
-    mpc: float                #: modal phase collinearity of sensor_shape, [0, 1]
-    msv: float                #: mode singular value (units of the Hankel singular values)
-    cmi: float                #: consistent mode indicator EMAC * MPC, [0, 1]
-    # Set on the modes of a refinement (Result.refinement.modes, okid.crlb), None on OKID/ERA's;
-    # one standard deviation each, from the inverse Fisher information (-1 when it diverged).
-    frequency_std: Optional[float] = None          #: std of frequency_hz [Hz]
-    damping_std: Optional[float] = None            #: std of damping_ratio [-]
-    eigenvalue_std: Optional[complex] = None       #: std of Re (real part) and of Im (imaginary part) of eigenvalue
-    pole_std: Optional[complex] = None             #: std of Re and of Im of pole, as a complex number [1/s]
-    sensor_shape_std: Optional[np.ndarray] = None  #: (m,) complex: std of Re and of Im of each sensor_shape entry
-
-
-def _modes(dicts) -> Tuple[Mode, ...]:
-    return tuple(Mode(**d) for d in dicts)
 
 
 @dataclass(frozen=True)
@@ -98,7 +32,7 @@ class Stabilization:
         self.step = step
         self.rank_limit: int = core.rank_limit  #: largest order the Hankel matrix supports
         self.orders: Tuple[StabilizationOrder, ...] = tuple(
-            StabilizationOrder(order, _modes(modes), tuple(StabilityFlag(f) for f in flags))
+            StabilizationOrder(order, modes_from_dicts(modes), tuple(StabilityFlag(f) for f in flags))
             for order, modes, flags in core.orders())
 
     def to_dict(self) -> Dict[str, Any]:
@@ -107,14 +41,14 @@ class Stabilization:
         return json.loads(text[text.index("{"):])
 
 
-_FIELDS = ("order", "A", "B", "C", "D", "G", "singular_values", "markov", "observer_gain_markov", "dt", "samples",
-           "rows", "regressor_rank", "regressor_columns", "input_rank", "regressor_rank_expected", "lsq_condition",
-           "input_condition", "realization_condition", "decimation", "instrument_lags", "input_scales",
-           "output_scales")
+#: Result's fields from the binding's fields(): okid_result's scalars (OKID_RESULT_SCALARS of
+#: host_tools/cli/okid_fields.h) and its arrays.
+_FIELDS = tuple(_core.RESULT_SCALARS) + ("A", "B", "C", "D", "G", "singular_values", "markov", "observer_gain_markov",
+                                         "input_scales", "output_scales")
 
 
 @dataclass(frozen=True, eq=False)
-class Result:
+class Result(ModeArrays):
     """An identified model: state space, Markov parameters, modes and diagnostics. Immutable; every
     array is a read-only copy that later pushes and identifications leave as it is. A Result keeps
     the workspace of the identifier that made it (okid_workspace_size() bytes) for stabilization():
@@ -158,19 +92,9 @@ class Result:
     def _from_core(cls, core, config: Mapping[str, Any], identifier, generation: int) -> "Result":
         f = core.fields()
         values = {name: f[name] for name in _FIELDS}
-        return cls(**values, modes=_modes(f["modes"]), warnings=WarningFlag(f["warnings"]),
+        return cls(**values, modes=modes_from_dicts(f["modes"]), warnings=WarningFlag(f["warnings"]),
                    config=MappingProxyType(dict(config)), refinement=None, _core=core, _identifier=identifier,
                    _generation=generation)
-
-    @property
-    def frequencies_hz(self) -> np.ndarray:
-        """Natural frequency of every mode [Hz]."""
-        return np.array([md.frequency_hz for md in self.modes])
-
-    @property
-    def damping_ratios(self) -> np.ndarray:
-        """Damping ratio of every mode [-]."""
-        return np.array([md.damping_ratio for md in self.modes])
 
     def to_dict(self) -> Dict[str, Any]:
         """The object ``okid identify --json`` prints for the same data and options, written by the

@@ -15,6 +15,7 @@
 
 extern "C" {
 #include "json_writer.h"
+#include "okid_fields.h"
 }
 
 namespace okid_py {
@@ -64,19 +65,15 @@ std::vector<okid_real> compact(okid_matrix m)
 nb::dict mode_dict(const okid_mode &md, int m)
 {
     nb::dict d;
-    d["eigenvalue"] = std::complex<double>(md.eigenvalue.re, md.eigenvalue.im);
-    d["pole"] = std::complex<double>(md.pole.re, md.pole.im);
-    d["frequency_hz"] = (double)md.frequency_hz;
-    d["damping_ratio"] = (double)md.damping_ratio;
-    d["is_pair"] = md.is_pair != 0;
-    d["sensor_shape"] = complex_array(md.sensor_shape, m);
-    d["shape"] = complex_array(md.shape, 2 * m);
-    d["emac"] = (double)md.emac;
-    d["emac_output"] = (double)md.emac_output;
-    d["emac_input"] = (double)md.emac_input;
-    d["mpc"] = (double)md.mpc;
-    d["msv"] = (double)md.msv;
-    d["cmi"] = (double)md.cmi;
+#define COMPLEX(name) d[#name] = std::complex<double>(md.name.re, md.name.im);
+#define REAL(name) d[#name] = (double)md.name;
+#define FLAG(name) d[#name] = md.name != 0;
+#define SHAPE(name, k) d[#name] = complex_array(md.name, (k) * m);
+    OKID_MODE_FIELDS(COMPLEX, REAL, FLAG, SHAPE)
+#undef COMPLEX
+#undef REAL
+#undef FLAG
+#undef SHAPE
     return d;
 }
 
@@ -138,7 +135,11 @@ struct ResultCore {
     nb::dict fields() const
     {
         nb::dict f;
-        f["order"] = res.order;
+#define SCALAR(name) f[#name] = res.name;
+#define REAL(name) f[#name] = (double)res.name;
+        OKID_RESULT_SCALARS(SCALAR, REAL, SCALAR)
+#undef SCALAR
+#undef REAL
         f["A"] = matrix_array(res.A);
         f["B"] = matrix_array(res.B);
         f["C"] = matrix_array(res.C);
@@ -148,19 +149,7 @@ struct ResultCore {
         f["markov"] = matrix_array(res.markov);
         f["observer_gain_markov"] =
             res.observer_gain_markov.data ? nb::cast(matrix_array(res.observer_gain_markov)) : nb::none();
-        f["dt"] = (double)res.dt;
-        f["samples"] = res.samples;
-        f["rows"] = res.rows;
-        f["regressor_rank"] = res.regressor_rank;
-        f["regressor_columns"] = res.regressor_columns;
-        f["input_rank"] = res.input_rank;
-        f["regressor_rank_expected"] = res.regressor_rank_expected;
         f["warnings"] = res.warnings;
-        f["lsq_condition"] = (double)res.lsq_condition;
-        f["input_condition"] = (double)res.input_condition;
-        f["realization_condition"] = (double)res.realization_condition;
-        f["decimation"] = res.decimation;
-        f["instrument_lags"] = res.instrument_lags;
         f["input_scales"] = res.input_scales ? nb::cast(vector_array(res.input_scales, cfg.num_inputs)) : nb::none();
         f["output_scales"] =
             res.output_scales ? nb::cast(vector_array(res.output_scales, cfg.num_outputs)) : nb::none();
@@ -225,55 +214,53 @@ static okid_config config_from_dict(const nb::dict &d)
 {
     okid_config c{};
     okid_config_default(&c, 1, 1);
-#define OKID_INT_FIELD(name) c.name = nb::cast<int>(d[#name])
-#define OKID_REAL_FIELD(name) c.name = (okid_real)nb::cast<double>(d[#name])
-    OKID_INT_FIELD(num_inputs);
-    OKID_INT_FIELD(num_outputs);
-    OKID_INT_FIELD(observer_order);
-    OKID_INT_FIELD(order);
-    OKID_INT_FIELD(hankel_rows);
-    OKID_INT_FIELD(hankel_cols);
-    OKID_INT_FIELD(block_rows);
-    OKID_REAL_FIELD(dt);
-    OKID_REAL_FIELD(forgetting_factor);
-    OKID_REAL_FIELD(rank_tolerance);
-    c.sensing = (okid_sensing)nb::cast<int>(d["sensing"]);
-    c.realization = (okid_realization)nb::cast<int>(d["realization"]);
-    OKID_INT_FIELD(zero_initial_state);
-    OKID_INT_FIELD(decimation);
-    c.scaling = (okid_scaling)nb::cast<int>(d["scaling"]);
-    c.estimator = (okid_estimator)nb::cast<int>(d["estimator"]);
-    OKID_INT_FIELD(instrument_lags);
-#undef OKID_INT_FIELD
-#undef OKID_REAL_FIELD
+#define INT(name) c.name = nb::cast<int>(d[#name]);
+#define REAL(name) c.name = (okid_real)nb::cast<double>(d[#name]);
+#define ENUM(name, type) c.name = (type)nb::cast<int>(d[#name]);
+    OKID_CONFIG_FIELDS(INT, REAL, ENUM, INT)
+#undef INT
+#undef REAL
+#undef ENUM
     return c;
 }
 
 static nb::dict config_to_dict(const okid_config &c)
 {
     nb::dict d;
-    d["num_inputs"] = c.num_inputs;
-    d["num_outputs"] = c.num_outputs;
-    d["observer_order"] = c.observer_order;
-    d["order"] = c.order;
-    d["hankel_rows"] = c.hankel_rows;
-    d["hankel_cols"] = c.hankel_cols;
-    d["block_rows"] = c.block_rows;
-    d["dt"] = (double)c.dt;
-    d["forgetting_factor"] = (double)c.forgetting_factor;
-    d["rank_tolerance"] = (double)c.rank_tolerance;
-    d["sensing"] = (int)c.sensing;
-    d["realization"] = (int)c.realization;
-    d["zero_initial_state"] = c.zero_initial_state;
-    d["decimation"] = c.decimation;
-    d["scaling"] = (int)c.scaling;
-    d["estimator"] = (int)c.estimator;
-    d["instrument_lags"] = c.instrument_lags;
+#define INT(name) d[#name] = c.name;
+#define REAL(name) d[#name] = (double)c.name;
+#define ENUM(name, type) d[#name] = (int)c.name;
+    OKID_CONFIG_FIELDS(INT, REAL, ENUM, INT)
+#undef INT
+#undef REAL
+#undef ENUM
     return d;
 }
 
 void bind_identifier(nb::module_ &m)
 {
+    // The field tables (okid_fields.h, okid/modal.h) for okid/_config.py, _result.py and _mode.py.
+    nb::list config_fields, result_scalars, mode_fields;
+#define C_INT(name) config_fields.append(nb::make_tuple(#name, "int"));
+#define C_REAL(name) config_fields.append(nb::make_tuple(#name, "real"));
+#define C_ENUM(name, type) config_fields.append(nb::make_tuple(#name, "enum"));
+#define C_FLAG(name) config_fields.append(nb::make_tuple(#name, "flag"));
+#define R_NAME(name) result_scalars.append(#name);
+#define M_NAME(name) mode_fields.append(#name);
+#define M_SHAPE(name, k) mode_fields.append(#name);
+    OKID_CONFIG_FIELDS(C_INT, C_REAL, C_ENUM, C_FLAG)
+    OKID_RESULT_SCALARS(R_NAME, R_NAME, R_NAME)
+    OKID_MODE_FIELDS(M_NAME, M_NAME, M_NAME, M_SHAPE)
+#undef C_INT
+#undef C_REAL
+#undef C_ENUM
+#undef C_FLAG
+#undef R_NAME
+#undef M_NAME
+#undef M_SHAPE
+    m.attr("CONFIG_FIELDS") = nb::tuple(config_fields);
+    m.attr("RESULT_SCALARS") = nb::tuple(result_scalars);
+    m.attr("MODE_FIELDS") = nb::tuple(mode_fields);
     m.def(
         "config_default",
         [](int r, int mo) {

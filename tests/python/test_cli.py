@@ -1,6 +1,6 @@
 """The okid command-line tool end to end, against exact values computed here with numpy/scipy.
 
-The reference never goes through the library: the chain's M, R, K are assembled here, the ZOH
+The reference never goes through the library: the chain's M, R, K are assembled by reference.py, the ZOH
 transition matrix is scipy's expm, and the eigenvalues and eigenvectors come from numpy.
 """
 import json
@@ -10,6 +10,8 @@ import subprocess
 import numpy as np
 import pytest
 from scipy.linalg import expm
+
+from reference import chain_matrices, mac  # the oracle (tests/python/reference.py): the chain's M, R, K; the MAC
 
 OKID = os.environ.get("OKID_CLI", "okid")
 
@@ -32,25 +34,7 @@ def assert_one_error(proc, code):
     return lines[0]
 
 
-# ---- independent reference (paper eq. 6, 13) ----
-
-def chain_matrices(masses, dampers, springs):
-    """M, R, K of masses in a chain between two walls: link i joins mass i-1 and mass i."""
-    n = len(masses)
-
-    def links(values):
-        A = np.zeros((n, n))
-        for i, v in enumerate(values):
-            for a in (i - 1, i):
-                if 0 <= a < n:
-                    A[a, a] += v
-            if 1 <= i < n:
-                A[i - 1, i] -= v
-                A[i, i - 1] -= v
-        return A
-
-    return np.diag(np.asarray(masses, float)), links(dampers), links(springs)
-
+# ---- independent reference (paper eq. 6, 13; chain_matrices from reference.py) ----
 
 def continuous_matrix(masses, dampers, springs):
     M, R, K = chain_matrices(masses, dampers, springs)
@@ -70,10 +54,6 @@ def exact_modes(masses, dampers, springs, dt):
 
 def exact_eigenvalues(masses, dampers, springs, dt):
     return exact_modes(masses, dampers, springs, dt)[0]
-
-
-def mac(a, b):
-    return abs(np.vdot(a, b)) ** 2 / (np.vdot(a, a).real * np.vdot(b, b).real)
 
 
 PAPER = ([2, 3], [2, 4, 3], [20, 40, 30], 0.01)

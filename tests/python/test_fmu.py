@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from fmpy.fmi1 import FMICallException
 
-from okid.tools.fmu_runs import PAPER_SETTINGS, Slave, modes_from, mode_outputs
-from okid.tools.reference import paper_reference
-from okid.tools.verify_fmu import main as verify_main
+from fmu_runs import PAPER_SETTINGS, Slave, modes_from, mode_outputs
+from reference import paper_reference
+from verify_fmu import main as verify_main
 
 FMU_DIR = Path(os.environ.get("OKID_FMU_DIR", "build/fmu"))
 VERSIONS = [2, 3]
@@ -472,7 +472,7 @@ CHAIN = dict(masses=(2.0, 3.0, 2.5), dampers=(2.0, 4.0, 3.0, 2.0), springs=(20.0
 
 
 def chain_case(samples=1001, seed=7):
-    from okid.tools.reference import chain_reference
+    from reference import chain_reference
     ref = chain_reference(0.01, CHAIN["masses"], CHAIN["dampers"], CHAIN["springs"], forces_on=(0, 2))
     u = np.random.default_rng(seed).standard_normal((samples, 2))
     y, _ = ref.simulate(u)
@@ -483,7 +483,7 @@ def assert_modes_match(s, ref, tolerance=1e-9):
     m = ref.C.shape[0]
     got = modes_from(dict(zip(mode_outputs(len(ref.modes), m), s.get(*mode_outputs(len(ref.modes), m)))),
                      len(ref.modes), m)
-    from okid.tools.reference import mac
+    from reference import mac
     for g, want in zip(got, ref.modes):
         assert abs(g["frequency_hz"] - want.frequency_hz) / want.frequency_hz < tolerance
         assert abs(g["damping_ratio"] - want.damping_ratio) / want.damping_ratio < tolerance
@@ -563,7 +563,7 @@ def test_generated_fmi2_fmu_identifies_the_chain(tmp_path):
     """A 2-input, 3-output FMI 2 FMU written by okid-fmu: validated by fmpy and fmutool, then the
     3-DOF chain identified to 1e-9 through fmpy's FMI 2 calls (the defaults come from resources/)."""
     from fmpy.validation import validate_fmu
-    from okid.tools.verify_fmu import fmutool_problems
+    from verify_fmu import fmutool_problems
     out, _ = generated_chain_fmu(tmp_path, identify_every=1001)
     assert validate_fmu(str(out)) == [] and fmutool_problems(out) == []
     ref, u, y = chain_case()

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from okid.tools.fmu_generator import generate
-from okid.tools.reference import chain_reference, paper_reference
+from reference import chain_reference, paper_reference
 
 FMU_DIR = Path(os.environ.get("OKID_FMU_DIR", "build/fmu"))
 PAPER = dict(observer_order=20, order=4, hankel_rows=20, hankel_cols=20, identify_every=1001)

@@ -61,7 +61,7 @@ def test_paper_case_on_the_platform_reproduces_linux64(platform):
 
 
 def exact_chain_modes():
-    from okid.tools.reference import chain_reference
+    from reference import chain_reference
     ref = chain_reference(0.01, (2.0, 3.0, 2.5), (2.0, 4.0, 3.0, 2.0), (20.0, 40.0, 30.0, 25.0), forces_on=(0, 2))
     return [(m.frequency_hz, m.damping_ratio) for m in ref.modes]
 

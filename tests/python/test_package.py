@@ -521,3 +521,68 @@ def test_to_frame_and_stabilization():
         idf.identify()
         with pytest.raises(okid.NotAvailableError):
             res.stabilization(12)  # the identifier has moved on
+
+
+# ---- the package's import graph and what it installs (docs/design.md, "Layers") ----
+
+# The modules of python/okid, lowest first: a module imports only modules of a lower rank (at the
+# top of the file or inside a function alike), so the graph has no cycle and no arrow back up.
+PACKAGE_LAYERS = {
+    "_core": 0,
+    "_errors": 1,
+    "_config": 2, "model": 2, "_mode": 2,
+    "_refine": 3,
+    "_result": 4, "_start_search": 4,
+    "_identifier": 5,
+    "__init__": 6,
+    "tools": 7, "fleet": 7,  # the user tools, on top of the package
+}
+
+
+def _package_imports():
+    """(importer, imported) pairs between the package's modules, from the source (ast)."""
+    import ast
+    src = ROOT / "python" / "okid"
+    pairs = []
+    for path in sorted(src.rglob("*.py")):
+        rel = path.relative_to(src).with_suffix("")
+        module = ".".join(rel.parts)
+        package = rel.parts[:-1]
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and node.level > 0:
+                base = package[:len(package) - (node.level - 1)] if node.level > 1 else package
+                names = [node.module] if node.module else [a.name for a in node.names]
+                pairs += [(module, ".".join(base + tuple(n.split(".")))) for n in names]
+            elif isinstance(node, (ast.Import, ast.ImportFrom)):
+                names = [a.name for a in node.names] if isinstance(node, ast.Import) else [node.module or ""]
+                pairs += [(module, n[len("okid."):]) for n in names if n.startswith("okid.")]
+    return pairs
+
+
+def _layer(module):
+    top = module.split(".")[0]  # "_refine", "__init__", "tools" of "tools.plots"
+    return PACKAGE_LAYERS[top], top
+
+
+def test_import_graph_runs_down():
+    """_refine <-> _result imported each other through Mode (a late import); now every import of the
+    package goes to a lower layer, the subpackages' own imports among themselves aside."""
+    problems = []
+    for importer, imported in _package_imports():
+        (li, ti), (lt, tt) = _layer(importer), _layer(imported)
+        if ti == tt and ti in ("tools", "fleet"):
+            continue  # inside a user tool's subpackage
+        if not lt < li:
+            problems.append(f"{importer} imports {imported} (layer {li} -> {lt})")
+    assert not problems, problems
+
+
+def test_no_development_harness_is_installed():
+    """The benchmark, the ERA/DC study, the fleet benchmark and the test oracle live in bench/python
+    and tests/python, not in the installed package; the user tools stay."""
+    import importlib.util
+    for gone in ("okid.tools.bench_compare", "okid.tools.era_dc_study", "okid.fleet.bench", "okid.tools.reference",
+                 "okid.tools.verify_fmu", "okid.tools.fmu_runs"):
+        assert importlib.util.find_spec(gone) is None, gone
+    for kept in ("okid.tools.fmu_generator", "okid.tools.stabilization", "okid.tools.plots", "okid.fleet.cli"):
+        assert importlib.util.find_spec(kept) is not None, kept

@@ -1,5 +1,5 @@
 """The refinement and the Cramér–Rao bound in the Python package: refined modes against the exact
-modes of the paper's system (numpy in okid.tools.reference, from its masses, dampers and springs, never
+modes of the paper's system (numpy in tests/python/reference.py, from its masses, dampers and springs, never
 through the library) within a few standard deviations, Result.to_dict() against
 ``okid identify --refine --json`` on the same CSV, the warning of a refinement that stops early,
 okid.crlb() against ``okid crlb``, and the refusals.
@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from okid.tools.reference import paper_reference
+from reference import paper_reference
 
 import okid
 
@@ -33,7 +33,7 @@ def cli(*args):
 
 def exact_modes():
     """Frequencies [Hz] and damping ratios of the paper's 2-DOF chain (m 2, 3; r 2, 4, 3; k 20, 40, 30),
-    from okid.tools.reference (numpy/scipy, independent of the C code)."""
+    from tests/python/reference.py (numpy/scipy, independent of the C code)."""
     modes = paper_reference().modes
     return np.array([md.frequency_hz for md in modes]), np.array([md.damping_ratio for md in modes])
 

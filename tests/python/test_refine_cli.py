@@ -1,5 +1,5 @@
 """okid identify --refine end to end: the refined modes against the exact ones of the paper's
-system (numpy in okid.tools.reference, never through the library), their standard deviations, the
+system (numpy in tests/python/reference.py, never through the library), their standard deviations, the
 warning when the refinement stops early, and the refusal with decimation."""
 import json
 import os
@@ -8,7 +8,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from okid.tools.reference import paper_reference
+from reference import paper_reference
 
 OKID = os.environ.get("OKID_CLI", "okid")
 
@@ -19,7 +19,7 @@ def run(*args):
 
 def exact_modes():
     """Frequencies [Hz] and damping ratios of the paper's 2-DOF chain (m 2, 3; r 2, 4, 3; k 20, 40, 30),
-    from okid.tools.reference (numpy/scipy, independent of the C code)."""
+    from tests/python/reference.py (numpy/scipy, independent of the C code)."""
     modes = paper_reference().modes
     return np.array([md.frequency_hz for md in modes]), np.array([md.damping_ratio for md in modes])
 

@@ -44,22 +44,30 @@ PROBES = {
 }
 
 
-def config_fields():
-    """Field names of okid_config, in order, from the header under lib/include/okid/ that defines it."""
+def struct_members(struct, with_types=False):
+    """Member names of `typedef struct <struct>`, in order, from the header under lib/include/okid/
+    that defines it (with_types: (type, name) pairs)."""
     for header in sorted((ROOT / "lib/include/okid").rglob("*.h")):
         text = header.read_text()
-        match = re.search(r"typedef\s+struct\s+okid_config\s*\{(.*?)\}\s*okid_config\s*;", text, re.S)
+        match = re.search(r"typedef\s+struct\s+%s\s*\{(.*?)\}\s*%s\s*;" % (struct, struct), text, re.S)
         if match:
             body = re.sub(r"/\*.*?\*/|//[^\n]*", "", match.group(1), flags=re.S)
             fields = []
             for declaration in body.split(";"):
                 declaration = declaration.strip()
                 if declaration:
-                    # "int a, b" or "okid_real dt": the names after the type
-                    names = declaration.split(None, 1)[1] if "," in declaration else declaration.split()[-1]
-                    fields += [name.strip(" *") for name in names.split(",")]
-            return fields
-    raise AssertionError("no header under lib/include/okid defines typedef struct okid_config")
+                    # "int a, b", "okid_real dt" or "const okid_real *a, *b": the names after the type
+                    kind, names = re.match(r"((?:const\s+)?\w+)\s+(.*)", declaration, re.S).groups()
+                    for name in names.split(","):
+                        pointer = "*" in name
+                        fields.append((kind + " *" * pointer, name.strip(" *")))
+            return fields if with_types else [name for _, name in fields]
+    raise AssertionError(f"no header under lib/include/okid defines typedef struct {struct}")
+
+
+def config_fields():
+    """Field names of okid_config, in order, from the header under lib/include/okid/ that defines it."""
+    return struct_members("okid_config")
 
 
 def docs_table():
@@ -178,3 +186,49 @@ def test_fmu_defaults_are_okid_config_default(version):
             if starts[field] != want:
                 wrong[field] = (starts[field], want)
     assert not wrong, f"{description.relative_to(FMU_DIR)}: start values (FMU, okid_config_default) {wrong}"
+
+
+# ---- the field tables (host_tools/cli/okid_fields.h, okid/modal.h) against the structs ----
+
+def test_config_table_is_the_struct():
+    """OKID_CONFIG_FIELDS, which the JSON writer, the binding and okid.OPTION_NAMES read, lists
+    okid_config's fields in the struct's order, and okid's keywords are exactly its settings."""
+    okid = pytest.importorskip("okid")
+    assert [name for name, _ in okid._config.CONFIG_FIELDS] == FIELDS
+    assert okid.OPTION_NAMES == tuple(f for f in FIELDS if f not in ("num_inputs", "num_outputs", "dt"))
+
+
+# okid_result's members that are not scalars of the table: counts of the arrays, the bits (Result.warnings)
+RESULT_NOT_SCALARS = {"num_modes", "num_singular_values", "warnings"}
+
+
+def test_result_scalars_are_the_structs_scalars(paper_csv):
+    """Every scalar member of okid_result is a row of OKID_RESULT_SCALARS, a key of the JSON
+    object and a field of okid.Result; a scalar added to the struct without its row fails here."""
+    okid = pytest.importorskip("okid")
+    import dataclasses
+    scalars = [name for kind, name in struct_members("okid_result", with_types=True)
+               if kind in ("int", "okid_real", "uint64_t") and name not in RESULT_NOT_SCALARS]
+    assert list(okid._core.RESULT_SCALARS) == [n for n in okid._core.RESULT_SCALARS if n in scalars]
+    assert sorted(okid._core.RESULT_SCALARS) == sorted(scalars)
+    proc = subprocess.run([OKID, "identify", "--json", "--outputs", "acc1,acc2", "--estimator", "instrumental",
+                           str(paper_csv)], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    keys = json.loads(proc.stdout)
+    assert set(scalars) <= set(keys), set(scalars) - set(keys)
+    assert set(scalars) <= {f.name for f in dataclasses.fields(okid.Result)}
+
+
+def test_mode_table_is_the_struct(paper_csv):
+    """OKID_MODE_FIELDS lists every member of okid_mode (in the JSON's order); the JSON writer writes
+    exactly those keys in that order, and okid.Mode's fields begin with them in the same order."""
+    okid = pytest.importorskip("okid")
+    import dataclasses
+    members = list(okid._core.MODE_FIELDS)
+    assert sorted(members) == sorted(struct_members("okid_mode"))
+    proc = subprocess.run([OKID, "identify", "--json", "--outputs", "acc1,acc2", "--order", "4", str(paper_csv)],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    modes = json.loads(proc.stdout)["modes"]
+    assert modes and all(list(md) == members for md in modes)
+    assert [f.name for f in dataclasses.fields(okid.Mode)][:len(members)] == members

@@ -4,9 +4,9 @@
  *
  * Fixed memory: the caller owns the identifier struct and one workspace buffer whose size
  * okid_workspace_size() (or the compile-time macro OKID_WORKSPACE_BYTES) gives. The struct's
- * members and the size formulas are in okid/identifier_storage.h, which is not API. Nothing is
- * allocated, printed or read from the environment. Two identifiers share nothing. One identifier
- * must not be used from two threads at once.
+ * members are in okid/identifier_storage.h and the size formulas in okid/sizes.h, neither of
+ * which is API. Nothing is allocated, printed or read from the environment. Two identifiers share
+ * nothing. One identifier must not be used from two threads at once.
  *
  * Typical use:
  * \code
@@ -29,7 +29,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "okid/limits.h"
 #include "okid/modal.h"
+#include "okid/sizes.h"
 #include "okid/status.h"
 #include "okid/types.h"
 
@@ -38,17 +40,6 @@ extern "C" {
 #endif
 
 /* ======== Configuration ======== */
-
-/** Largest number of inputs or outputs. */
-#define OKID_MAX_DIMENSION 64
-/** Largest observer order p and largest number of Hankel block rows or columns. */
-#define OKID_MAX_HORIZON 1000
-/** Largest model order n. */
-#define OKID_MAX_ORDER 512
-/** Largest decimation factor K. */
-#define OKID_MAX_DECIMATION 64
-/** Largest number of instrument lags (OKID_ESTIMATOR_INSTRUMENTAL). */
-#define OKID_MAX_INSTRUMENT_LAGS 8000
 
 /** Which Markov parameters the ERA Hankel matrices are built from. */
 typedef enum okid_realization {
@@ -150,7 +141,7 @@ typedef struct okid_config {
 } okid_config;
 
 /**
- * Fill a configuration with defaults for r inputs and m outputs: p = 10, automatic order,
+ * Fill a configuration with defaults for r inputs and m outputs: p = 20, automatic order,
  * alpha = beta = 20, dt = 1, no forgetting, default tolerance, acceleration sensing, system
  * realization, records not assumed to start at rest, no decimation, no scaling, least squares.
  * \param[out] cfg  configuration to fill
@@ -215,13 +206,6 @@ okid_status okid_workspace_size(const okid_config *cfg, size_t *bytes);
  */
 #define OKID_WORKSPACE_BYTES(r, m, p, alpha, beta, order, block_rows, combined) \
     OKID__SIZE(OKID__WORKSPACE_BYTES64(r, m, p, alpha, beta, order, block_rows, combined))
-#define OKID__WORKSPACE_BYTES64(r, m, p, alpha, beta, order, block_rows, combined)                         \
-    (OKID__PERSISTENT_BYTES(r, m, p, block_rows)                                                         \
-     + OKID__RESULT_BYTES(r, m, p, alpha, beta, OKID__N(r, m, p, alpha, beta, order, combined),                \
-                          OKID__K(r, m, alpha, beta, combined), combined)                                 \
-     + OKID__SCRATCH_BYTES(r, m, p, alpha, beta, OKID__N(r, m, p, alpha, beta, order, combined),              \
-                           OKID__K(r, m, alpha, beta, combined), block_rows, combined))
-
 /**
  * OKID_WORKSPACE_BYTES with the quality options: decimation (K, 0 or 1 = none), scaling
  * (okid_scaling), estimator (okid_estimator) and instrument_lags (0 = automatic). Equals
@@ -229,9 +213,8 @@ okid_status okid_workspace_size(const okid_config *cfg, size_t *bytes);
  */
 #define OKID_WORKSPACE_BYTES_OPTIONS(r, m, p, alpha, beta, order, block_rows, combined, decimation, scaling,   \
                                      estimator, lags)                                                          \
-    OKID__SIZE(OKID__WORKSPACE_BYTES64(r, m, p, alpha, beta, order, block_rows, combined)                     \
-               + OKID__DEC_BYTES(r, m, decimation) + OKID__SCALE_BYTES(r, m, scaling)                           \
-               + OKID__IV_BYTES(r, m, p, block_rows, estimator, lags))
+    OKID__SIZE(OKID__WORKSPACE_OPTIONS_BYTES64(r, m, p, alpha, beta, order, block_rows, combined, decimation,     \
+                                               scaling, estimator, lags))
 
 /* ======== Lifetime ======== */
 
@@ -394,6 +377,6 @@ okid_status okid_get_progress(const okid_identifier *id, okid_progress *progress
 }
 #endif
 
-#include "okid/identifier_storage.h" /* the struct's members and the size formulas: not API */
+#include "okid/identifier_storage.h" /* the struct's members: not API */
 
 #endif

@@ -6,6 +6,7 @@
 #ifndef OKID_MODAL_H
 #define OKID_MODAL_H
 
+#include "okid/sizes.h"
 #include "okid/status.h"
 #include "okid/types.h"
 
@@ -50,26 +51,20 @@ typedef struct okid_mode {
     okid_real cmi;         /**< consistent mode indicator EMAC * MPC, [0, 1] */
 } okid_mode;
 
-/** Bytes of workspace okid_modal_analysis() needs for an n-state model with m outputs. */
-#define OKID_MODAL_WORKSPACE_BYTES(n, m)                                                              \
-    OKID__SIZE(OKID__ALIGN16(sizeof(okid_real) * (size_t)(n) * (size_t)(n)) * 2u                               \
-     + OKID__ALIGN16(sizeof(okid_real) * (size_t)(n)) * 2u                                             \
-     + OKID__ALIGN16(sizeof(okid_complex) * (size_t)(n) * 3u * (size_t)(m))                            \
-     + OKID__ALIGN16(sizeof(okid_real) * OKID__LWORK_GEEV(n)))
+/*
+ * NOT API: the members of okid_mode as one table, in the order the JSON writer writes them, which
+ * the library's finiteness check of a result and the host tools (the JSON writer, the Python
+ * binding) expand: COMPLEX(name) an okid_complex, REAL(name) an okid_real, FLAG(name) an int 0/1,
+ * SHAPE(name, k) k * num_outputs okid_complex. A new per-mode quantity is a member above and a row
+ * here (docs/design.md, "Adding a per-mode quantity").
+ */
+#define OKID_MODE_FIELDS(COMPLEX, REAL, FLAG, SHAPE)                                                  \
+    COMPLEX(eigenvalue) COMPLEX(pole) REAL(frequency_hz) REAL(damping_ratio) FLAG(is_pair)            \
+    SHAPE(sensor_shape, 1) SHAPE(shape, 2) REAL(emac) REAL(emac_output) REAL(emac_input) REAL(mpc)     \
+    REAL(msv) REAL(cmi)
 
-/** Work array of the general eigenproblem with right eigenvectors, in reals (internal). */
-#if OKID_LINALG_EIGEN
-/* Eigen backend: its RealSchur for N = OKID__EIGEN_SCHUR_ORDER(n) states (3 N^2 + 3 N reals and
-   the object's bookkeeping) and one complex N-vector are built in the work array. N is 8 for up to
-   8 states (a few modes: 1 KB in float instead of 13 KB for N = 32), else OKID_EIGEN_MAX_ORDER. */
-#define OKID__EIGEN_SMALL_ORDER (OKID_EIGEN_MAX_ORDER < 8 ? OKID_EIGEN_MAX_ORDER : 8)
-#define OKID__EIGEN_SCHUR_ORDER(n) \
-    ((size_t)(n) <= (size_t)OKID__EIGEN_SMALL_ORDER ? (size_t)OKID__EIGEN_SMALL_ORDER : (size_t)OKID_EIGEN_MAX_ORDER)
-#define OKID__LWORK_GEEV(n)                                                                       \
-    (3u * OKID__EIGEN_SCHUR_ORDER(n) * OKID__EIGEN_SCHUR_ORDER(n) + 5u * OKID__EIGEN_SCHUR_ORDER(n) + 32u)
-#else
-#define OKID__LWORK_GEEV(n) ((size_t)(n) * 36u + 16u)
-#endif
+/** Bytes of workspace okid_modal_analysis() needs for an n-state model with m outputs. */
+#define OKID_MODAL_WORKSPACE_BYTES(n, m) OKID__SIZE(OKID__MODAL_WORKSPACE_BYTES64(n, m))
 
 /**
  * Modal analysis of the discrete model x(k+1) = A x(k), y(k) = C x(k) sampled every dt.
@@ -96,6 +91,14 @@ typedef struct okid_mode {
 okid_status okid_modal_analysis(int n, int m, const okid_real *a, int lda, const okid_real *c, int ldc,
                                 okid_real dt, okid_sensing sensing, void *workspace, size_t bytes,
                                 okid_mode *modes, int *num_modes, unsigned *warnings);
+
+/**
+ * Modal phase collinearity |phi^T phi|^2 / (phi^H phi)^2 of a complex shape, in [0, 1].
+ * \param[in] shape len complex components
+ * \param[in] len   number of components
+ * \return the MPC; 0 when shape is NULL, len < 1, or the shape is zero
+ */
+okid_real okid_mpc(const okid_complex *shape, int len);
 
 /**
  * Modal assurance criterion |a^H b|^2 / ((a^H a)(b^H b)) of two complex shapes, in [0, 1]:

@@ -35,19 +35,12 @@
 #ifndef OKID_MODAL_INDICATORS_H
 #define OKID_MODAL_INDICATORS_H
 
+#include "okid/modal.h" /* okid_mpc(), beside okid_mac() */
 #include "okid/types.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/**
- * Modal phase collinearity |phi^T phi|^2 / (phi^H phi)^2 of a complex shape, in [0, 1].
- * \param[in] shape len complex components
- * \param[in] len   number of components
- * \return the MPC; 0 when shape is NULL, len < 1, or the shape is zero
- */
-okid_real okid_mpc(const okid_complex *shape, int len);
 
 /**
  * Amplitude coherence e(predicted, identified) of one component, as defined above, in [0, 1].

@@ -7,6 +7,7 @@
 
 #include "okid/identifier.h"
 #include "okid/lifting.h"
+#include "okid/limits.h"
 #include "okid/modal.h"
 #include "okid/modal_indicators.h"
 #include "okid/model.h"

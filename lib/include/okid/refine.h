@@ -41,6 +41,7 @@
 
 #include "okid/identifier.h"
 #include "okid/modal.h"
+#include "okid/sizes.h"
 #include "okid/status.h"
 #include "okid/types.h"
 
@@ -125,40 +126,14 @@ typedef struct okid_refine_result {
     unsigned warnings;          /**< okid_warning bits of the refined modes */
 } okid_refine_result;
 
-/** The refiner. Caller-owned; every field is internal. */
-typedef struct okid_refiner {
-    uint32_t magic_;
-    okid_refine_config cfg_;
-    int n_, r_, m_, np_, nblocks_;
-    okid_sensing sensing_;
-    okid_real dt_;
-    okid_refine_state state_;
-    int passes_, iterations_, in_pass_, finished_, noise_fixed_;
-    int best_;                  /* which of the two normal-matrix buffers holds the accepted one */
-    okid_real mu_, cost_best_;
-    uint64_t samples_, pass_samples_, samples_used_;
-    unsigned warnings_;
-    int num_modes_;
-    /* workspace views */
-    int *ptab_;                 /* 4 ints per parameter: kind, block, row, col */
-    int *blk_;                  /* 4 ints per block: first state, size, eigenvalue parameter, fixed input */
-    okid_real *theta_best_, *theta_, *lam_re_, *lam_im_, *b_, *c_, *d_, *x0_;
-    okid_real *x_, *sens_, *jrow_, *nrm_[2], *grad_, *grad_best_, *step_, *diag_;
-    okid_real *ss_, *yy_, *weight_, *rms_start_, *rms_, *e_, *wj_; /* e_, wj_: one sample's residual, weighted row */
-    okid_real *a_full_;
-    okid_mode *modes_;
-    okid_mode_std *mode_std_;
-    okid_complex *shapes_, *shape_std_;
-} okid_refiner;
+/**
+ * The refiner: caller-owned (static, stack or heap), complete so that firmware can allocate it
+ * statically; its members are private (okid/refine_storage.h).
+ */
+typedef struct okid_refiner okid_refiner;
 
 /** Parameters of the refinement of an n-state model with r inputs and m outputs (at most). */
 #define OKID_REFINE_PARAMETERS(n, r, m) ((size_t)OKID__REFINE_PARAMETERS64(n, r, m))
-/* The same in 64 bits (at most 512 x 129 + 64 x 64 = 70144, but its square does not fit 32 bits). */
-#define OKID__REFINE_PARAMETERS64(n, r, m) (OKID__Z(n) * (OKID__Z(r) + OKID__Z(m) + 1u) + OKID__Z(m) * OKID__Z(r))
-
-/* Reals of each of the two normal-matrix buffers (internal; the eigenvalue scratch shares them). */
-#define OKID__REFINE_SCRATCH(n, np)                                                                  \
-    OKID__MAX(2u * OKID__Z(n) * OKID__Z(n) + 2u * OKID__Z(n) + OKID__Z(OKID__LWORK_GEEV(n)), OKID__Z(np) * OKID__Z(np))
 
 /**
  * Workspace bytes of a refinement of an n-state model with r inputs and m outputs, at compile
@@ -168,16 +143,6 @@ typedef struct okid_refiner {
  * okid_refine_workspace_size() refuses with OKID_E_BAD_SIZE (test_workspace_overflow).
  */
 #define OKID_REFINE_WORKSPACE_BYTES(n, r, m) OKID__SIZE(OKID__REFINE_WORKSPACE_BYTES64(n, r, m))
-#define OKID__REFINE_WORKSPACE_BYTES64(n, r, m)                                                                        \
-    (OKID__ALIGN16(sizeof(int) * 4u * OKID__REFINE_PARAMETERS64(n, r, m)) + OKID__ALIGN16(sizeof(int) * 4u * OKID__Z(n)) \
-     + 2u * OKID__RB(OKID__REFINE_PARAMETERS64(n, r, m)) + 2u * OKID__RB(n) + OKID__RB(OKID__Z(n) * OKID__Z(r))         \
-     + OKID__RB(OKID__Z(m) * OKID__Z(n)) + OKID__RB(OKID__Z(m) * OKID__Z(r)) + 2u * OKID__RB(n)                        \
-     + OKID__RB(2u * OKID__REFINE_PARAMETERS64(n, r, m)) + OKID__RB(OKID__Z(m) * OKID__REFINE_PARAMETERS64(n, r, m))    \
-     + 2u * OKID__RB(OKID__REFINE_SCRATCH(n, OKID__REFINE_PARAMETERS64(n, r, m)))                                     \
-     + OKID__RB(OKID__Z(m) * OKID__REFINE_PARAMETERS64(n, r, m)) + 3u * OKID__RB(OKID__REFINE_PARAMETERS64(n, r, m))    \
-     + 7u * OKID__RB(m) + OKID__RB(OKID__Z(n) * OKID__Z(n)) + OKID__ALIGN16(sizeof(okid_mode) * OKID__Z(n))             \
-     + OKID__ALIGN16(sizeof(okid_mode_std) * OKID__Z(n)) + OKID__ALIGN16(sizeof(okid_complex) * OKID__Z(n) * 3u * OKID__Z(m)) \
-     + OKID__ALIGN16(sizeof(okid_complex) * OKID__Z(n) * OKID__Z(m)))
 
 /**
  * Fill the settings with their defaults: max_passes 30, step_tolerance OKID_REFINE_STEP_TOLERANCE.
@@ -258,5 +223,7 @@ const char *okid_refine_state_str(okid_refine_state state);
 #ifdef __cplusplus
 }
 #endif
+
+#include "okid/refine_storage.h" /* the refiner's members: not API */
 
 #endif

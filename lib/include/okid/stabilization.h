@@ -24,6 +24,7 @@
 #include <stddef.h>
 
 #include "okid/identifier.h"
+#include "okid/sizes.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -61,25 +62,13 @@ typedef struct okid_stabilization {
     const unsigned *stability;              /**< per mode: okid_stability bits */
 } okid_stabilization;
 
-/* Sizes of the table (internal helpers of the macro below). */
-#define OKID__STAB_ORDERS(nmax, step) (OKID__Z(nmax) / OKID__Z(step))
-#define OKID__STAB_MODES(nmax, step) \
-    (OKID__Z(step) * OKID__STAB_ORDERS(nmax, step) * (OKID__STAB_ORDERS(nmax, step) + 1u) / 2u)
-
 /**
  * Stabilization workspace bytes as a constant expression: r, m, alpha, beta, the largest order,
  * the order step, combined (1 for OKID_REALIZATION_COMBINED). Equals okid_stabilization_workspace_size();
  * computed in 64 bits and saturated at SIZE_MAX (OKID__SIZE).
  */
-#define OKID_STABILIZATION_WORKSPACE_BYTES(r, m, alpha, beta, nmax, step, combined)                          \
-    OKID__SIZE(OKID__RB(OKID__K(r, m, alpha, beta, combined)) + OKID__RB(OKID__HR(m, alpha) * OKID__Z(nmax))           \
-     + OKID__RB(OKID__Z(nmax) * OKID__Z(nmax)) + 2u * OKID__RB(OKID__Z(nmax) * OKID__Z(r))                   \
-     + 2u * OKID__RB(OKID__Z(m) * OKID__Z(nmax)) + OKID__RB(OKID__Z(m) * OKID__Z(r))                         \
-     + ((combined) ? OKID__RB(OKID__Z(nmax) * OKID__Z(m)) : 0u) + OKID__PHASE_MODAL_BYTES(nmax)              \
-     + OKID__PHASE_INDICATOR_BYTES(nmax, r) + OKID__ALIGN16(sizeof(okid_stabilization_order) * OKID__STAB_ORDERS(nmax, step)) \
-     + OKID__ALIGN16(sizeof(okid_mode) * OKID__STAB_MODES(nmax, step))                                      \
-     + OKID__ALIGN16(sizeof(okid_complex) * 3u * OKID__Z(m) * OKID__STAB_MODES(nmax, step))                  \
-     + OKID__ALIGN16(sizeof(unsigned) * OKID__STAB_MODES(nmax, step)))
+#define OKID_STABILIZATION_WORKSPACE_BYTES(r, m, alpha, beta, nmax, step, combined) \
+    OKID__SIZE(OKID__STABILIZATION_WORKSPACE_BYTES64(r, m, alpha, beta, nmax, step, combined))
 
 /**
  * Fill criteria with the defaults (1 % frequency, 5 % damping, MAC 0.98).

@@ -1,8 +1,8 @@
 /* The mechanical model of eq. 1-10 turned into the continuous state space of eq. 6-9. */
 #include "okid/model.h"
 
-#include "okid/identifier.h"
-#include "dense.h"
+#include "numerics/dense.h"
+#include "okid/limits.h"
 
 static int dims_ok(const okid_mechanical_model *model)
 {

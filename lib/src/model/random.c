@@ -1,7 +1,7 @@
 /* xoshiro256** seeded by splitmix64 (Blackman and Vigna), normal deviates by Box-Muller. */
 #include "okid/random.h"
 
-#include "real_math.h"
+#include "numerics/real_math.h"
 
 static uint64_t splitmix64(uint64_t *x)
 {

@@ -1,9 +1,9 @@
 /* Discrete state-space simulator: y(k) = C x(k) + D u(k), x(k+1) = A x(k) + B u(k). */
 #include "okid/model.h"
 
-#include "okid/identifier.h"
-#include "dense.h"
-#include "real_math.h"
+#include "numerics/dense.h"
+#include "numerics/real_math.h"
+#include "okid/limits.h"
 
 okid_status okid_simulator_init(okid_simulator *sim, int n, int r, int m, const okid_real *a,
                                 const okid_real *b, const okid_real *c, const okid_real *d, okid_real *state,

@@ -5,9 +5,9 @@
  */
 #include "okid/model.h"
 
-#include "okid/identifier.h"
-#include "dense.h"
-#include "real_math.h"
+#include "numerics/dense.h"
+#include "numerics/real_math.h"
+#include "okid/limits.h"
 
 static okid_real norm1(int n, const okid_real *a)
 {

@@ -1,7 +1,7 @@
 /* Incremental condition estimation: see condition_estimate.h. */
-#include "condition_estimate.h"
+#include "numerics/condition_estimate.h"
 
-#include "real_math.h"
+#include "numerics/real_math.h"
 
 /* Relative machine precision as LAPACK's xLAMCH('E') reports it (round to nearest). */
 #define ICE_EPS (OKID_EPSILON / 2)

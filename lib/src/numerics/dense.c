@@ -1,7 +1,7 @@
 /* Small dense helpers in plain C; see dense.h. */
-#include "dense.h"
+#include "numerics/dense.h"
 
-#include "real_math.h"
+#include "numerics/real_math.h"
 
 void okid_copy_matrix(int rows, int cols, const okid_real *a, int lda, okid_real *b, int ldb)
 {

@@ -3,9 +3,9 @@
  * (3 n^2 flops against O(n) for the rest), hence the loop shape below, measured in instructions
  * per sample on a Cortex-M4F by bench/firmware/cost_report.c.
  */
-#include "givens_fold.h"
+#include "numerics/givens_fold.h"
 
-#include "real_math.h"
+#include "numerics/real_math.h"
 
 /* The rotations must be inlined into the unrolled loop even at -Os, where a call costs more than
    the rotation itself. */

@@ -41,15 +41,14 @@
 #include <new>
 
 extern "C" {
-#include "linalg.h"
+#include "numerics/linalg.h"
 
-#include "condition_estimate.h"
-#include "dense.h"
-#include "givens_fold.h"
+#include "numerics/condition_estimate.h"
+#include "numerics/dense.h"
+#include "numerics/givens_fold.h"
 }
-#include "okid/identifier.h"
-#include "okid/modal.h"
-#include "real_math.h"
+#include "numerics/real_math.h"
+#include "okid/sizes.h"
 
 namespace {
 

@@ -3,13 +3,13 @@
  * wrappers and its row-major paths allocate, the column-major _work path goes straight to the
  * Fortran routine. Work arrays come from the caller (sized by the OKID__LWORK_* formulas).
  */
-#include "linalg.h"
+#include "numerics/linalg.h"
 
 #include <lapacke.h>
 #include <stddef.h>
 
-#include "okid/identifier.h"
-#include "givens_fold.h"
+#include "numerics/givens_fold.h"
+#include "okid/sizes.h"
 
 _Static_assert(sizeof(lapack_int) == sizeof(int), "okid passes int arrays as lapack_int (LP64 LAPACK)");
 

@@ -1,8 +1,8 @@
 /* Rank-revealing least squares on a triangular matrix by Givens rotations: see triangular_lstsq.h. */
-#include "triangular_lstsq.h"
+#include "numerics/triangular_lstsq.h"
 
-#include "condition_estimate.h"
-#include "real_math.h"
+#include "numerics/condition_estimate.h"
+#include "numerics/real_math.h"
 
 /* a(i, j) of the row-stored triangle */
 #define T_AT(a, lda, i, j) ((a)[(size_t)(i) * (size_t)(lda) + (size_t)(j)])

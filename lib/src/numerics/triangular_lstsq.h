@@ -9,7 +9,7 @@
 #ifndef OKID_TRIANGULAR_LSTSQ_H
 #define OKID_TRIANGULAR_LSTSQ_H
 
-#include "okid/identifier.h" /* OKID__LWORK_TRIANGULAR_LSTSQ */
+#include "okid/sizes.h" /* OKID__LWORK_TRIANGULAR_LSTSQ */
 
 /*
  * The n x n upper-triangular a is stored by rows: a(i, j) = a[i lda + j], j >= i; the solve reads

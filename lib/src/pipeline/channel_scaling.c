@@ -1,8 +1,8 @@
 /* Per-channel scaling: see channel_scaling.h; column order of the rows in sample_buffer.h. */
-#include "channel_scaling.h"
+#include "pipeline/channel_scaling.h"
 
-#include "dense.h"
-#include "real_math.h"
+#include "numerics/dense.h"
+#include "numerics/real_math.h"
 
 /* The channel (input i, or r + output a) of regressor column col. */
 static int regressor_channel(int r, int m, int p, int col)

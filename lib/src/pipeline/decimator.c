@@ -4,9 +4,9 @@
  * prewarped edge W = 2 tan(pi fc / 2) (fc relative to the Nyquist frequency, sample interval 1),
  * mapped by z = (2 + s) / (2 - s); both zeros of the low-pass fall on z = -1.
  */
-#include "decimator.h"
+#include "pipeline/decimator.h"
 
-#include "real_math.h"
+#include "numerics/real_math.h"
 
 #define EDGE OKID_R(0.5) /* -3 dB edge as a fraction of the decimated Nyquist frequency */
 

@@ -9,11 +9,11 @@
  * data), and C = S_y C~ afterwards: the realization no longer depends on the channels' units.
  * H(1) is never formed: H(1) V_n is summed block by block.
  */
-#include "era.h"
+#include "pipeline/era.h"
 
-#include "dense.h"
-#include "linalg.h"
-#include "real_math.h"
+#include "numerics/dense.h"
+#include "numerics/linalg.h"
+#include "numerics/real_math.h"
 
 /* Scale of input i (0 <= i < r) or output a (index r + a); 1 without scaling. */
 static okid_real channel_scale(const okid_era_problem *pb, int channel)

@@ -1,9 +1,9 @@
 /* Instrumental variables with delayed inputs: see instrumental.h. */
-#include "instrumental.h"
+#include "pipeline/instrumental.h"
 
-#include "dense.h"
-#include "linalg.h"
-#include "sample_buffer.h"
+#include "numerics/dense.h"
+#include "numerics/linalg.h"
+#include "pipeline/sample_buffer.h"
 
 void okid_iv_write_row(const okid_ring_ *inputs, const okid_real *u, okid_real *row, size_t ld)
 {

@@ -9,7 +9,8 @@
 #ifndef OKID_INSTRUMENTAL_H
 #define OKID_INSTRUMENTAL_H
 
-#include "okid/identifier.h" /* okid_ring_ */
+#include "okid/ring_storage.h" /* okid_ring_ */
+#include "okid/status.h"
 
 /* Write z(k) = [u(k); u(k-1); ...; u(k-L)] of input u (r values) and the ring of the last L inputs
    to row (stride ld between columns). */

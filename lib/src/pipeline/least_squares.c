@@ -1,10 +1,10 @@
 /* Block QR accumulation and rank-revealing solve: see least_squares.h. */
-#include "least_squares.h"
+#include "pipeline/least_squares.h"
 
-#include "dense.h"
-#include "linalg.h"
-#include "real_math.h"
-#include "triangular_lstsq.h"
+#include "numerics/dense.h"
+#include "numerics/linalg.h"
+#include "numerics/real_math.h"
+#include "numerics/triangular_lstsq.h"
 
 void okid_lsq_weigh_rows(int nrows, int ncols, okid_real *rows, int ld, okid_real lambda)
 {

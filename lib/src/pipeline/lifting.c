@@ -1,7 +1,7 @@
 /* Exact decimation by lifting (okid/lifting.h): a copy, K samples of inputs side by side. */
 #include "okid/lifting.h"
 
-#include "okid/identifier.h"
+#include "okid/limits.h"
 
 okid_status okid_lift(int r, int m, int factor, size_t count, const okid_real *u, size_t ldu, const okid_real *y,
                       size_t ldy, okid_real *u_lifted, okid_real *y_lifted, size_t *lifted)

@@ -6,9 +6,9 @@
  * Then Y_k = Ybar1_k - sum_{i=1}^{min(k,p)} Ybar2_i Y_(k-i)   (Ybar1_k = 0 for k > p)
  * and  Y°_k = Ybar2_k - sum_{i=1}^{min(k-1,p)} Ybar2_i Y°_(k-i) (Ybar2_k = 0 for k > p).
  */
-#include "markov.h"
+#include "pipeline/markov.h"
 
-#include "dense.h"
+#include "numerics/dense.h"
 
 /* The solution x and its shape, read in place. */
 typedef struct observer_solution {

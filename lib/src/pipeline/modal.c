@@ -4,14 +4,14 @@
  * in the displacement/velocity basis. Eq. 64 applies the power of the continuous pole (A and Ac
  * share eigenvectors): acceleration is s^2 times displacement, not lambda^2 times.
  */
-#include "modal_internal.h"
+#include "pipeline/modal_internal.h"
 
-#include "okid/identifier.h"
-#include "okid/modal_indicators.h"
-#include "carve.h"
-#include "dense.h"
-#include "linalg.h"
-#include "real_math.h"
+#include "numerics/carve.h"
+#include "numerics/dense.h"
+#include "numerics/linalg.h"
+#include "numerics/real_math.h"
+#include "okid/limits.h"
+#include "okid/sizes.h"
 
 /* Unit 2-norm, largest-modulus component real and positive: a canonical representative of the shape. */
 void okid_normalise_shape(okid_complex *v, int len)
@@ -187,6 +187,25 @@ okid_status okid_modal_analysis(int n, int m, const okid_real *a, int lda, const
         *warnings = local_warnings;
     }
     return st;
+}
+
+okid_real okid_mpc(const okid_complex *shape, int len)
+{
+    if (shape == NULL || len < 1) {
+        return 0;
+    }
+    okid_real sum_re = 0, sum_im = 0, norm2 = 0; /* phi^T phi and phi^H phi */
+    for (int i = 0; i < len; ++i) {
+        const okid_real re = shape[i].re, im = shape[i].im;
+        sum_re += re * re - im * im;
+        sum_im += 2 * re * im;
+        norm2 += re * re + im * im;
+    }
+    if (norm2 <= 0) {
+        return 0;
+    }
+    const okid_real mpc = (sum_re * sum_re + sum_im * sum_im) / (norm2 * norm2);
+    return mpc > 1 ? 1 : mpc; /* round-off */
 }
 
 okid_real okid_mac(const okid_complex *a, const okid_complex *b, int len)

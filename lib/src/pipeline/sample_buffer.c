@@ -1,7 +1,7 @@
 /* Recursive buffering: see sample_buffer.h for the row layout. */
-#include "sample_buffer.h"
+#include "pipeline/sample_buffer.h"
 
-#include "dense.h"
+#include "numerics/dense.h"
 
 void okid_ring_restart(okid_ring_ *ring, int zero_history)
 {

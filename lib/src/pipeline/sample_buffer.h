@@ -4,12 +4,12 @@
  * the triangular factor is the input-only regressor, whose rank tells persistence of excitation):
  *   [ u(k) | u(k-1) ... u(k-p) | y(k-1) ... y(k-p) | y(k) ]
  *     r      r p                 m p                 m      (q = r + (r + m) p columns, then m)
- * The ring itself (okid_ring_, okid/identifier_storage.h) also holds the instruments' past inputs.
+ * The ring itself (okid_ring_, okid/ring_storage.h) also holds the instruments' past inputs.
  */
 #ifndef OKID_SAMPLE_BUFFER_H
 #define OKID_SAMPLE_BUFFER_H
 
-#include "okid/identifier.h" /* okid_ring_ */
+#include "okid/ring_storage.h" /* okid_ring_ */
 
 /* Empty the ring (zero_history: fill it with zeros, as a record that starts at rest). */
 void okid_ring_restart(okid_ring_ *ring, int zero_history);

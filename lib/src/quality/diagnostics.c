@@ -1,10 +1,10 @@
 /* Identifiability diagnostics: see diagnostics.h and the warning bits of okid/status.h. */
-#include "diagnostics.h"
+#include "quality/diagnostics.h"
 
-#include "dense.h"
-#include "least_squares.h"
-#include "real_math.h"
-#include "triangular_lstsq.h"
+#include "numerics/dense.h"
+#include "numerics/real_math.h"
+#include "numerics/triangular_lstsq.h"
+#include "pipeline/least_squares.h"
 
 /* Only modes this consistent count as identified for the Hankel-span rule. */
 #define SPAN_MIN_CMI OKID_R(0.5)

@@ -7,8 +7,8 @@
 #ifndef OKID_DIAGNOSTICS_H
 #define OKID_DIAGNOSTICS_H
 
-#include "least_squares.h"
 #include "okid/modal.h"
+#include "pipeline/least_squares.h"
 
 typedef struct okid_regressor_diagnostics {
     int expected_rank;         /* min(q, r (p + 1) + n) */

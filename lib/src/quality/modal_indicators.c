@@ -4,30 +4,11 @@
  * parts as two columns) Vr xi = z is a real solve, and the complex modal coordinate of
  * psi = v_j + i v_(j+1) is (xi_j - i xi_(j+1)) / 2 (x = psi q + conj(psi q) = v_j 2Re q - v_(j+1) 2Im q).
  */
-#include "modal_indicators_internal.h"
+#include "quality/modal_indicators_internal.h"
 
-#include "dense.h"
-#include "linalg.h"
-#include "real_math.h"
-
-okid_real okid_mpc(const okid_complex *shape, int len)
-{
-    if (shape == NULL || len < 1) {
-        return 0;
-    }
-    okid_real sum_re = 0, sum_im = 0, norm2 = 0; /* phi^T phi and phi^H phi */
-    for (int i = 0; i < len; ++i) {
-        const okid_real re = shape[i].re, im = shape[i].im;
-        sum_re += re * re - im * im;
-        sum_im += 2 * re * im;
-        norm2 += re * re + im * im;
-    }
-    if (norm2 <= 0) {
-        return 0;
-    }
-    const okid_real mpc = (sum_re * sum_re + sum_im * sum_im) / (norm2 * norm2);
-    return mpc > 1 ? 1 : mpc; /* round-off */
-}
+#include "numerics/dense.h"
+#include "numerics/linalg.h"
+#include "numerics/real_math.h"
 
 okid_real okid_amplitude_coherence(okid_complex predicted, okid_complex identified)
 {

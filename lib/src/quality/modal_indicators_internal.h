@@ -5,9 +5,9 @@
 #ifndef OKID_MODAL_INDICATORS_INTERNAL_H
 #define OKID_MODAL_INDICATORS_INTERNAL_H
 
-#include "era.h"
 #include "okid/modal.h"
 #include "okid/modal_indicators.h"
+#include "pipeline/era.h"
 
 /* What the indicators compare: the realization and the last blocks of P = U_n S^1/2, Q = S^1/2 V_n'. */
 typedef struct okid_indicator_inputs {

@@ -1,1 +1,1 @@
-"""Host tools of okid: an independent 2-DOF reference and the fmpy verification of the FMUs."""
+"""Host tools of okid for its users: the FMU generator (okid-fmu), the stabilization diagram and the paper's plots."""

@@ -18,7 +18,7 @@ def _identified(t, force, y):
 
 
 def paper_plots(folder, ref, cs, noisy, noisy_ref, cli=None):
-    """The paper's figures in folder; with cli (okid-verify-fmu --cli) also okid's identified Markov
+    """The paper's figures in folder; with cli (tests/python/verify_fmu.py --cli) also okid's identified Markov
     parameters, which now come from the okid package in-process."""
     folder.mkdir(parents=True, exist_ok=True)
     markov = np.array([Y[:, 0] for Y in ref.markov(60)])  # D, CB, CAB, ...: m = 2 per block

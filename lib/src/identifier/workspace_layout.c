@@ -5,14 +5,14 @@
  * R's strict lower triangle is scratch too: identify's large matrices live there (the solves'
  * equilibrated copy, and ERA's Hankel matrix and V' when they fit), only the upper triangle persists.
  */
-#include "workspace_layout.h"
+#include "identifier/workspace_layout.h"
 
 #include <limits.h>
 
-#include "carve.h"
-#include "decimator.h"
-#include "real_math.h"
-#include "triangular_lstsq.h"
+#include "numerics/carve.h"
+#include "numerics/real_math.h"
+#include "numerics/triangular_lstsq.h"
+#include "pipeline/decimator.h"
 
 #define MIN(a, b) ((a) < (b) ? (a) : (b))
 #define MAX(a, b) ((a) > (b) ? (a) : (b))

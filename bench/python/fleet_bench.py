@@ -3,7 +3,7 @@ task, the cost of one realistic record, and a projection to a cluster. Prints fi
 them to bench/results.json ("fleet") and docs/fleet.md's measured table; nothing is timed against
 a limit.
 
-    python -m okid.fleet.bench [--records 96] [--samples 60000] [--results bench/results.json]
+    .venv/bin/python bench/python/fleet_bench.py [--records 96] [--samples 60000] [--results bench/results.json]
 """
 from __future__ import annotations
 
@@ -17,8 +17,8 @@ import time
 
 import numpy as np
 
-from .job import identify_fleet
-from .synth import FleetSpec, synthesize
+from okid.fleet.job import identify_fleet
+from okid.fleet.synth import FleetSpec, synthesize
 
 OPTIONS = {"order": 4, "zero_initial_state": 1}
 
@@ -61,7 +61,7 @@ def wide_record_seconds(samples: int, repeats: int = 3) -> dict:
     import okid
     from okid import model
 
-    from .synth import chain
+    from okid.fleet.synth import chain
 
     n = 24
     masses, dampers, springs = chain(n)
@@ -84,7 +84,7 @@ def wide_record_seconds(samples: int, repeats: int = 3) -> dict:
 
 
 def main(argv=None) -> int:
-    p = argparse.ArgumentParser(prog="python -m okid.fleet.bench", description=__doc__.split("\n\n")[0])
+    p = argparse.ArgumentParser(prog="bench/python/fleet_bench.py", description=__doc__.split("\n\n")[0])
     p.add_argument("--records", type=int, default=96, help="records of the scaling run")
     p.add_argument("--samples", type=int, default=60000, help="samples per record (10 min at 100 Hz)")
     p.add_argument("--results", default=None, help="update this results.json (key 'fleet')")

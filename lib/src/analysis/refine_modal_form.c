@@ -5,11 +5,11 @@
  * its block: it is fixed by making the block's column of its strongest input [1; 0] (a real
  * mode's entry 1), which leaves n (r + m + 1) + m r free parameters at most.
  */
-#include "refine_internal.h"
+#include "analysis/refine_internal.h"
 
-#include "dense.h"
-#include "linalg.h"
-#include "real_math.h"
+#include "numerics/dense.h"
+#include "numerics/linalg.h"
+#include "numerics/real_math.h"
 
 /* Largest |lambda| the start model keeps: an unstable eigenvalue is reflected to 1 / conj(lambda). */
 #define OKID_REFINE_MAX_MODULUS OKID_R(0.9999)

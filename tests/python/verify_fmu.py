@@ -1,6 +1,6 @@
 """Verifies the okid FMUs (FMI 2 and 3) against the paper's 2-DOF reference computed with numpy/scipy.
 
-    okid-verify-fmu --fmu-dir build/fmu [--plots docs/img] [--cli build/host_tools/cli/okid]
+    .venv/bin/python tests/python/verify_fmu.py --fmu-dir build/fmu [--plots docs/img] [--cli build/host_tools/cli/okid]
 
 (a) validation (fmpy.validation.validate_fmu and fmutool -check must report nothing), (b) the plant
 alone with simulate_fmu against the exact discrete model, (c) the identifier fed from arrays
@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 from fmpy.validation import validate_fmu
 
-from .fmu_runs import NOISY_SETTINGS, PAPER_SETTINGS, cosimulate, identify_from_arrays, modes_from, simulate_plant
-from .reference import mac, paper_reference
+from fmu_runs import NOISY_SETTINGS, PAPER_SETTINGS, cosimulate, identify_from_arrays, modes_from, simulate_plant
+from reference import mac, paper_reference
 
 PAPER_PRINTED = [0.9945 + 0.0311j, 0.9767 + 0.0608j]  # eq. 94, sorted by frequency as okid reports
 NOISE_FREE_TOL = 1e-6
@@ -113,7 +113,7 @@ def verify_version(fmu_dir, version, checks, table, plots_dir=None, cli=None):
     compare(noisy_ref, modes_from(ns.final), f"FMI{version} 2% noise", checks, NOISY_FREQ_TOL, NOISY_DAMP_TOL,
             table=table)
     if plots_dir is not None:
-        from .plots import paper_plots
+        from okid.tools.plots import paper_plots
         paper_plots(Path(plots_dir), ref, cs, ns, noisy_ref, cli=cli)
 
 

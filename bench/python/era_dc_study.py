@@ -3,20 +3,22 @@ paper 2-DOF system, dt 0.05 s, 100 s, 5 % and 20 % output noise): plain OKID + E
 (Juang, Cooper, Wright 1987) in numpy, and okid's least squares and instrumental variables (the okid package).
 The measurement behind docs/quality.md section 6 (why okid implements instrumental variables).
 
-    python -m okid.tools.era_dc_study [--cli build/host_tools/cli/okid]   (the CLI simulates the data)
+    .venv/bin/python bench/python/era_dc_study.py [--cli build/host_tools/cli/okid]   (the CLI simulates the data)
 
 Prints a markdown table of the relative error of the worse of the two frequencies, mean / worst
 over seeds 11-15, alpha = beta = 20, n = 4.
 """
 import argparse
 import os
+import sys
+from pathlib import Path
 
 import numpy as np
 
 import okid
 
-from .bench_compare import era_A, modal, numpy_okid_markov, simulate
-from .reference import paper_reference
+from bench_compare import era_A, modal, numpy_okid_markov, simulate  # noqa: E402  (this folder; it puts the oracle on the path)
+from reference import paper_reference  # noqa: E402
 
 DT, SAMPLES, HANKEL, SEEDS = 0.05, 2001, 20, range(11, 16)
 BLOCKS, SHIFT = 2, 2  # ERA/DC: (BLOCKS + 1)^2 correlation blocks R((i + j) SHIFT)

@@ -5,12 +5,12 @@
  * mode by the delta method: eigenvalue -> pole s = ln(lambda) / dt -> frequency |s| / 2 pi and
  * damping -Re s / |s| analytically, the normalised sensor shape by central differences in C.
  */
-#include "refine_internal.h"
+#include "analysis/refine_internal.h"
 
-#include "dense.h"
-#include "linalg.h"
-#include "modal_internal.h"
-#include "real_math.h"
+#include "numerics/dense.h"
+#include "numerics/linalg.h"
+#include "numerics/real_math.h"
+#include "pipeline/modal_internal.h"
 
 /* Upper Cholesky factor of the unit-diagonal scaling of N + mu diag(N) into f; d gets sqrt(diag N). */
 static int scaled_cholesky(int np, const okid_real *nrm, okid_real mu, okid_real *f, okid_real *d)

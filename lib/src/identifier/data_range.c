@@ -1,8 +1,8 @@
 /* See data_range.h. */
-#include "data_range.h"
+#include "identifier/data_range.h"
 
-#include "dense.h"
-#include "real_math.h"
+#include "numerics/dense.h"
+#include "numerics/real_math.h"
 
 /* Norm of column j of the upper triangle of R, by the largest entry first (no overflow or underflow of squares). */
 static okid_real column_norm(const okid_real *r, int ld, int j)
@@ -63,16 +63,21 @@ int okid_modes_finite(const okid_mode *modes, int num_modes, int m)
 {
     for (int i = 0; i < num_modes; ++i) {
         const okid_mode *md = &modes[i];
-        const okid_real values[] = {md->frequency_hz, md->damping_ratio, md->emac_output, md->emac_input,
-                                    md->emac, md->mpc, md->msv, md->cmi};
+#define OKID_X_NONE(...)
+#define OKID_X_VALUE(name) md->name,
+        const okid_real values[] = {OKID_MODE_FIELDS(OKID_X_NONE, OKID_X_VALUE, OKID_X_NONE, OKID_X_NONE)};
         for (size_t k = 0; k < sizeof values / sizeof values[0]; ++k) {
             if (!okid_is_finite(values[k])) {
                 return 0;
             }
         }
-        if (!complex_finite(md->eigenvalue) || !complex_finite(md->pole)) {
+#define OKID_X_NOT_FINITE(name) !complex_finite(md->name) ||
+        if (OKID_MODE_FIELDS(OKID_X_NOT_FINITE, OKID_X_NONE, OKID_X_NONE, OKID_X_NONE) 0) {
             return 0;
         }
+#undef OKID_X_NOT_FINITE
+#undef OKID_X_VALUE
+#undef OKID_X_NONE
         for (int a = 0; a < m; ++a) {
             if (!complex_finite(md->sensor_shape[a]) || !complex_finite(md->shape[a]) ||
                 !complex_finite(md->shape[m + a])) {

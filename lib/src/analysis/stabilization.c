@@ -7,12 +7,12 @@
  */
 #include "okid/stabilization.h"
 
-#include "carve.h"
-#include "era.h"
-#include "modal_indicators_internal.h"
-#include "modal_internal.h"
-#include "workspace_layout.h"
-#include "real_math.h"
+#include "identifier/workspace_layout.h"
+#include "numerics/carve.h"
+#include "numerics/real_math.h"
+#include "pipeline/era.h"
+#include "pipeline/modal_internal.h"
+#include "quality/modal_indicators_internal.h"
 
 okid_status okid_stabilization_criteria_default(okid_stabilization_criteria *criteria)
 {

@@ -4,8 +4,8 @@
 
 #include <stdint.h>
 
-#include "era.h"
 #include "okid/identifier.h"
+#include "pipeline/era.h"
 
 /* Check cfg and derive the sizes. OKID_OK or the specific configuration error; issue (may be
    NULL) then names the field, its value and its valid range. */

@@ -7,12 +7,12 @@
  * accumulates uses the weights of the last accepted pass, while the gradient is accumulated per
  * output and weighed exactly: the fixed point is the maximum-likelihood estimate.
  */
-#include "refine_internal.h"
+#include "analysis/refine_internal.h"
 
+#include "numerics/carve.h"
+#include "numerics/dense.h"
+#include "numerics/real_math.h"
 #include "okid/identifier.h"
-#include "carve.h"
-#include "dense.h"
-#include "real_math.h"
 
 #define OKID_REFINE_MAGIC 0x6f6b7266u /* "okrf" */
 #define OKID_REFINE_MU_START OKID_R(1e-3)

@@ -1,0 +1,44 @@
+/**
+ * \file refine_storage.h
+ * \brief NOT API: the storage of an okid_refiner.
+ *
+ * okid/refine.h includes this header; do not include it yourself. The struct is complete here
+ * only so that a refiner can be allocated statically (firmware); its members are private to the
+ * library and change without notice. Size its workspace with okid_refine_workspace_size() or
+ * OKID_REFINE_WORKSPACE_BYTES().
+ */
+#ifndef OKID_REFINE_STORAGE_H
+#define OKID_REFINE_STORAGE_H
+
+#include <stdint.h>
+
+#include "okid/modal.h"
+#include "okid/types.h"
+
+/* The refiner (typedef in okid/refine.h): every member is private. */
+struct okid_refiner {
+    uint32_t magic_;
+    okid_refine_config cfg_;
+    int n_, r_, m_, np_, nblocks_;
+    okid_sensing sensing_;
+    okid_real dt_;
+    okid_refine_state state_;
+    int passes_, iterations_, in_pass_, finished_, noise_fixed_;
+    int best_;                  /* which of the two normal-matrix buffers holds the accepted one */
+    okid_real mu_, cost_best_;
+    uint64_t samples_, pass_samples_, samples_used_;
+    unsigned warnings_;
+    int num_modes_;
+    /* workspace views */
+    int *ptab_;                 /* 4 ints per parameter: kind, block, row, col */
+    int *blk_;                  /* 4 ints per block: first state, size, eigenvalue parameter, fixed input */
+    okid_real *theta_best_, *theta_, *lam_re_, *lam_im_, *b_, *c_, *d_, *x0_;
+    okid_real *x_, *sens_, *jrow_, *nrm_[2], *grad_, *grad_best_, *step_, *diag_;
+    okid_real *ss_, *yy_, *weight_, *rms_start_, *rms_, *e_, *wj_; /* e_, wj_: one sample's residual, weighted row */
+    okid_real *a_full_;
+    okid_mode *modes_;
+    okid_mode_std *mode_std_;
+    okid_complex *shapes_, *shape_std_;
+};
+
+#endif
