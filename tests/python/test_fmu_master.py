@@ -13,8 +13,8 @@ import pytest
 from fmpy import read_model_description
 from fmpy.fmi1 import FMICallException
 
-from okid.tools.fmu_runs import PAPER_SETTINGS, Slave, mode_outputs
-from okid.tools.reference import paper_reference
+from fmu_runs import PAPER_SETTINGS, Slave, mode_outputs
+from reference import paper_reference
 
 FMU_DIR = Path(os.environ.get("OKID_FMU_DIR", "build/fmu"))
 VERSIONS = [2, 3]

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from fmpy import simulate_fmu
 
-from okid.tools.fmu_runs import Slave
-from okid.tools.reference import paper_reference
+from fmu_runs import Slave
+from reference import paper_reference
 
 FMU_DIR = Path(os.environ.get("OKID_FMU_DIR", "build/fmu"))
 CASES = [(v, m) for v in (2, 3) for m in ("okid_plant_2dof", "okid_identifier")]

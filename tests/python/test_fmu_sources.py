@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from okid.tools.fmu_runs import PAPER_SETTINGS, cosimulate, modes_from
-from okid.tools.reference import mac, paper_reference
+from fmu_runs import PAPER_SETTINGS, cosimulate, modes_from
+from reference import mac, paper_reference
 
 FMU_DIR = Path(os.environ.get("OKID_FMU_DIR", "build/fmu"))
 VERSIONS = [2, 3]
