@@ -132,7 +132,8 @@ okid_status okid_mode_selection_workspace_size(int max_order, int step, size_t *
  * \param[out] issue       on OKID_E_BAD_PARAMETER the criterion refused; may be NULL
  * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE (num_outputs, or a table with negative
  *         counts), OKID_E_BAD_PARAMETER (criteria), OKID_E_WORKSPACE_ALIGNMENT,
- *         OKID_E_WORKSPACE_TOO_SMALL (the table has more modes or a higher order than the workspace covers)
+ *         OKID_E_WORKSPACE_TOO_SMALL (the workspace is smaller than this table needs: sized for a lower
+ *         max_order or a larger step)
  */
 okid_status okid_select_modes(const okid_stabilization *table, int num_outputs,
                               const okid_mode_selection_criteria *criteria, void *workspace, size_t bytes,
