@@ -49,6 +49,7 @@ PUBLIC = {
     "refine.h": "analysis",
     "refine_storage.h": "analysis",
     "stabilization.h": "analysis",
+    "mode_selection.h": "analysis",
     "okid.h": "top",
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)

@@ -10,6 +10,7 @@
 #include "okid/limits.h"
 #include "okid/modal.h"
 #include "okid/modal_indicators.h"
+#include "okid/mode_selection.h"
 #include "okid/model.h"
 #include "okid/random.h"
 #include "okid/refine.h"

@@ -208,4 +208,11 @@
      + OKID__ALIGN16(sizeof(okid_complex) * 3u * OKID__Z(m) * OKID__STAB_MODES(nmax, step))                  \
      + OKID__ALIGN16(sizeof(unsigned) * OKID__STAB_MODES(nmax, step)))
 
+/* ---- Mode selection (okid/mode_selection.h) ---- */
+
+/* Bytes for a table of `total` modes whose largest order is nmax (internal helper of
+   OKID_MODE_SELECTION_WORKSPACE_BYTES; expanded where okid_selected_mode is declared). */
+#define OKID__MODESEL_BYTES(total, nmax)                                                     \
+    (5u * OKID__ALIGN16(sizeof(int) * OKID__Z(total)) + OKID__ALIGN16(sizeof(okid_selected_mode) * OKID__Z(nmax)))
+
 #endif
