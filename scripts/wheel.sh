@@ -91,7 +91,7 @@ for arch in x86_64 aarch64; do
     done
 done
 
-fmu_args=()
+fmu_args=(--config-settings=cmake.define.OKID_WHEEL_FMU_DIR=)  # --no-fmu: none, whatever an earlier run cached
 if ((with_fmu)); then
     if [[ -z $fmu_dir ]]; then
         step "the FMUs (fmu/, the main CMake build in build-wheel/fmu: every platform whose tools are installed)"
@@ -122,7 +122,11 @@ for arch in "${archs[@]}"; do
         raw=$work/raw/$arch-cp$ver
         rm -rf "$raw"
         mkdir -p "$raw"
-        env=(CC="$work/zig/$arch/cc" CXX="$work/zig/$arch/c++" CMAKE_BUILD_PARALLEL_LEVEL="$jobs")
+        # zig keeps the runtime it compiles for a target (libc++, the glibc stubs: about 1.5 min of CPU
+        # per architecture) in its global cache, ~/.cache/zig unless ZIG_GLOBAL_CACHE_DIR says otherwise,
+        # so that the next run, from any clone, reuses them
+        env=(CC="$work/zig/$arch/cc" CXX="$work/zig/$arch/c++" CMAKE_BUILD_PARALLEL_LEVEL="$jobs"
+             ZIG_LOCAL_CACHE_DIR="$work/zig-cache")
         cross=()
         if [[ $arch != "$(uname -m)" ]]; then
             # scikit-build-core's cross-compilation settings: the wheel's platform tag and the
