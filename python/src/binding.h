@@ -2,12 +2,16 @@
 // status a call returns to the Python layer (okid/_errors.py turns it into an exception).
 #pragma once
 
+// nanobind's headers call fprintf(stderr, ...) and count on <cstdio> arriving through other
+// headers: with the stable ABI (Python.h without stdio.h) and LLVM's libc++ (scripts/wheel.sh) it
+// does not, so it comes first here and in every file that includes nanobind before this one.
+#include <cstdio>
+
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
 #include <complex>
 #include <cstddef>
-#include <cstdio>
 #include <cstdlib>
 #include <new>
 #include <vector>

@@ -1,6 +1,7 @@
 // okid._core.Identifier, Result and Stabilization: the identifier over a workspace it owns, each
 // result copied out of the workspace (a Result outlives the next identify()), and the CLI's JSON
 // writer for to_dict(). Every call returns its okid_status; okid/_identifier.py raises.
+#include <cstdio>  // before nanobind (binding.h says why)
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>

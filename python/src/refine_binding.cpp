@@ -2,6 +2,7 @@
 // over a record the caller holds, fed once per pass from its arrays (no copy, GIL released), with
 // the noise estimated or fixed (okid_refine_set_noise: the Cramer-Rao bound). The CLI's JSON
 // writer gives the "refinement" object of to_dict().
+#include <cstdio>  // before nanobind (binding.h says why)
 #include <cstdlib>
 #include <memory>
 #include <optional>

@@ -28,12 +28,19 @@ LOG_CATEGORIES = [("logEvents", "identifications and other events"),
                   ("logAll", "everything")]
 
 
+def packaged_fmu_dir():
+    """The FMUs the wheel carries (okid/fmu: fmi2/ and fmi3/, written by scripts/wheel.sh)."""
+    return Path(__file__).resolve().parent.parent / "fmu"
+
+
 def default_base():
-    """The prebuilt FMI 2 identifier: $OKID_FMU_DIR/fmi2, an installed share/okid/fmu/fmi2, or the build tree."""
+    """The prebuilt FMI 2 identifier: $OKID_FMU_DIR/fmi2, the wheel's okid/fmu/fmi2, an installed
+    share/okid/fmu/fmi2, or the build tree."""
     candidates = []
     if os.environ.get("OKID_FMU_DIR"):
         candidates.append(Path(os.environ["OKID_FMU_DIR"]) / "fmi2" / "okid_identifier.fmu")
-    candidates += [Path(sys.prefix) / "share" / "okid" / "fmu" / "fmi2" / "okid_identifier.fmu",
+    candidates += [packaged_fmu_dir() / "fmi2" / "okid_identifier.fmu",
+                   Path(sys.prefix) / "share" / "okid" / "fmu" / "fmi2" / "okid_identifier.fmu",
                    Path("build") / "fmu" / "fmi2" / "okid_identifier.fmu"]
     return next((c for c in candidates if c.is_file()), candidates[-1])
 
