@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The CLI's CSV reader alone on one file: parses every row through csv_stream_row (the pass okid
  * identify makes) and prints the rate as JSON: MB/s and rows (samples) per second of CPU time.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * okid's speed and memory benchmark (a program that prints figures; no test times anything):
  *   - the machine's limit: single-core DGEMM rate of the BLAS in use;

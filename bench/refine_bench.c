@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The refinement's cost on the host (a program that prints figures; docs/refinement.md): the
  * paper's system with a white force, OKID/ERA then the prediction-error refinement, for the

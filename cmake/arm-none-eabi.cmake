@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Cross-compilation for bare-metal Cortex-M with Debian's gcc-arm-none-eabi and newlib.
 # The CPU flags come from the preset (OKID_TARGET_CPU_FLAGS), e.g.
 #   -mcpu=cortex-m4 -mfpu=fpv4-sp-d16 -mfloat-abi=hard

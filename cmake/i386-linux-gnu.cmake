@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # 32-bit x86 Linux host build (gcc -m32, Debian gcc-multilib and the i386 libraries that
 # scripts/setup.sh installs): size_t is 32 bits as on the firmware targets, and the C tests run
 # natively, so the size arithmetic is checked where it can overflow.

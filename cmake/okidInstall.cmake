@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Install rules: libokid.a, the public headers, a CMake package (find_package(okid) -> okid::okid)
 # and a pkg-config file. The CLI installs itself from host_tools/cli.
 include(CMakePackageConfigHelpers)

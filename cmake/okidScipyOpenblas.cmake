@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # The include directory of the PyPI package scipy-openblas32 (SciPy's OpenBLAS with LP64 ints and
 # every symbol prefixed scipy_), asked from the Python that builds the extension.
 if(NOT OKID_SCIPY_OPENBLAS_INCLUDE_DIR)

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Cross-compilation for bare-metal RISC-V (rv32imafc, ilp32f: single-precision FPU, compressed
 # instructions) with Debian's gcc-riscv64-unknown-elf and picolibc-riscv64-unknown-elf; the GCC
 # ships an rv32imafc/ilp32f multilib and picolibc a semihosting variant (crt0-semihost, libsemihost).

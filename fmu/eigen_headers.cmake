@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copies into OUT the Eigen headers that the Eigen backend includes (the compiler's own list, -MM),
 # under their paths below the Eigen root, with Eigen's licence: sources/ then builds without LAPACK
 # and without an Eigen installation, and stays small (the headers used, not all of Eigen).

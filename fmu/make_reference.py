@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Reference input and output of a built FMU, as the Modelica Reference-FMUs ship them
 (<model>_in.csv, <model>_ref.csv): simulated here, at packaging, with fmpy from the staged FMU, so
 no number is written by hand. FMI 3 puts them in extra/, FMI 2 (which has no extra/) in

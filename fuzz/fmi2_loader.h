@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Loading an FMI 2 shared object (dlopen, or LoadLibrary on Windows): the entry points the fuzzer and the tests call. */
 #ifndef OKID_FMI2_LOADER_H
 #define OKID_FMI2_LOADER_H

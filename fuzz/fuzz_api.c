@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * libFuzzer target: the public C API driven by a byte stream. Random (also absurd) configurations,
  * workspace sizes around the required one inside canary bytes, random interleavings of init,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* libFuzzer target: the CLI's CSV reader on arbitrary bytes (malformed headers, ragged rows, huge
    fields, non-UTF-8, empty files): an error message or a consistent table, never a crash. */
 #include <stdio.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * libFuzzer target: the identifier FMU's FMI 2 entry points, through its shared object (built with
  * the sanitizers by fuzz/CMakeLists.txt and loaded with dlopen), driven by a byte stream: random

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Reading a fuzzer's byte stream as numbers and choices (zeros once it runs out). */
 #ifndef OKID_FUZZ_INPUT_H
 #define OKID_FUZZ_INPUT_H

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Writes the seed corpus of the fuzz targets (fuzz/corpus/): inputs that reach deep paths at once
 (a valid configuration, a few hundred samples, identifications), which random bytes rarely do.
     python3 fuzz/make_seeds.py

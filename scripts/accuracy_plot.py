@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Error against record length (docs/accuracy.md) from runs of tests/target/test_float_convergence.
 
 Usage: accuracy_plot.py OUT.png LABEL=RUN.txt [LABEL=RUN.txt ...]

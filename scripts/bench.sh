@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The benchmark: okid's C core (reference BLAS and OpenBLAS) and okid against numpy/scipy, mdof and
 # python-control on identical data, and every method's RMS error over the Cramer-Rao bound against
 # SIPPY and nfoursid (docs/refinement.md). Writes docs/benchmarks.md, docs/img/benchmark.png and

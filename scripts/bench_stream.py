@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """okid identify on a 1 GB CSV: the CSV reader's parse rate and the CLI's peak resident memory.
 
 Generates the recording with `okid simulate` in a temporary folder under /tmp (deleted afterwards),

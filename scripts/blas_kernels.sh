@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The LAPACKE backend's C suites, double (build/) and float (build-float/), each under reference
 # BLAS/LAPACK and under Debian's OpenBLAS with forced kernels, so that no tolerance holds on one
 # machine's kernel only. The binaries are the ones scripts/test.sh built: the library is chosen at

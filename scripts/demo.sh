@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The main job: the paper's 2-DOF identification end to end, identified against exact values.
 # Installs only what it needs (scripts/setup.sh --demo) and builds only the library and the example.
 set -euo pipefail

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The firmware targets, as CMakePresets.json defines them (the one list): every visible configure
 # preset whose toolchain file, its own or inherited, is a bare-metal one (cmake/arm-none-eabi.cmake,
 # cmake/riscv-unknown-elf.cmake), in the file's order. scripts/test.sh and scripts/footprint.sh read it.

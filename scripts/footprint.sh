@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Footprint and cost of okid on every firmware target (docs/firmware.md), for the paper
 # configuration (r = 1, m = 2, p = 20, n = 4, alpha = beta = 20):
 # - flash (text + rodata) and RAM (data + bss): libokid.a whole, and as linked into examples/firmware;

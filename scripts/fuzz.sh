@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Bounded fuzzing: builds the libFuzzer targets with clang (ASan + UBSan), runs each for
 # FUZZ_SECONDS (default 60) from the seed corpus and fails on any finding (the crashing input is
 # kept in build-fuzz/findings/); then replays the corpus in a coverage build and prints the line

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # One hash of `okid identify --json` over a grid of records and configurations: a refactoring that
 # must not change a single bit of the results compares this line before and after.
 #   bash scripts/json_hash.sh [path/to/okid]     (default build/host_tools/cli/okid)

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Flash and RAM a program takes per archive, from its GNU ld map file (after --gc-sections).
 
 Usage: map_sizes.py PROGRAM.map [ARCHIVE_NAME ...]

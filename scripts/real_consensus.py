@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Consensus of the physical modes of the real records in ../shared/data/real (README there), by
 three independent routes, written to tests/data/real_consensus.json:
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Installs what is missing, and only that: Debian packages (apt, as root or through sudo) and the
 # Python packages of host_tools/requirements.txt and the okid package (pip install .) in .venv. Safe to run again.
 #   bash scripts/setup.sh          everything scripts/test.sh needs

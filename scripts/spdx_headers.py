@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """The SPDX licence line of okid's sources (docs/building.md, "Licence"): every tracked source file
 (*.c *.h *.cpp *.py *.cmake CMakeLists.txt *.sh) starts with
 

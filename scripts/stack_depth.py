@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Worst-case stack depth of library entry points from GCC's -fcallgraph-info=su call graphs.
 
 Usage: stack_depth.py BUILD_DIR ENTRY [ENTRY ...]

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Every test: the default build (-Werror; it cross-builds the FMUs' win64 and aarch64-linux binaries
 # too) with ctest (C, CLI, FMUs in fmpy, ecospy, libcosimpy, and under Wine and qemu-user, the
 # Python package, the fleet on a local Dask cluster, install, both linear-algebra backends

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Each tolerance check of the C suites against the worst error it met over BLAS kernels.
 
 Reads the tolerance logs that scripts/blas_kernels.sh collects (one per suite and backend; each line

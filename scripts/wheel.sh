@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The portable wheels of the Python package okid (docs/python.md, "Portable wheels"): the C core
 # and the nanobind extension compiled by zig cc/c++ (PyPI package ziglang) against its glibc 2.17
 # stubs and its own libc++ (linked in), so that each wheel needs only glibc >= 2.17 and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The modal parameters of the reference cases, flattened for the backend comparison. */
 #include "backend_values.h"
 

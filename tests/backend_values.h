@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The modal parameters the two linear-algebra backends must agree on (test_backend_agreement). */
 #ifndef OKID_BACKEND_VALUES_H
 #define OKID_BACKEND_VALUES_H

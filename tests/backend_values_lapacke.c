@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The LAPACK side of test_backend_agreement: writes the reference cases' modal parameters, as
  * identified by the LAPACK backend (this program links libokid), to BACKEND_VALUES_FILE (or argv[1]).

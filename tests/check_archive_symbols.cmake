@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # ctest script: libokid.a must not reference the heap, stdio, process exit or the environment, nor
 # (Eigen backend) the C++ runtime: operator new/delete, exceptions and their unwinding, RTTI,
 # guarded statics or anything of std:: out of line; and it must hold no writable globals (no state

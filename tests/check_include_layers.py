@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """The include graph of lib/ runs one way: every #include of lib/src and lib/include/okid goes to
 the includer's own folder or to a lower one (docs/design.md, "Layers"), names its folder
 ("numerics/dense.h", "okid/modal.h"), and the graph has no cycle. Exit status 1 with one line per

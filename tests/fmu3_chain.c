@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * A C importer of the FMI 3 identifier FMU with its structural parameters, for every platform
  * (host, and cross-built for win64 and aarch64-linux, run under Wine and qemu-user): configuration

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Loads the production FMI 2 FMUs (plant and identifier shared objects) with dlopen, couples them
  * for the paper's experiment and checks the identified frequencies and damping ratios against the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Replays fuzz inputs (the seed corpus and every past finding) through a fuzz target's entry point
    in the ordinary build, so they run as regression tests under ctest, ASan and valgrind:
      fuzz_replay_api FILE...   */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * mode_selection_run: identify a CSV record (header row; t, the inputs, then the outputs), build
  * the stabilization table and print the automatic mode selection (okid/mode_selection.h) as JSON.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Randomised oversized configurations: see oversize_check.h. */
 #include "oversize_check.h"
 

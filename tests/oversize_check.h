@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Randomised configurations whose dimensions are each in range but whose workspace may exceed the
  * address space (4 GiB with a 32-bit size_t, the firmware targets'). Shared by the host test

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Both linear-algebra backends on the paper, MIMO and 3-DOF cases: this program links the Eigen
  * build of the core (okid_eigen) and compares its modal parameters with those the LAPACK build

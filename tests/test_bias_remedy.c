@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The instrumental-variable estimator against plain OKID least squares on output-noise data. */
 #include "test_support.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Built-in decimation and horizons in seconds (okid_config::decimation, okid_config_horizons). */
 #include "test_support.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Identifiability diagnostics: the warning bits of okid/status.h and the condition numbers of
    okid_result on data whose rank and conditioning are known by construction. */
 #include "test_support.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * LAPACK failures injected under the library (the linker wraps the LAPACKE calls of libokid.a,
  * see tests/CMakeLists.txt) surface as documented statuses, never as garbage modes, and leave

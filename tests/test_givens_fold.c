@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The Givens fold of one row (okid_push's kernel, lib/src/givens_fold.c): R'R gains the row's
  * outer product, and its numbers are those of the textbook loop (rotation j sweeps row j of R,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The identifier's contract on bad input and call order: specific statuses, nothing lost. */
 #include "test_support.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* End-to-end identification against exact models (reference values from numpy/scipy and the paper). */
 #include "test_support.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * okid_identify is a transaction (docs/design.md): a failed call leaves every observable as it was
  * (the last result and its views, okid_predict(), the counters), and no call, failed or not,

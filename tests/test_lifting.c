@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Exact decimation by lifting (okid/lifting.h): noise-free paper data decimated by K = 2..8
  * identify the exact modes (numpy/scipy, reference_data.h) to 1e-6 relative, where the built-in

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Modal analysis (eq. 56, 63, 64) of the exact discrete models against numpy's eigenvectors of Ac,
    MAC against hand-computed values, and the warnings for poles without a physical meaning. */
 #include "test_support.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Modal accuracy indicators (okid/modal_indicators.h): hand-computed cases for MPC, the amplitude
    coherence, EMAC and MSV of small realizations, then the paper case with and without noise. */
 #include "test_support.h"

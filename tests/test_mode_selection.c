@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Automatic selection of physical modes (okid/mode_selection.h): overfitted noisy identifications
    of the reference plants, where the stabilization table is full of spurious poles, must give
    exactly the plant's modes; and the API contract. */

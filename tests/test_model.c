@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Mechanical model (eq. 1-9), chain matrices and zero-order hold (eq. 13-14) against numpy/scipy. */
 #include "test_support.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Proves at run time that the paper case (init, 1001 pushes, identify) allocates nothing: this
  * program replaces malloc and friends (glibc lets an executable interpose them for every shared

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Numbers at the edge of the floating-point range (issue 17, class 5) and the messages' numbers
  * (class 7): dt and K dt outside [OKID_MAGNITUDE_MIN, OKID_MAGNITUDE_MAX] are OKID_E_BAD_PARAMETER;

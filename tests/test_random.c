@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The random generator against a Python re-implementation of xoshiro256** / splitmix64. */
 #include "test_support.h"
 

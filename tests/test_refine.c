@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Prediction-error refinement (okid/refine.h): exact on noise-free data, streaming-invariant,
  * sharper than OKID/ERA under noise, error bars calibrated over 200 noise realisations against

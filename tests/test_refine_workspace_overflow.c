@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Workspace sizes of refinements whose dimensions are each accepted but whose workspace exceeds
  * the address space: n = 512, r = m = 64 has P = 70144 parameters and two P x P normal matrices

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Per-channel scaling (OKID_SCALING_AUTO): results independent of the units of the data. */
 #include "test_support.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Stabilization diagram data (okid/stabilization.h): nested truncation against direct
    realizations, the true poles at every order, the rank limit, and the API contract. */
 #include "test_support.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The diagnostics on their own (quality/diagnostics.h): on a factor R built by hand, two 2 x 2
  * blocks [1 1; 0 e] whose equilibrated 1-norm condition numbers are known in closed form

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * ERA on its own (pipeline/era.h): from the exact Markov parameters of the reference cases
  * (tests/reference/make_reference.py, numpy), the Hankel singular values, the eigenvalues of the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The least-squares stage on its own (pipeline/least_squares.h): rows folded into R by blocks, with
  * and without forgetting, then the rank-revealing solve, against a dense reference computed here

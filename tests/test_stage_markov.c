@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Markov recovery on its own (pipeline/markov.h, eq. 51 and 53) from an exact observer solution:
  * for a system whose output matrix C is invertible, the observer gain G = -A C^-1 is deadbeat in

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The sample window and its regressor rows on their own (pipeline/sample_buffer.h, the
  * instruments' rows of pipeline/instrumental.h): the row layout the header documents, written out

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* See test_support.h. */
 #include "test_support.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Shared helpers of the C tests: the reference cases of reference_data.h, a plain simulator
    over the reference (numpy) matrices, identification runs, and tolerant comparisons. */
 #ifndef OKID_TEST_SUPPORT_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * okid_triangular_lstsq (the rank-revealing solve of the regressor factor, in R's unused
  * triangle) against the backend's dense xGELSY (LAPACK, or the Eigen backend's Householder port)

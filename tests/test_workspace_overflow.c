@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Workspace sizes of configurations whose dimensions are each accepted but whose workspace exceeds
  * the address space. With a 32-bit size_t (the m32 preset, the firmware targets) they must be

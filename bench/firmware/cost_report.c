@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Cost of okid on the target, for scripts/footprint.sh: workspace bytes of the paper
  * configuration (r = 1, m = 2, p = 20, n = 4, alpha = beta = 20), instructions per pushed sample

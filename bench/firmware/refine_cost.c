@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Cost of the prediction-error refinement (okid/refine.h) on the target, for docs/refinement.md:
  * the paper's plant at dt = 0.05 s, 1001 samples, 5 % output noise, OKID/ERA (p = 20,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Side-by-side benchmark: okid (CLI, C API and the Python package) against a plain numpy/scipy
 OKID/ERA, mdof (OKID + ERA, SRIM) and python-control (markov + eigensys_realization), on identical
 data made by okid's simulator, plus okid's C speed benchmark with the reference BLAS and with

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Output-noise bias remedies at equal observer order p on the benchmark data (okid's simulator,
 paper 2-DOF system, dt 0.05 s, 100 s, 5 % and 20 % output noise): plain OKID + ERA and OKID + ERA/DC
 (Juang, Cooper, Wright 1987) in numpy, and okid's least squares and instrumental variables (the okid package).

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The fleet benchmark: records per second with 1 and 2 local workers, the scheduler's cost per
 task, the cost of one realistic record, and a projection to a cluster. Prints figures and writes
 them to bench/results.json ("fleet") and docs/fleet.md's measured table; nothing is timed against

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Instruction counting under QEMU on AN386 and AN500: the boards' CMSDK APB timer 0 (0x40000000)
  * counts down at SYSCLK = 25 MHz of virtual time. With -icount shift=S, QEMU advances virtual time by exactly

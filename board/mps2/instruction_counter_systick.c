@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Instruction counting under QEMU on AN505 (Cortex-M33) and AN547 (Cortex-M55), whose CMSDK
  * timers sit behind the SSE's protection controllers: the core's own SysTick instead, clocked by

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Semihosting calls the board support makes itself (newlib's rdimon does stdio and exit()). */
 #include "board.h"
 

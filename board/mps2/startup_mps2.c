@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Start-up code of the MPS2/MPS3 boards (AN386 Cortex-M4F, AN500 Cortex-M7, AN505 Cortex-M33,
  * AN547 Cortex-M55; the last two start in the Secure state and stay there) under QEMU: vector table,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Board services on QEMU's RISC-V virt machine: exit over semihosting (picolibc's libsemihost)
  * and instruction counting. In machine mode minstret is readable; under -icount shift=S QEMU

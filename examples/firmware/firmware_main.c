@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * okid in the style of controller firmware (bare metal, runs under QEMU on the MPS2 boards):
  * - one static workspace, sized at compile time by OKID_WORKSPACE_BYTES: no heap, no init-time sizing;

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* See plant_2dof.h. Every buffer is on the stack and small (about 1 KiB in double). */
 #include "plant_2dof.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The plant the firmware example identifies: the paper's 2-DOF structure (m1 = 2, m2 = 3 kg,
  * r = 2, 4, 3 N s/m, k = 20, 40, 30 N/m, force on mass 1, accelerations of both masses),

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The paper's section III end to end (Guida, Nilvetti, Pappalardo): build the 2-DOF model, simulate
  * 10 s of white-noise force at dt = 0.01 s, identify with OKID/ERA, and print identified against

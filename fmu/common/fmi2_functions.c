@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The FMI 2.0 co-simulation API over fmu_instance.c (one source for every model). */
 #include <stdarg.h>
 #include <stdio.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* See fmu_instance.h. */
 #include "fmu_instance.h"
 

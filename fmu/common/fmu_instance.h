@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * One FMU instance, independent of the FMI version: the state machine, value access through the
  * model's variable table with the causality/variability/state rules, stepping checks and logging.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The interface between the generic FMI glue (fmi2_functions.c, fmi3_functions.c, fmu_instance.c)
  * and one model (identifier/ or plant/), after modelica/Reference-FMUs' model.h: the model

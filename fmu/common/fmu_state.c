@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * FMU states for masters that roll back (FMI 2 fmi2GetFMUstate..., FMI 3 fmi3GetFMUState...): a
  * copy of the instance's time and state, of the model data and of the blocks the model allocated

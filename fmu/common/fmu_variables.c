@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* See fmu_model.h: the variable table of a model, its arrays sized by the structural parameters. */
 #include <stdio.h>
 #include <stdlib.h>

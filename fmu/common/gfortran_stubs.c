@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The two libgfortran string helpers that the static reference LAPACK calls (character arguments
  * such as JOBU = 'O' are compared and concatenated when LAPACK calls ILAENV and XERBLA), so the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Included in every translation unit of the ARM64 FMUs (-include): binds the libm functions whose
  * symbol versions glibc renewed (logf 2.27; exp, exp2, log, log2, pow 2.29; hypot 2.35) to the ARM64

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Keeps the FMU loadable on old Linux distributions: glibc 2.29 gave exp, log, pow, exp2 and log2
  * new symbol versions, which a binary linked here would require. The linker redirects every call

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Writes a model's modelDescription.xml (FMI 2.0 or 3.0) from the same variable table and start
  * values the FMU runs on, so the description and the binary cannot disagree.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The identifier FMU: inputs u[num_inputs] and y[num_outputs] each communication step; OKID/ERA
  * re-identification every identify_every samples; outputs per mode (frequency, damping,

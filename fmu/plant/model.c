@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The plant FMU: the paper's 2-DOF system (eq. 65-82), force on mass 1, stepped exactly with a
  * zero-order hold over each communication step (eq. 13-14, the core's model module). Outputs are

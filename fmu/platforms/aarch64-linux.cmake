@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Linux ARM64 with clang and lld against Debian's arm64-cross sysroot (gcc-aarch64-linux-gnu
 # conflicts with gcc-multilib on Debian 12): binaries/aarch64-linux in FMI 2 and FMI 3.
 set(CMAKE_SYSTEM_NAME Linux)

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* What the okid subcommands share: exit codes, one-line errors, integer parsing, the names
    of the enumerations (docs/cli.md: the C enumerator's suffix in lower case). */
 #ifndef OKID_CLI_COMMON_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * okid crlb: the Cramer-Rao lower bound of the modes of a planned chain experiment (the record
  * okid simulate writes with the same options): the standard deviation below which no unbiased

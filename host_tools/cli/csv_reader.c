@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* See csv_reader.h. Strict on purpose: a recording with a hole or a typo is an error, not a guess. */
 #define _POSIX_C_SOURCE 200809L /* fmemopen */
 #include "csv_reader.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * A strict CSV reader for numeric recordings: one header row of names, then rows of numbers. It
  * streams: a file of any size is read through one buffer that holds a chunk (and grows only to

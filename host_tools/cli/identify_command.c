@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* okid identify: read a CSV recording, choose the input and output columns, identify, print. */
 #include <ctype.h>
 #include <math.h>

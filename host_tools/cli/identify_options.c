@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The options of okid identify, once: name, old spelling, value type, valid range, the okid_config
  * field set (docs/cli.md's vocabulary: the flag is the field's name with '-' for '_') and help.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The options of okid identify: the option table (identify_options.c) fills this struct. */
 #ifndef OKID_CLI_IDENTIFY_OPTIONS_H
 #define OKID_CLI_IDENTIFY_OPTIONS_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* okid identify --refine: the refinement over the record, the choice of its start, their output. */
 #include "identify_refine.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* See json_writer.h. */
 #include "json_writer.h"
 

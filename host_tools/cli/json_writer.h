@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Just enough JSON output for the identification result: numbers round-trip (%.17g), NaN/Inf as
    null, strings always valid UTF-8 (invalid bytes become U+FFFD). */
 #ifndef OKID_CLI_JSON_WRITER_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* okid: run the OKID/ERA identifier on CSV recordings, or write the paper's experiment as one. */
 #include <stdio.h>
 #include <string.h>

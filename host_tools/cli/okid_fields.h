@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The host side's field tables: okid_config's fields and okid_result's scalars, each once, which
    the JSON writer, the Python binding (and through it okid/_config.py and okid/_result.py) expand.
    okid_mode's table, OKID_MODE_FIELDS, is beside the struct in okid/modal.h (the library's

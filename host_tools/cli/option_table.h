@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Option tables of the okid subcommands: one entry per option gives its name, old spellings, value
  * type, valid range, default (read from the command's default option struct) and help. The parser,

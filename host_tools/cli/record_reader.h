@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * A recording for okid identify, read so that memory does not grow with the file: one pass
  * through csv_reader's stream parses and checks every row, counts the samples, follows the time

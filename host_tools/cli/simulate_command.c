@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* okid simulate: a chain of masses excited by white noise, sampled exactly (ZOH), written as CSV. */
 #include <errno.h>
 #include <float.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The chain experiment of okid simulate, shared with okid crlb: options, model, record. */
 #ifndef OKID_CLI_SIMULATE_MODEL_H
 #define OKID_CLI_SIMULATE_MODEL_H

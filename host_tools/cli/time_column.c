@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* See time_column.h. */
 #include "time_column.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The time column of a recording (docs/robustness.md, "CSV files"): which header names mark one,
  * in which unit, and the check that its stamps are uniform. A time column is never a data channel.

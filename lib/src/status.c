@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Human-readable status and warning strings. */
 #include "okid/status.h"
 

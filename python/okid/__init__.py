@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """okid: OKID/ERA system identification of structures from measured forces and responses.
 
     import okid

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """okid_config from keywords: the C field names, okid_config_default()'s defaults (asked from the
 library at import, so they cannot drift), enumerations by their C suffix in lower case, and
 messages that name the setting and its valid range."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Exceptions of okid, one per okid_status, and the warning for rejected samples."""
 from __future__ import annotations
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """okid.identify() and okid.Identifier: the C identifier in-process. Time runs along axis 0; the
 caller's arrays are read, never written; a C-contiguous float64 block goes to okid_push_block()
 without a copy."""

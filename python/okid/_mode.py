@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Mode and the flags of a result: the leaf of the package (it imports only the binding), which
 _result and _refine both build on."""
 from __future__ import annotations

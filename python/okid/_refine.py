@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The prediction-error refinement (docs/refinement.md) and the Cramér–Rao bound: the library's
 okid_refine_* API over the caller's arrays, fed once per pass without a copy."""
 from __future__ import annotations

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Result and the stabilization diagram: immutable views of an identification, copied out of the C
 workspace (Mode and the flags are in _mode)."""
 from __future__ import annotations

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """okid.identify(refine=True) without observer_order, hankel_rows or hankel_cols: the CLI's search
 for the refinement's start (host_tools/cli/identify_refine.c, identify_choose_start; docs/refinement.md).
 OKID/ERA from each (p, alpha = beta) of a grid, cheap first, each refined; the start whose refinement

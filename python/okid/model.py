@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The model side of okid (lib/include/okid/model.h): chains of masses, the mechanical model's
 continuous state space (paper eq. 6-9), its exact zero-order-hold discretisation (eq. 13-14) and
 the discrete simulator. Matrices are ordinary (rows, cols) arrays; time runs along axis 0."""

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 // Shared helpers of the okid._core binding: numpy arrays out of okid's column-major views, and the
 // status a call returns to the Python layer (okid/_errors.py turns it into an exception).
 #pragma once

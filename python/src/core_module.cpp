@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // okid._core: the C library in-process. The Python layer (okid/__init__.py and friends) gives it
 // keywords, validation messages and exceptions; this module only calls the C API.
 #include "binding.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // okid._core.Identifier, Result and Stabilization: the identifier over a workspace it owns, each
 // result copied out of the workspace (a Result outlives the next identify()), and the CLI's JSON
 // writer for to_dict(). Every call returns its okid_status; okid/_identifier.py raises.

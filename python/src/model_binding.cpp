@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // okid._core model functions: the chain model, the mechanical model's state space, the exact ZOH
 // and the simulator of lib/include/okid/model.h. Matrices come in column-major (okid/_model.py
 // converts), results go out as C-order numpy arrays.

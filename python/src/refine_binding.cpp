@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // okid._core.refine and RefineCore: the prediction-error refinement (okid/refine.h) of a model
 // over a record the caller holds, fed once per pass from its arrays (no copy, GIL released), with
 // the noise estimated or fixed (okid_refine_set_noise: the Cramer-Rao bound). The CLI's JSON

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # ctest script: install okid into a scratch prefix, then build and run tests/consumer against it
 # twice — with find_package(okid) and with pkg-config — as an outside project would.
 #   cmake -DBUILD_DIR=<okid build> -DSOURCE_DIR=<tests/consumer> -DWORK_DIR=<scratch> -DCC=<cc> -P consumer_test.cmake

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Links an installed okid: simulate the paper's 2-DOF case, identify it, check two modes come out. */
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Running the okid FMUs with fmpy: one adapter over FMI 2 and FMI 3 slaves, the plant alone,
 the identifier fed from arrays (simulate_fmu), and a master loop coupling both step by step."""
 import re

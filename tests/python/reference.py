@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The paper's 2-DOF system computed independently of the C code (numpy/scipy).
 
 Eq. 6-9 for the continuous model, scipy.linalg.expm for the exact zero-order hold (eq. 13-14),

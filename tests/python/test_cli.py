@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The okid command-line tool end to end, against exact values computed here with numpy/scipy.
 
 The reference never goes through the library: the chain's M, R, K are assembled by reference.py, the ZOH

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The options of okid identify and okid simulate (docs/cli.md): names after the okid_config fields,
 old spellings as aliases, every refusal naming the value and the valid range, and the JSON "config"
 object holding the settings the run used.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """okid identify on hostile recordings (issue 17, docs/robustness.md): CSV files that lie about their
 columns (class 2), numbers at the edge of the floating-point range (class 5), memory that must not
 grow with the file (class 6), and refusals that give the numbers (class 7, library side).

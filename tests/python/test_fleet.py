@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """okid-fleet end to end on real Dask clusters of processes on localhost.
 
 A synthetic fleet from okid's simulator (some assets losing stiffness) is identified on a cluster

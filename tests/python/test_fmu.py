@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The FMUs as an importer sees them (fmpy, FMI 2 and FMI 3): verification against the 2-DOF
 reference, the shared objects' hygiene, and every behaviour an importer relies on."""
 import math

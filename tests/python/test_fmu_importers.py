@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Second importers besides fmpy (issue 16): ecospy (Vico/ecos, PyPI; FMI 2 and FMI 3) and
 libcosimpy (OSP libcosim, PyPI; FMI 2). Each loads the FMUs of build/fmu, steps the paper case
 (and the 2-input, 3-output chain through an FMU written by okid-fmu, whose configuration the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """What a co-simulation master needs besides stepping (issue 22): the outputs' direct dependencies
 on inputs in <ModelStructure> (no false algebraic loop when a controller closes the loop through
 the plant's positions), and FMU states for masters that roll back a step: get, step, set, redo

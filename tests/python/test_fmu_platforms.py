@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The FMUs' other platforms' binaries run, not just built. Two C importers, cross-built for win64
 (run under Wine) and aarch64-linux (run under qemu-user): tests/fmu_cosim.c couples the FMI 2
 plant and identifier of build/fmu/fmi2 for the paper case; tests/fmu3_chain.c configures the

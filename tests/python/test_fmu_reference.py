@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The reference input and output each FMU ships (issue 22; FMI 3 in extra/, FMI 2 in
 documentation/), as the Modelica Reference-FMUs ship <model>_in.csv and <model>_ref.csv: fmpy,
 simulating the FMU with the shipped input, reproduces the shipped output bit for bit, and the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The FMUs' sources/ as a user rebuilds them (issue 22): over the Eigen backend, whose headers are
 in sources/Eigen, so no LAPACK is needed to build or to load. fmpy's source build (FMI 2:
 <SourceFiles> of modelDescription.xml, FMI 3: sources/buildDescription.xml; fmpy compiles them with

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The automatic mode selection (okid_select_modes, through tests/mode_selection_run) on the real
 records of ../shared/data/real against their consensus modes (tests/data/real_consensus.json,
 made by scripts/real_consensus.py from an okid grid at fixed orders, the multi-input H1 estimate

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The Python package okid: the paper's case against the independent numpy/scipy reference, the
 CLI's JSON against Result.to_dict() on the same data, property tests (hypothesis), the caller's
 arrays, threads, NaN rows and the memory of a long stream.

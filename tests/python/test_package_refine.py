@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The refinement and the Cramér–Rao bound in the Python package: refined modes against the exact
 modes of the paper's system (numpy in tests/python/reference.py, from its masses, dampers and springs, never
 through the library) within a few standard deviations, Result.to_dict() against

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Identification quality through the CLI: diagnostics, modal indicators and the stabilization
 diagram against numpy (an ERA and the indicators of okid/modal_indicators.h written again here from
 the Markov parameters the CLI prints, and the exact paper model), and the diagram's PNG."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """okid identify --refine end to end: the refined modes against the exact ones of the paper's
 system (numpy in tests/python/reference.py, never through the library), their standard deviations, the
 warning when the refinement stops early, and the refusal with decimation."""

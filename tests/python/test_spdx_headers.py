@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The SPDX licence line of every tracked source file (scripts/spdx_headers.py, docs/building.md)."""
 import importlib.util
 import subprocess

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The one vocabulary (docs/cli.md): every field of okid_config has a CLI flag, a JSON "config" key
 and an FMU variable of the same name, with okid_config_default()'s default.
 

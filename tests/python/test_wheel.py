@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The portable wheels of scripts/wheel.sh (docs/python.md, "Portable wheels"): auditwheel's tag
 (manylinux_2_17, x86_64 and aarch64), what the wheel holds (the extension for its architecture,
 the prebuilt FMUs, the licence metadata), and the x86_64 wheel installed into a fresh venv whose

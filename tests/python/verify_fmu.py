@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Verifies the okid FMUs (FMI 2 and 3) against the paper's 2-DOF reference computed with numpy/scipy.
 
     .venv/bin/python tests/python/verify_fmu.py --fmu-dir build/fmu [--plots docs/img] [--cli build/host_tools/cli/okid]

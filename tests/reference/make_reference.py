@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Writes reference_data.h: reference values for the C tests, computed with numpy/scipy.
 
 Independent of the code under test: the matrices come from the paper's equations (6)-(9) written

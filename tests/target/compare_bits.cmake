@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Runs a program on the target (under QEMU) and its host twin, and compares the "bits ..." lines
 # (IEEE bit patterns of every stage's results) one by one. Prints each stage's tally and every
 # differing value; fails when any value differs, except that the stages computed through libm's

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Runs test_float_convergence in the float build (FLOAT_CMD: on the host or on the target under
 # QEMU) and in a double build (DOUBLE_CMD: the host twin) on the same record, and checks that at
 # every record length the float build's frequency and damping errors of each mode are within

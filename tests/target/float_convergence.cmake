@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # The float convergence test (docs/accuracy.md), for the host float build (tests/CMakeLists.txt)
 # and a float target (tests/target/CMakeLists.txt): test_float_convergence built here with this
 # build's okid_real = float, the same program built for the host in double (the host twin project,

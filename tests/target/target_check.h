@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * A tiny assert harness for the target tests (cmocka needs an operating system): each CHECK
  * prints what failed and counts it; main() returns target_summary(), the exit status QEMU reports.

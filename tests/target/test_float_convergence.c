@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Float that converges: the paper's 2-DOF structure (m = 2, 3 kg, k = 20, 40, 30 N/m, c = k / 10)
  * driven by unit white noise at 100 Hz, simulated in double, both accelerations with 2 % white

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * On the target, without linear algebra: the example's plant (chain model, state space, zero-order
  * hold) against the numpy/scipy reference of tests/reference, its impulse response through the

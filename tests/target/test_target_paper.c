@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The paper case on the target (and, built by the host compiler, on the host: see host_twin/):
  * 1001 samples of white noise through the reference plant of tests/reference, identified with

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * On the target (32-bit size_t): randomised configurations whose dimensions are each accepted but
  * whose workspace exceeds 4 GiB must be refused with OKID_E_BAD_SIZE (okid_workspace_size and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /**
  * \file identifier.h
  * \brief The OKID/ERA identifier: push input/output samples, identify {A, B, C, D, G} and modes.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /**
  * \file identifier_storage.h
  * \brief NOT API: the storage of an okid_identifier (its size formulas are in okid/sizes.h).

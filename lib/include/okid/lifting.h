@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /**
  * \file lifting.h
  * \brief Exact decimation by lifting: K consecutive samples become one sample of a system with

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /**
  * \file limits.h
  * \brief Every limit of the library in one place: the largest dimensions, horizons, orders,

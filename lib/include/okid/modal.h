@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /**
  * \file modal.h
  * \brief Modal parameters of a discrete-time model: eigenvalues, poles, frequencies, damping

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /**
  * \file modal_indicators.h
  * \brief Modal accuracy indicators of an ERA realization (Juang 1994, ch. 5 and 7; Pappa, Elliott,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /**
  * \file mode_selection.h
  * \brief The structure's physical modes chosen automatically from a stabilization diagram

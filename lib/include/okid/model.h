@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /**
  * \file model.h
  * \brief The mechanical model of the paper (eq. 1-14): M, R, K, B2, Ca, Cv, Cd to a continuous

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /**
  * \file okid.h
  * \brief Everything of the okid library: include this one header.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /**
  * \file random.h
  * \brief A small deterministic random generator (xoshiro256**), state owned by the caller, for

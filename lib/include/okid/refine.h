@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /**
  * \file refine.h
  * \brief Prediction-error (output-error maximum-likelihood) refinement of an identified model,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /**
  * \file refine_storage.h
  * \brief NOT API: the storage of an okid_refiner.

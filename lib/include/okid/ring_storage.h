@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /**
  * \file ring_storage.h
  * \brief NOT API: the ring of the last vectors that an identifier keeps (the pipeline's sample

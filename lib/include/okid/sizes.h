@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /**
  * \file sizes.h
  * \brief NOT API: every internal size formula of the library, in one place.

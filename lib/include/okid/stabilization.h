@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /**
  * \file stabilization.h
  * \brief Stabilization diagram data: the modes (frequency, damping, shape, indicators) of every

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /**
  * \file types.h
  * \brief Scalar, complex and matrix-view types shared by every okid header.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Automatic selection of physical modes from a stabilization table (okid/mode_selection.h): hard
  * criteria per pole, greedy clustering by decreasing CMI with per-order uniqueness, a cluster-size

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Prediction-error refinement streamed over the record (refine.h): the workspace, the passes
  * (simulation, forward sensitivities, normal equations) and the Levenberg-Marquardt steps between

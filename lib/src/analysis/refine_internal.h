@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The refinement's parametrisation, shared by refine.c, refine_modal_form.c and refine_uncertainty.c. */
 #ifndef OKID_REFINE_INTERNAL_H
 #define OKID_REFINE_INTERNAL_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The refinement's parametrisation: the real modal form of the start model. With A's
  * eigenvectors T (LAPACK layout: Re v, Im v per pair) A T = T diag(blocks), so B -> T^-1 B and

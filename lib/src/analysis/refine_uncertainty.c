@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The refinement's linear algebra and its error bars: the damped normal equations (scaled to a
  * unit diagonal, Cholesky), the covariance of the parameters as the inverse of the Fisher

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Stabilization diagram by nested truncation (okid/stabilization.h): one ERA at the largest order
  * into the caller's workspace, then the modal analysis and indicators of every leading block.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* See data_range.h. */
 #include "identifier/data_range.h"
 

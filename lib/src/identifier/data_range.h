@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The data's magnitudes against the range the computation can use (OKID_MAGNITUDE_MIN/MAX,
  * types.h): a property of the data, reported as OKID_E_DATA_RANGE, never as a backend error or a

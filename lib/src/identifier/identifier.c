@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The public identifier API: argument checks, state, and okid_identify() as a sequence of the
    stages of docs/design.md's data flow, each called with its own inputs, scratch and outputs. */
 #include "okid/identifier.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Configuration checks and workspace layout. Regions, in order: the persistent accumulation
  * (sample ring, pending regressor rows, triangular factor R), the results of the last

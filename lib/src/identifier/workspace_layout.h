@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Configuration checks, derived sizes and the workspace layout of an identifier. */
 #ifndef OKID_WORKSPACE_LAYOUT_H
 #define OKID_WORKSPACE_LAYOUT_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The mechanical model of eq. 1-10 turned into the continuous state space of eq. 6-9. */
 #include "okid/model.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* xoshiro256** seeded by splitmix64 (Blackman and Vigna), normal deviates by Box-Muller. */
 #include "okid/random.h"
 

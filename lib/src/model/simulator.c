@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Discrete state-space simulator: y(k) = C x(k) + D u(k), x(k+1) = A x(k) + B u(k). */
 #include "okid/model.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Exact zero-order-hold discretisation (eq. 13-14) from the exponential of the augmented matrix
  * E = [Ac Bc; 0 0] dt, whose exponential is [A B; 0 I]. The exponential is Higham's (2005)

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Carving a caller's workspace into aligned regions. With a NULL base it only adds up the sizes,
  * so one function both lays out the workspace and computes okid_workspace_size().

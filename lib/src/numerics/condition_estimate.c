@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Incremental condition estimation: see condition_estimate.h. */
 #include "numerics/condition_estimate.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Incremental condition estimation (Bischof 1990): the cases and formulas of LAPACK's xLAIC1
  * (modified BSD licence), the step with which xGELSY takes its rank. Shared by the core's

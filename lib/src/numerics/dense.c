@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Small dense helpers in plain C; see dense.h. */
 #include "numerics/dense.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Small dense helpers in plain C (sizes here are tens, BLAS would not pay for its call overhead). */
 #ifndef OKID_DENSE_H
 #define OKID_DENSE_H

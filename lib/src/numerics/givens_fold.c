@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Givens fold of one row: see givens_fold.h. It is the whole cost of okid_push with block_rows 1
  * (3 n^2 flops against O(n) for the rest), hence the loop shape below, measured in instructions

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Folding one regressor row into the triangular factor by Givens rotations (okid_push's cost). */
 #ifndef OKID_GIVENS_FOLD_H
 #define OKID_GIVENS_FOLD_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The narrow linear-algebra interface the core is written against. Two backends implement it:
  * linalg_lapacke.c (host and FMUs: LAPACK through column-major LAPACKE_*_work calls) and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /*
  * The Eigen backend of linalg.h, for targets without LAPACK (bare-metal Cortex-M). Heap-free and
  * re-entrant: every matrix is an Eigen::Map over the caller's memory (the identifier's workspace);

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The LAPACK backend of linalg.h. Only column-major LAPACKE_*_work calls: LAPACKE's high-level
  * wrappers and its row-major paths allocate, the column-major _work path goes straight to the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Math functions and constants for okid_real, so the core compiles as double or float. */
 #ifndef OKID_REAL_MATH_H
 #define OKID_REAL_MATH_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Rank-revealing least squares on a triangular matrix by Givens rotations: see triangular_lstsq.h. */
 #include "numerics/triangular_lstsq.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Rank-revealing least squares on an upper-triangular matrix, in place and without leaving the
  * triangle: the solves of the regressor factor R work in R's unused lower triangle (docs/design.md,

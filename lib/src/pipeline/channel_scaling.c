@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Per-channel scaling: see channel_scaling.h; column order of the rows in sample_buffer.h. */
 #include "pipeline/channel_scaling.h"
 

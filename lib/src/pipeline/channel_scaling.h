@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Per-channel scaling (OKID_SCALING_AUTO): the scales are the RMS of each input and output over
  * the first block of regressor rows. The least squares and the instruments see the data divided

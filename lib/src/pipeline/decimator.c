@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Butterworth design (Oppenheim and Schafer, Discrete-Time Signal Processing, 3rd ed., 7.2; the
  * steps of scipy.signal.butter): the analog poles of order 2, s = W (-1 +- i) / sqrt(2), at the

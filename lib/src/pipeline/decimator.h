@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Anti-alias decimation inside the buffering step: every channel (inputs and outputs alike)
  * passes through one low-pass filter, then every K-th sample is kept. The filter is a

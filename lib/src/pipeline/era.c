@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * ERA after Juang (1994), which corrects the paper's eq. 61: with H(0) = U S V',
  *   A = S^-1/2 U_n' H(1) V_n S^-1/2,  C = E_m' U_n S^1/2,  [B G] = S^1/2 V_n' E_(r+m),  D = Y_0.

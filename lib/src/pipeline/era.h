@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Eigensystem realization (eq. 57-61) from the recovered Markov parameters: Hankel matrix H(0),
  * its SVD, the order, and the realization A, B, C, D (and G for the combined realization).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Instrumental variables with delayed inputs: see instrumental.h. */
 #include "pipeline/instrumental.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Instrumental-variable estimation of the observer Markov parameters (OKID_ESTIMATOR_INSTRUMENTAL).
  * Instead of the factor of [Phi y], the fixed-memory state is the cross-product

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Block QR accumulation and rank-revealing solve: see least_squares.h. */
 #include "pipeline/least_squares.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Least squares for the observer Markov parameters (eq. 50) in fixed memory: regressor rows are
  * folded into the upper-triangular factor R of [Phi | Y] (w x w, w = q + m) by blocks, so any

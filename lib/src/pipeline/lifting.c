@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Exact decimation by lifting (okid/lifting.h): a copy, K samples of inputs side by side. */
 #include "okid/lifting.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Eq. 51 and 53. With X the least-squares solution (q x m, sample_buffer.h column order), the
  * observer Markov parameters are

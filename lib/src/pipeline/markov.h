@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Recovery of the system Markov parameters Y_k (eq. 51) and of the observer-gain Markov
  * parameters Y°_k (eq. 53) from the observer Markov parameters solved by least_squares.h.

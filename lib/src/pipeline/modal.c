@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Modal parameters of a discrete model (eq. 56, 63, 64): eigenvalues of A, continuous poles
  * s = ln(lambda)/dt, natural frequencies, damping ratios, mode shapes at the sensors (C psi) and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Modal analysis on workspace views, shared by okid_modal_analysis() and the identifier. */
 #ifndef OKID_MODAL_INTERNAL_H
 #define OKID_MODAL_INTERNAL_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Recursive buffering: see sample_buffer.h for the row layout. */
 #include "pipeline/sample_buffer.h"
 

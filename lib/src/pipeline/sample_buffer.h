@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Recursive buffering (eq. 35, 49): a ring of the last p samples v = [u; y] and the regressor
  * row built from it. Row layout (internal column order, inputs first so that the leading block of

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Identifiability diagnostics: see diagnostics.h and the warning bits of okid/status.h. */
 #include "quality/diagnostics.h"
 

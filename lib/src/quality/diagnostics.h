@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Identifiability diagnostics of an identification (warning bits of status.h and the condition
  * numbers of okid_result): regressor rank against r (p + 1) + n, persistence of excitation,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Modal accuracy indicators (EMAC, MPC, MSV, CMI), formulas in okid/modal_indicators.h. Modal
  * input rows need Psi^-1: with LAPACK's real eigenvector basis Vr (a pair's real and imaginary

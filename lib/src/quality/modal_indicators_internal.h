@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /*
  * Per-mode accuracy indicators (EMAC, MPC, MSV, CMI; okid/modal_indicators.h) of a realization,
  * on caller-provided scratch, shared by okid_identify() and the stabilization diagram.

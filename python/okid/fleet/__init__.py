@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """okid.fleet: every record of many machines identified in parallel on Dask, modes tracked over time.
 
     from okid import fleet

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """okid-fleet: identify many records on Dask, track their modes over time, make a synthetic fleet.
 
     okid-fleet synth --assets 8 --records 24 --out fleet/

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The fleet job on Dask: records in batches, one task per batch, each task writing its own part
 of the Parquet output.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The tracks plot, one row of two panels per asset: each tracked mode's frequency as its change
 from the reference record [%] (so a drift of a fraction of a percent shows), and its damping ratio
 [%], against time."""

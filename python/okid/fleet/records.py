@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Where records come from and how one is read: CSV files in the CLI's layout and Parquet datasets.
 
 A record is listed on the client without reading its samples (a RecordRef: a path and, for

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """One record identified: the rows of the mode table, and the table's schema.
 
 A record gives one row per identified mode, or one status row when it fails (an unreadable file,

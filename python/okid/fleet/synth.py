@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """A synthetic fleet from okid's own model and simulator, so the whole path can be tried without
 real data: ASSETS chains of masses (the paper's 2-DOF system by default), each with its own small
 spread of stiffness, R records each of white-noise force on mass 1 and the accelerations of every

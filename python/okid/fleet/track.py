@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Modes tracked over time, asset by asset.
 
 The reference modes of an asset are those of its first successful record (in time order). Every

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """okid-fmu: an FMI 2 identifier FMU for any structure, without a compiler.
 
 The prebuilt FMI 2 identifier FMU (the paper's configuration) holds one binary per platform; its

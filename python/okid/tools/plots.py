@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The paper's figures (exact and identified Markov parameters, force, accelerations, Hankel singular
 values) and the convergence of the identifier FMU's frequencies and damping ratios, as PNG files."""
 import matplotlib

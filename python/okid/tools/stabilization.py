@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The classic stabilization diagram (model order against frequency) as a PNG, from the JSON of
 ``okid identify --json --stabilization NMAX``.
 
