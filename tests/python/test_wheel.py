@@ -21,8 +21,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from okid.tools.fmu_runs import PAPER_SETTINGS, Slave, modes_from, mode_outputs
-from okid.tools.reference import paper_reference
+from fmu_runs import PAPER_SETTINGS, Slave, modes_from, mode_outputs
+from reference import paper_reference
 
 ROOT = Path(__file__).resolve().parents[2]
 TOOLS = ROOT / "build-wheel" / "tools" / "bin"
