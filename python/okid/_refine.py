@@ -13,7 +13,8 @@ import numpy as np
 from . import _core
 from . import model as _model_mod
 from ._config import SENSING
-from ._errors import E_BAD_PARAMETER, E_BAD_SIZE, BadParameterError, BadSizeError, check
+from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DATA_RANGE, E_RANK_DEFICIENT, OK, BadParameterError, BadSizeError,
+                      check)
 from ._mode import Mode, ModeArrays, modes_from_dicts
 
 _MAX_PASSES, _STEP_TOLERANCE = _core.refine_config_default()
@@ -74,6 +75,7 @@ class Refinement(_ModeArrays):
 
 def _refinement(core) -> Refinement:
     f = core.fields()
+    f.pop("std_status")  # okid.crlb's refusal (std_reason); a refinement's missing stds are -1
     modes = modes_from_dicts(f.pop("modes"))
     return Refinement(**f, modes=modes)
 
@@ -150,6 +152,15 @@ class CramerRaoBound(_ModeArrays):
 
 
 
+#: why okid_refine_result::std_status is not OKID_OK (the words of okid crlb's refusal)
+_STD_REASONS = {
+    E_RANK_DEFICIENT: "the Fisher information is singular: the record does not determine the model's parameters "
+                      "(a constant or too short force, a mode the force does not excite or the outputs do not see)",
+    E_DATA_RANGE: "a mode has no continuous-time pole (a real non-positive eigenvalue) or its standard deviation "
+                  "is not a finite number",
+}
+
+
 def crlb(u: Any, dt: float, *, model: Optional[Tuple[Any, Any, Any, Any]] = None, noise: Optional[float] = None,
          noise_std: Any = None, sensing: str = "acceleration") -> CramerRaoBound:
     """The Cramér–Rao lower bound of the natural frequencies and damping ratios of a model driven by
@@ -185,7 +196,10 @@ def crlb(u: Any, dt: float, *, model: Optional[Tuple[Any, Any, Any, Any]] = None
     if not np.all(np.isfinite(sigma) & (sigma > 0)):
         raise BadParameterError(f"noise std {sigma.tolist()}: every value finite and > 0", E_BAD_PARAMETER)
     sigma = np.ascontiguousarray(sigma)
-    _, bound = run((a, b, c, d), dt, sensing, ua, y, 2, _STEP_TOLERANCE, sigma, what="crlb")
+    core, bound = run((a, b, c, d), dt, sensing, ua, y, 2, _STEP_TOLERANCE, sigma, what="crlb")
     if not bound.converged:
         raise BadParameterError(f"cannot compute the bound: {bound.message}", E_BAD_PARAMETER)
+    std_status = core.fields()["std_status"]
+    if std_status != OK:
+        check(std_status, f"cannot compute the bound: {_STD_REASONS.get(std_status, 'no covariance')}")
     return CramerRaoBound(bound.modes, sigma, bound.num_parameters, bound.samples)
