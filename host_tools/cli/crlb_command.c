@@ -112,7 +112,17 @@ int crlb_command(int argc, char **argv)
         free(dm), free(u), free(y);
         return cli_error(EXIT_DATA, "out of memory");
     }
-    okid_status st = simulate_build_model(&o, dm);
+    double damped_hz = 0, natural_hz = 0;
+    okid_status st = simulate_fastest_mode(&o, &damped_hz, &natural_hz);
+    if (st == OKID_OK && damped_hz >= 0.5 / o.dt) {
+        free(dm), free(u), free(y);
+        return cli_error(EXIT_USAGE,
+                         "--dt %g: the chain's mode of natural frequency %.6g Hz (damped %.6g Hz) is at or above the "
+                         "Nyquist frequency 1/(2 dt) = %.6g Hz and aliases at this dt: its bound would be another "
+                         "mode's; give --dt below %.6g s",
+                         o.dt, natural_hz, damped_hz, 0.5 / o.dt, 0.5 / damped_hz);
+    }
+    if (st == OKID_OK) st = simulate_build_model(&o, dm);
     if (st == OKID_OK) st = simulate_record(&o, dm, u, y);
     okid_refiner rf;
     okid_refine_result rr;

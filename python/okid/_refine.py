@@ -183,6 +183,16 @@ def crlb(u: Any, dt: float, *, model: Optional[Tuple[Any, Any, Any, Any]] = None
         raise BadParameterError("give exactly one of noise (relative to each output's RMS) and noise_std", E_BAD_PARAMETER)
     if not (math.isfinite(float(dt)) and dt > 0):
         raise BadParameterError(f"dt = {dt!r}: a finite sample interval > 0 [s]", E_BAD_PARAMETER)
+    if model is None:
+        # the paper's continuous modes: one whose damped frequency reaches Nyquist aliases at this dt
+        poles = np.linalg.eigvals(_model_mod._paper_continuous(sensing)[0])
+        fastest = poles[np.argmax(np.abs(poles.imag))]
+        damped, natural = abs(fastest.imag) / (2 * math.pi), abs(fastest) / (2 * math.pi)
+        if damped >= 0.5 / dt:
+            raise BadParameterError(f"dt = {dt!r}: the paper system's mode of natural frequency {natural:.6g} Hz "
+                                    f"(damped {damped:.6g} Hz) is at or above the Nyquist frequency 1/(2 dt) = "
+                                    f"{0.5 / dt:.6g} Hz and aliases at this dt: its bound would be another mode's; "
+                                    f"give dt below {0.5 / damped:.6g} s", E_BAD_PARAMETER)
     a, b, c, d = _model(*(model if model is not None else _model_mod.paper_system(dt, sensing)))
     ua, _ = _record(u, np.zeros((np.shape(u)[0], c.shape[0])), b.shape[1], c.shape[0])
     y, _ = _model_mod.simulate(a, b, c, d, ua)

@@ -4,6 +4,8 @@ answer or a refusal that names the value and why.
 
 1. okid crlb / okid.crlb: a bound that cannot be computed was printed as -1 with exit 0; a huge
    noise overflowed the weights 1 / sigma^2 into that -1 (the bound is linear in the noise).
+2. okid crlb --dt 1: the chain's modes alias above Nyquist, and a finite bound of another "mode"
+   (0.345 Hz, damping 0.9995) came out without a word.
 """
 import copy
 import os
@@ -49,9 +51,9 @@ def test_crlb_cli_huge_noise_is_linear():
     assert huge[0, 1] == pytest.approx(1.35e198, rel=0.01)
 
 
-@pytest.mark.parametrize("extra", [("--dt", 10)])
-def test_crlb_cli_singular_fisher_is_refused(extra):
-    line = refused(run("crlb", "--noise", 0.05, *extra))
+def test_crlb_cli_singular_fisher_is_refused():
+    # 12 samples of 2 outputs for 18 parameters: the Fisher information is singular at working precision
+    line = refused(run("crlb", "--noise", 0.05, "--samples", 12))
     assert "cannot compute the bound: the Fisher information is singular" in line
 
 
@@ -72,7 +74,34 @@ def _zero_a():
 @pytest.mark.parametrize("case", ["constant force", "zero A", "dt 10"])
 def test_crlb_python_singular_fisher_is_refused(case):
     u = np.random.default_rng(1).standard_normal(1001)
+    # dt 10 with the paper system's discrete model at dt 10 given (not aliasing-checked: a discrete model)
     args = {"constant force": (np.ones(1001), 0.01, {}), "zero A": (u, 0.01, {"model": _zero_a()}),
-            "dt 10": (u, 10.0, {})}[case]
+            "dt 10": (u, 10.0, {"model": okid.model.paper_system(10.0)})}[case]
     with pytest.raises(okid.OkidError, match="cannot compute the bound: the Fisher information is singular"):
         okid.crlb(args[0], args[1], noise=0.05, **args[2])
+
+
+# --- 2. aliasing -----------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("dt", [1, 10])
+def test_crlb_cli_aliased_mode_is_refused(dt):
+    line = refused(run("crlb", "--noise", 0.05, "--dt", dt), code=2)
+    assert line == (f"okid: --dt {dt}: the chain's mode of natural frequency 1.04769 Hz (damped 0.98931 Hz) is at or "
+                    f"above the Nyquist frequency 1/(2 dt) = {0.5 / dt:g} Hz and aliases at this dt: its bound would "
+                    f"be another mode's; give --dt below 0.505403 s")
+
+
+def test_crlb_cli_below_nyquist_still_bounds():
+    # dt 0.5: Nyquist 1 Hz, above the damped 0.989 Hz: both true modes, finite bounds
+    table = crlb_table(run("crlb", "--noise", 0.05, "--dt", 0.5))
+    np.testing.assert_allclose(table[:, 0], [0.503292121, 1.047686096], rtol=1e-9)
+    assert np.all(np.isfinite(table[:, [1, 3]])) and np.all(table[:, [1, 3]] > 0)
+
+
+def test_crlb_python_aliased_mode_is_refused():
+    u = np.random.default_rng(1).standard_normal(1001)
+    with pytest.raises(okid.BadParameterError, match=r"dt = 1\.0: the paper system's mode of natural frequency "
+                       r"1\.04769 Hz \(damped 0\.98931 Hz\) is at or above the Nyquist frequency 1/\(2 dt\) = "
+                       r"0\.5 Hz"):
+        okid.crlb(u, 1.0, noise=0.05)
+    assert okid.crlb(u, 0.5, noise=0.05).frequencies_hz.tolist() == pytest.approx([0.503292121, 1.047686096], rel=1e-9)
