@@ -6,6 +6,7 @@ answer or a refusal that names the value and why.
    noise overflowed the weights 1 / sigma^2 into that -1 (the bound is linear in the noise).
 2. okid crlb --dt 1: the chain's modes alias above Nyquist, and a finite bound of another "mode"
    (0.345 Hz, damping 0.9995) came out without a word.
+3. okid identify with a header t,1,2,3: --outputs 2 took columns "2" and "3" (a name read as a count).
 """
 import copy
 import os
@@ -105,3 +106,40 @@ def test_crlb_python_aliased_mode_is_refused():
                        r"0\.5 Hz"):
         okid.crlb(u, 1.0, noise=0.05)
     assert okid.crlb(u, 0.5, noise=0.05).frequencies_hz.tolist() == pytest.approx([0.503292121, 1.047686096], rel=1e-9)
+
+
+# --- 3. column names that look like counts --------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def numbered(tmp_path_factory):
+    """okid simulate's paper record with the header t,1,2,3 (force in '1', the outputs in '2' and '3')."""
+    proc = run("simulate", "--samples", 400)
+    assert proc.returncode == 0, proc.stderr
+    lines = proc.stdout.splitlines()
+    assert lines[0] == "t,force,acc1,acc2"
+    path = tmp_path_factory.mktemp("numbered") / "numbered.csv"
+    path.write_text("\n".join(["t,1,2,3", *lines[1:]]) + "\n")
+    return path
+
+
+def test_outputs_count_or_name_is_refused(numbered):
+    line = refused(run("identify", "--order", 2, "--outputs", 2, numbered), code=2)
+    assert line == ("okid: --outputs 2: ambiguous, both a count (the next 2 column(s)) and the name of column 3 "
+                    "('2'): write --outputs 2, (a trailing comma: a list of names) for that column, or name the "
+                    "columns you mean (--outputs A,B)")
+
+
+def outputs_of(proc):
+    assert proc.returncode == 0, proc.stderr
+    return [line for line in proc.stdout.splitlines() if line.startswith("inputs:")][0]
+
+
+@pytest.mark.parametrize("spec,expected", [("2,", "inputs: 1; outputs: 2"), ("3,", "inputs: 1; outputs: 3"),
+                                           ("2,3", "inputs: 1; outputs: 2 3")])
+def test_outputs_names_with_a_comma(numbered, spec, expected):
+    assert outputs_of(run("identify", "--order", 2, "--outputs", spec, numbered)) == expected
+
+
+def test_count_and_name_of_the_same_column_is_not_ambiguous(numbered):
+    # --inputs 1: the next column is the one named '1'
+    assert outputs_of(run("identify", "--order", 2, "--inputs", 1, numbered)) == "inputs: 1; outputs: 2 3"
