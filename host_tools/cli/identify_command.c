@@ -424,6 +424,11 @@ static int record_dt(const identify_options *o, const csv_table *header, int tim
     char error[512];
     if (o->have_dt) {
         *dt = o->dt;
+        /* --dt with a time column: they must agree (a wrong --dt scales every frequency) */
+        if (time_col >= 0 && !o->ignore_time_column &&
+            time_stamps_check_dt(&scan->stamps, header->names[time_col], o->dt, error, sizeof error) != 0) {
+            return cli_error(EXIT_USAGE, "%s", error);
+        }
         return 0;
     }
     if (time_col < 0) {

@@ -7,7 +7,9 @@ answer or a refusal that names the value and why.
 2. okid crlb --dt 1: the chain's modes alias above Nyquist, and a finite bound of another "mode"
    (0.345 Hz, damping 0.9995) came out without a word.
 3. okid identify with a header t,1,2,3: --outputs 2 took columns "2" and "3" (a name read as a count).
+4. okid identify --dt 0.02 on stamps 0.01 s apart halved every frequency without a word.
 """
+import json
 import copy
 import os
 import subprocess
@@ -143,3 +145,55 @@ def test_outputs_names_with_a_comma(numbered, spec, expected):
 def test_count_and_name_of_the_same_column_is_not_ambiguous(numbered):
     # --inputs 1: the next column is the one named '1'
     assert outputs_of(run("identify", "--order", 2, "--inputs", 1, numbered)) == "inputs: 1; outputs: 2 3"
+
+
+# --- 4. --dt against the time column ----------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def paper(tmp_path_factory):
+    proc = run("simulate", "--samples", 1000)
+    assert proc.returncode == 0, proc.stderr
+    path = tmp_path_factory.mktemp("paper") / "paper.csv"
+    path.write_text(proc.stdout)
+    return path
+
+
+def identify_json(*args):
+    proc = run("identify", "--json", "--order", 4, *args)
+    assert proc.returncode == 0, proc.stderr
+    return json.loads(proc.stdout)
+
+
+def test_dt_disagreeing_with_the_stamps_is_refused(paper):
+    line = refused(run("identify", "--order", 4, "--dt", 0.02, paper), code=2)
+    assert line == ("okid: --dt 0.02 disagrees with the time column 't', whose stamps step by 0.01 s (1e-06 s "
+                    "allowed): drop --dt, or give --ignore-time-column to use --dt anyway")
+
+
+def test_dt_agreeing_with_the_stamps_is_the_same_run(paper):
+    plain = identify_json(paper)
+    assert identify_json("--dt", 0.01, paper)["modes"] == plain["modes"]
+    f = [mode["frequency_hz"] for mode in plain["modes"]]
+    assert f == pytest.approx([0.503292121, 1.047686096], rel=1e-6)
+
+
+def test_ignore_time_column_uses_dt(paper):
+    plain = identify_json(paper)
+    forced = identify_json("--dt", 0.02, "--ignore-time-column", paper)
+    assert forced["config"]["dt"] == 0.02
+    np.testing.assert_allclose([m["frequency_hz"] for m in forced["modes"]],
+                               [m["frequency_hz"] / 2 for m in plain["modes"]], rtol=1e-12)
+
+
+def test_dt_within_jittery_stamps_is_accepted(tmp_path, paper):
+    lines = paper.read_text().splitlines()
+    rows = [line.split(",", 1) for line in lines[1:]]
+    # stamps printed to 3 digits with a 1 ms jitter on every 10th: not uniform, --dt 0.01 within their steps
+    jittery = [f"{float(t) + (0.001 if k % 10 == 5 else 0):.3f},{rest}" for k, (t, rest) in enumerate(rows)]
+    path = tmp_path / "jittery.csv"
+    path.write_text("\n".join([lines[0], *jittery]) + "\n")
+    assert "is not uniform" in refused(run("identify", "--order", 4, path))
+    assert identify_json("--dt", 0.01, path)["config"]["dt"] == 0.01
+    assert "disagrees with the time column 't', whose stamps step by 0.009 to 0.011 s" in \
+        refused(run("identify", "--order", 4, "--dt", 0.02, path), code=2)
+
