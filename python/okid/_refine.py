@@ -12,7 +12,7 @@ import numpy as np
 
 from . import _core
 from . import model as _model_mod
-from ._config import SENSING
+from ._config import SENSING, real_array, real_number
 from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DATA_RANGE, E_RANK_DEFICIENT, OK, BadParameterError, BadSizeError,
                       check)
 from ._mode import Mode, ModeArrays, modes_from_dicts
@@ -86,8 +86,8 @@ def check_settings(max_passes: Any, step_tolerance: Any) -> Tuple[int, float]:
         raise BadParameterError(f"max_passes = {max_passes!r}: an integer in 2..1000 (default {_MAX_PASSES})",
                                 E_BAD_PARAMETER)
     try:
-        tol = float(step_tolerance)
-    except (TypeError, ValueError):
+        tol = real_number("step_tolerance", step_tolerance)
+    except BadParameterError:
         tol = math.nan
     if not (math.isfinite(tol) and tol > 0):
         raise BadParameterError(f"step_tolerance = {step_tolerance!r}: a finite number > 0 (default {_STEP_TOLERANCE:g})",
@@ -96,8 +96,8 @@ def check_settings(max_passes: Any, step_tolerance: Any) -> Tuple[int, float]:
 
 
 def _record(u: Any, y: Any, r: int, m: int) -> Tuple[np.ndarray, np.ndarray]:
-    ua = np.ascontiguousarray(np.asarray(u, dtype=np.float64))
-    ya = np.ascontiguousarray(np.asarray(y, dtype=np.float64))
+    ua = np.ascontiguousarray(real_array(u, "u"))
+    ya = np.ascontiguousarray(real_array(y, "y"))
     if ua.ndim == 1 and r == 1:
         ua = ua.reshape(-1, 1)
     if ya.ndim == 1 and m == 1:
@@ -109,15 +109,15 @@ def _record(u: Any, y: Any, r: int, m: int) -> Tuple[np.ndarray, np.ndarray]:
 
 
 def _model(a, b, c, d) -> Tuple[np.ndarray, ...]:
-    a = np.ascontiguousarray(a, dtype=np.float64)
+    a = np.ascontiguousarray(real_array(a, "A"))
     n = a.shape[0] if a.ndim == 2 else -1
     if n < 1 or a.shape != (n, n):
         raise BadSizeError(f"A has shape {a.shape}: expected (n, n)", E_BAD_SIZE)
-    b = np.ascontiguousarray(np.reshape(np.asarray(b, dtype=np.float64), (n, -1)))
-    c = np.ascontiguousarray(np.asarray(c, dtype=np.float64))
+    b = np.ascontiguousarray(np.reshape(real_array(b, "B"), (n, -1)))
+    c = np.ascontiguousarray(real_array(c, "C"))
     if c.ndim != 2 or c.shape[1] != n:
         raise BadSizeError(f"C has shape {c.shape}: expected (m, {n})", E_BAD_SIZE)
-    d = np.ascontiguousarray(np.reshape(np.asarray(d, dtype=np.float64), (c.shape[0], b.shape[1])))
+    d = np.ascontiguousarray(np.reshape(real_array(d, "D"), (c.shape[0], b.shape[1])))
     return a, b, c, d
 
 
@@ -181,7 +181,8 @@ def crlb(u: Any, dt: float, *, model: Optional[Tuple[Any, Any, Any, Any]] = None
         raise BadParameterError(f"sensing = {sensing!r}: 'acceleration', 'velocity' or 'displacement'", E_BAD_PARAMETER)
     if (noise is None) == (noise_std is None):
         raise BadParameterError("give exactly one of noise (relative to each output's RMS) and noise_std", E_BAD_PARAMETER)
-    if not (math.isfinite(float(dt)) and dt > 0):
+    dt = real_number("dt", dt)
+    if not (math.isfinite(dt) and dt > 0):
         raise BadParameterError(f"dt = {dt!r}: a finite sample interval > 0 [s]", E_BAD_PARAMETER)
     if model is None:
         # the paper's continuous modes: one whose damped frequency reaches Nyquist aliases at this dt
@@ -197,12 +198,13 @@ def crlb(u: Any, dt: float, *, model: Optional[Tuple[Any, Any, Any, Any]] = None
     ua, _ = _record(u, np.zeros((np.shape(u)[0], c.shape[0])), b.shape[1], c.shape[0])
     y, _ = _model_mod.simulate(a, b, c, d, ua)
     if noise is not None:
-        if not (math.isfinite(float(noise)) and noise > 0):
+        noise = real_number("noise", noise)
+        if not (math.isfinite(noise) and noise > 0):
             raise BadParameterError(f"noise = {noise!r}: F > 0, the noise std relative to each output's RMS",
                                     E_BAD_PARAMETER)
         sigma = float(noise) * np.sqrt(np.mean(y * y, axis=0))
     else:
-        sigma = np.broadcast_to(np.asarray(noise_std, dtype=np.float64).reshape(-1), (c.shape[0],)).copy()
+        sigma = np.broadcast_to(real_array(noise_std, "noise_std").reshape(-1), (c.shape[0],)).copy()
     if not np.all(np.isfinite(sigma) & (sigma > 0)):
         raise BadParameterError(f"noise std {sigma.tolist()}: every value finite and > 0", E_BAD_PARAMETER)
     sigma = np.ascontiguousarray(sigma)

@@ -8,6 +8,8 @@ answer or a refusal that names the value and why.
    (0.345 Hz, damping 0.9995) came out without a word.
 3. okid identify with a header t,1,2,3: --outputs 2 took columns "2" and "3" (a name read as a count).
 4. okid identify --dt 0.02 on stamps 0.01 s apart halved every frequency without a word.
+5. Python: dt=True ran at 1 s, bool and complex arrays were cast (True -> 1, imaginary parts
+   dropped), refine="no" refined, and copy.copy(identifier) shared the C core.
 """
 import json
 import copy
@@ -197,3 +199,82 @@ def test_dt_within_jittery_stamps_is_accepted(tmp_path, paper):
     assert "disagrees with the time column 't', whose stamps step by 0.009 to 0.011 s" in \
         refused(run("identify", "--order", 4, "--dt", 0.02, path), code=2)
 
+
+# --- 5. Python: numbers must be numbers ----------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def record():
+    u = np.random.default_rng(3).standard_normal(2000)
+    a, b, c, d = okid.model.paper_system(0.01)
+    y, _ = okid.model.simulate(a, b, c, d, u.reshape(-1, 1))
+    return u, y
+
+
+@pytest.mark.parametrize("dt", [True, np.bool_(True), 0.01 + 0j, "0.01"])
+def test_dt_must_be_a_real_number(record, dt):
+    u, y = record
+    with pytest.raises(TypeError, match=r"^dt = .*: a real number \(int or float\), not "):
+        okid.identify(u, y, dt, order=4)
+    with pytest.raises(TypeError, match=r"^dt = "):
+        okid.Identifier(1, 2, dt)
+    with pytest.raises(TypeError, match=r"^dt = "):
+        okid.crlb(u, dt, noise=0.05)
+
+
+@pytest.mark.parametrize("name", ["u", "y"])
+@pytest.mark.parametrize("kind", ["bool", "complex"])
+def test_arrays_must_be_real(record, name, kind):
+    u, y = record
+    bad = {"bool": lambda a: a > 0, "complex": lambda a: a + 1e-3j}[kind]
+    args = {"u": (bad(u), y), "y": (u, bad(y))}[name]
+    with pytest.raises(TypeError, match=rf"^{name} has dtype (bool|complex128): an array of real numbers"):
+        okid.identify(*args, 0.01, order=4)
+    identifier = okid.Identifier(1, 2, 0.01, order=4)
+    with pytest.raises(TypeError, match=rf"^{name} has dtype"):
+        identifier.push(*args)
+    assert identifier.progress.samples == 0
+    result = okid.identify(u, y, 0.01, order=4)
+    with pytest.raises(TypeError, match=rf"^{name} has dtype"):
+        result.refine(*args)
+
+
+def test_crlb_arrays_and_noise_must_be_real(record):
+    u, _ = record
+    with pytest.raises(TypeError, match=r"^u has dtype bool"):
+        okid.crlb(u > 0, 0.01, noise=0.05)
+    with pytest.raises(TypeError, match=r"^A has dtype complex128"):
+        a, b, c, d = okid.model.paper_system(0.01)
+        okid.crlb(u, 0.01, model=(a + 0j, b, c, d), noise=0.05)
+    with pytest.raises(TypeError, match=r"^noise = True: a real number"):
+        okid.crlb(u, 0.01, noise=True)
+    with pytest.raises(TypeError, match=r"^noise_std has dtype complex128"):
+        okid.crlb(u, 0.01, noise_std=[0.1 + 0j, 0.1])
+
+
+@pytest.mark.parametrize("refine", ["no", "", 1, 0, None])
+def test_refine_must_be_a_bool(record, refine):
+    u, y = record
+    with pytest.raises(TypeError, match=rf"^refine = {refine!r}: True or False, not "):
+        okid.identify(u, y, 0.01, order=4, refine=refine)
+
+
+def test_real_numbers_still_work(record):
+    u, y = record
+    plain = okid.identify(u, y, 0.01, order=4)
+    assert okid.identify(u.tolist(), y, np.float32(0.01).item(), order=4).frequencies_hz.tolist() == \
+        pytest.approx(plain.frequencies_hz.tolist(), rel=1e-6)
+    assert len(okid.identify((u * 1000).astype(np.int64), y, 0.01, order=4).modes) == 2
+    assert plain.frequencies_hz.tolist() == pytest.approx([0.503292121, 1.047686096], rel=1e-6)
+    refined = okid.identify(u, y, 0.01, order=4, refine=np.bool_(True), observer_order=20, hankel_rows=20,
+                            hankel_cols=20)
+    assert refined.refinement is not None and refined.refinement.converged
+
+
+@pytest.mark.parametrize("how", [copy.copy, copy.deepcopy])
+def test_identifier_cannot_be_copied(record, how):
+    u, y = record
+    identifier = okid.Identifier(1, 2, 0.01, order=4)
+    identifier.push(u[:1000], y[:1000])
+    with pytest.raises(TypeError, match=r"^an okid.Identifier cannot be copied: the copy would share its C core"):
+        how(identifier)
+    assert identifier.progress.samples == 1000
