@@ -140,7 +140,7 @@ static void test_blocks_do_not_matter(void **state)
  * ZOH at dt) refined over the noise-free record with the noise fixed at noise * RMS of each
  * output (the definition of test_paper_record's noise) converges at once; its std is the bound.
  */
-static void paper_crlb(double dt, size_t count, uint64_t seed, double noise, double bound[4])
+static okid_status paper_crlb(double dt, size_t count, uint64_t seed, double noise, double bound[4])
 {
     okid_real a[16], b[4], work[OKID_ZOH_WORK_REALS(4, 1)];
     assert_int_equal(okid_discretize_zoh(4, 1, REF_PAPER.ac, REF_PAPER.bc, (okid_real)dt, a, b, work,
@@ -189,6 +189,7 @@ static void paper_crlb(double dt, size_t count, uint64_t seed, double noise, dou
     free(ws);
     free(u);
     free(y);
+    return out.std_status;
 }
 
 /*
@@ -282,7 +283,7 @@ static void monte_carlo(double dt, size_t count, double noise, int wanted, int p
             }
         }
         double bound[Q];
-        paper_crlb(dt, count, 1000u + (uint64_t)s, noise, bound);
+        assert_int_equal(paper_crlb(dt, count, 1000u + (uint64_t)s, noise, bound), OKID_OK);
         for (int q = 0; q < Q; ++q) {
             sum_bound2[q] += bound[q] * bound[q];
         }
@@ -336,6 +337,45 @@ static void test_bound_dt001(void **state)
     skip();
 #else
     monte_carlo(0.01, 10001, 0.02, 40, 40, 100);
+#endif
+}
+
+/*
+ * The bound is linear in the noise: the weights are relative to a power of two near the largest
+ * noise std, so a noise whose 1 / sigma^2 underflows (1e200 in double, 1e30 in float) gives the
+ * bound of unit noise times it instead of a singular Fisher matrix and stds of -1 (issue 27).
+ */
+static void test_bound_linear_in_noise(void **state)
+{
+    (void)state;
+    const double huge = OKID_REAL_IS_FLOAT ? 1e30 : 1e200;
+    double unit[4], big[4], tiny[4];
+    assert_int_equal(paper_crlb(0.05, 2001, 7, 1, unit), OKID_OK);
+    assert_int_equal(paper_crlb(0.05, 2001, 7, huge, big), OKID_OK);
+    assert_int_equal(paper_crlb(0.05, 2001, 7, 1 / huge, tiny), OKID_OK);
+    for (int i = 0; i < 4; ++i) {
+        assert_true(unit[i] > 0 && isfinite(unit[i]));
+        const double tol = (OKID_REAL_IS_FLOAT ? 1e-5 : 1e-12) * unit[i];
+        assert_true(fabs(big[i] / huge - unit[i]) <= tol);
+        assert_true(fabs(tiny[i] * huge - unit[i]) <= tol);
+    }
+}
+
+/* A record that does not determine the parameters: std_status says so (the stds are -1). */
+static void test_bound_singular_fisher(void **state)
+{
+    (void)state;
+#if OKID_REAL_IS_FLOAT
+    /* at float precision the decayed modes of dt = 10 s are not even two complex pairs any more */
+    skip();
+#else
+    double bound[4];
+    /* dt = 10 s: the modes have decayed within a sample (e^-5 and e^-22 per step), the record says
+       next to nothing of their eigenvalues */
+    assert_int_equal(paper_crlb(10, 2001, 7, 0.05, bound), OKID_E_RANK_DEFICIENT);
+    for (int i = 0; i < 4; ++i) {
+        assert_true(bound[i] == -1);
+    }
 #endif
 }
 
@@ -467,6 +507,8 @@ int main(void)
         cmocka_unit_test(test_api_refusals),
         cmocka_unit_test(test_calibrated_dt005),
         cmocka_unit_test(test_bound_dt001),
+        cmocka_unit_test(test_bound_linear_in_noise),
+        cmocka_unit_test(test_bound_singular_fisher),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

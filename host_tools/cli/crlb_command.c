@@ -25,6 +25,21 @@ static const char synopsis[] =
     "with the frequency_std and damping_std of 'okid identify --refine' (docs/refinement.md).\n"
     "\n";
 
+/* Why okid_refine_result::std_status is not OKID_OK, in words. */
+static const char *crlb_std_reason(const okid_refine_result *rr)
+{
+    switch (rr->std_status) {
+    case OKID_E_RANK_DEFICIENT:
+        return "the Fisher information is singular: the record does not determine the model's parameters "
+               "(a constant or too short force, a mode the force does not excite or the outputs do not see)";
+    case OKID_E_DATA_RANGE:
+        return "a mode has no continuous-time pole (a real non-positive eigenvalue) or its standard deviation "
+               "is not a finite number";
+    default:
+        return okid_status_str(rr->std_status);
+    }
+}
+
 /* The bound: start from the exact model, noise fixed, one pass over the noise-free record. */
 static int compute_bound(const simulate_options *o, const discrete_model *dm, const okid_real *u, const okid_real *y,
                          okid_refiner *rf, void **ws, okid_refine_result *out, okid_real *sigma)
@@ -61,6 +76,9 @@ static int compute_bound(const simulate_options *o, const discrete_model *dm, co
     if (state != OKID_REFINE_CONVERGED) {
         return cli_error(EXIT_DATA, "cannot compute the bound: %s", okid_refine_state_str(state));
     }
+    if (out->std_status != OKID_OK) {
+        return cli_error(EXIT_DATA, "cannot compute the bound: %s", crlb_std_reason(out));
+    }
     return 0;
 }
 
@@ -94,7 +112,17 @@ int crlb_command(int argc, char **argv)
         free(dm), free(u), free(y);
         return cli_error(EXIT_DATA, "out of memory");
     }
-    okid_status st = simulate_build_model(&o, dm);
+    double damped_hz = 0, natural_hz = 0;
+    okid_status st = simulate_fastest_mode(&o, &damped_hz, &natural_hz);
+    if (st == OKID_OK && damped_hz >= 0.5 / o.dt) {
+        free(dm), free(u), free(y);
+        return cli_error(EXIT_USAGE,
+                         "--dt %g: the chain's mode of natural frequency %.6g Hz (damped %.6g Hz) is at or above the "
+                         "Nyquist frequency 1/(2 dt) = %.6g Hz and aliases at this dt: its bound would be another "
+                         "mode's; give --dt below %.6g s",
+                         o.dt, natural_hz, damped_hz, 0.5 / o.dt, 0.5 / damped_hz);
+    }
+    if (st == OKID_OK) st = simulate_build_model(&o, dm);
     if (st == OKID_OK) st = simulate_record(&o, dm, u, y);
     okid_refiner rf;
     okid_refine_result rr;

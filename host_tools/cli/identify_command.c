@@ -18,17 +18,32 @@
 /*
  * Fills columns[] (room for OKID_MAX_DIMENSION) from NAMES or COUNT (a count starts at column
  * *next). used[] marks the columns already taken (the time column, the inputs): a column is an
- * input or an output, never both, and never twice.
+ * input or an output, never both, and never twice. A value that names a column is a name; one
+ * that could be a count too is refused (docs/cli.md). is_default: the built-in count, never a name.
  */
 static int select_columns(const csv_table *t, const char *spec, int *next, char *used, int *columns, int *count,
-                          const char *what)
+                          const char *what, int is_default)
 {
     int n = 0;
     *count = 0;
-    if (cli_parse_int(spec, &n) == 0) {
+    int left = 0;
+    for (int j = *next; j < t->num_columns; ++j) left += !used[j];
+    int named = is_default ? -1 : csv_find_column(t, spec);
+    int first_free = *next;
+    while (first_free < t->num_columns && used[first_free]) ++first_free;
+    if (cli_parse_int(spec, &n) == 0 && n == 1 && named == first_free) {
+        named = -1; /* the count and the name take the same column */
+    }
+    if (cli_parse_int(spec, &n) == 0 && named >= 0 && !used[named] && n >= 1 && n <= left &&
+        n <= OKID_MAX_DIMENSION) {
+        return cli_error(EXIT_USAGE,
+                         "--%s %s: ambiguous, both a count (the next %d column(s)) and the name of column %d ('%s'): "
+                         "write --%s %s, (a trailing comma: a list of names) for that column, or name the columns "
+                         "you mean (--%s A,B)",
+                         what, spec, n, named + 1, t->names[named], what, spec, what);
+    }
+    if (cli_parse_int(spec, &n) == 0 && named < 0) {
         /* a count takes the next columns not yet taken (the time column, named inputs): never one twice */
-        int left = 0;
-        for (int j = *next; j < t->num_columns; ++j) left += !used[j];
         if (n < 1 || n > left) {
             return cli_error(EXIT_USAGE, "--%s %d: the file has %d column(s) after the ones already taken", what, n,
                              left);
@@ -162,9 +177,9 @@ static int choose_columns(const identify_options *o, const csv_table *t, int tim
     }
     if (time_col >= 0) used[time_col] = 1;
     int next = 0;
-    int rc = select_columns(t, o->inputs ? o->inputs : "1", &next, used, cc->inputs, &cc->r, "inputs");
+    int rc = select_columns(t, o->inputs ? o->inputs : "1", &next, used, cc->inputs, &cc->r, "inputs", o->inputs == NULL);
     if (rc == 0 && o->outputs != NULL) {
-        rc = select_columns(t, o->outputs, &next, used, cc->outputs, &cc->m, "outputs");
+        rc = select_columns(t, o->outputs, &next, used, cc->outputs, &cc->m, "outputs", 0);
     } else if (rc == 0) {
         cc->m = 0;
         for (int j = 0; j < t->num_columns && rc == 0; ++j) {
@@ -409,6 +424,11 @@ static int record_dt(const identify_options *o, const csv_table *header, int tim
     char error[512];
     if (o->have_dt) {
         *dt = o->dt;
+        /* --dt with a time column: they must agree (a wrong --dt scales every frequency) */
+        if (time_col >= 0 && !o->ignore_time_column &&
+            time_stamps_check_dt(&scan->stamps, header->names[time_col], o->dt, error, sizeof error) != 0) {
+            return cli_error(EXIT_USAGE, "%s", error);
+        }
         return 0;
     }
     if (time_col < 0) {

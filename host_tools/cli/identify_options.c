@@ -45,7 +45,7 @@ static const cli_option identify_table[] = {
      "every remaining column", "output (sensor) columns: names, or how many follow the inputs; 1..64"},
     {"dt", NULL, CLI_REAL, OWN(dt), (double)OKID_MAGNITUDE_MIN, (double)OKID_MAGNITUDE_MAX, 0, NULL, "dt", "S",
      "the library's magnitude range, OKID_MAGNITUDE_MIN..MAX", "the time column's step",
-     "sample interval [s]; a time column must be uniform"},
+     "sample interval [s]; a time column must be uniform, and agree with --dt"},
     {"observer-order", NULL, CLI_INT, CONFIG(observer_order), 1, OKID_MAX_HORIZON, 0, NULL, "observer_order", "P",
      "and m p >= n", NULL, "observer order p: observer Markov parameters identified"},
     {"order", NULL, CLI_INT, CONFIG(order), 0, OKID_MAX_ORDER, 0, NULL, "order", "N",
@@ -98,6 +98,9 @@ static const cli_option identify_table[] = {
      "at most the Hankel size min(alpha m, beta r)", "none",
      "stabilization diagram data for the even orders 2..NMAX from one SVD;\n"
      "\"stabilization\" in the JSON, plot it with okid-stabilization (docs/quality.md)"},
+    {"ignore-time-column", NULL, CLI_FLAG, OWN(ignore_time_column), 0, 0, 0, NULL, NULL, NULL, NULL, NULL,
+     "with --dt: use it although the time column's stamps step otherwise\n"
+     "(without it such a --dt is refused: it would scale every frequency)"},
     {"json", NULL, CLI_FLAG, OWN(json), 0, 0, 0, NULL, NULL, NULL, NULL, NULL,
      "print one JSON object instead of a table"},
     {"timing", NULL, CLI_FLAG, OWN(timing), 0, 0, 0, NULL, NULL, NULL, NULL, NULL,

@@ -13,6 +13,7 @@ typedef struct identify_options {
     int refine;                    /* --refine: prediction-error refinement after OKID/ERA */
     okid_refine_config refine_cfg; /* okid_refine_config_default() before the options */
     int horizons_given;            /* --observer-order, --hankel-rows/-cols or --*-seconds was given */
+    int ignore_time_column;        /* --ignore-time-column: --dt wins over the stamps */
 } identify_options;
 
 /* Fills o from the command line; 0, or EXIT_USAGE after one line on stderr. "--help" exits 0. */

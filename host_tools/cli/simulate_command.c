@@ -80,23 +80,22 @@ int simulate_parse_options(const char *name, const char *text, int argc, char **
     return 0;
 }
 
-okid_status simulate_build_model(const simulate_options *o, discrete_model *dm)
+/* The chain's continuous model into ac (n x n), bc (n), c (m x n), d (m); work: OKID_ZOH_WORK_REALS(2 MAX_DOFS, 1). */
+static okid_status continuous_model(const simulate_options *o, okid_real *ac, okid_real *bc, okid_real *c, okid_real *d,
+                                    okid_real *work)
 {
-    const int n2 = o->dofs, n = 2 * n2;
+    const int n2 = o->dofs;
     okid_real masses[MAX_DOFS], dampers[MAX_DOFS + 1], springs[MAX_DOFS + 1];
     for (int i = 0; i <= n2; ++i) {
         if (i < n2) masses[i] = (okid_real)o->masses[i];
         dampers[i] = (okid_real)o->dampers[i];
         springs[i] = (okid_real)o->springs[i];
     }
-    okid_real *mm = calloc((size_t)(3 * n2 * n2 + 2 * n2 + n2 * n2 + 2 * n * n), sizeof(okid_real));
-    okid_real *work = calloc(OKID_ZOH_WORK_REALS(2 * MAX_DOFS, 1), sizeof(okid_real));
-    if (mm == NULL || work == NULL) {
-        free(mm), free(work);
+    okid_real *mm = calloc((size_t)(3 * n2 * n2 + 2 * n2 + n2 * n2), sizeof(okid_real));
+    if (mm == NULL) {
         return OKID_E_WORKSPACE_TOO_SMALL;
     }
-    okid_real *rr = mm + n2 * n2, *kk = rr + n2 * n2, *b2 = kk + n2 * n2, *eye = b2 + 2 * n2, *ac = eye + n2 * n2,
-              *bc = ac + n * n;
+    okid_real *rr = mm + n2 * n2, *kk = rr + n2 * n2, *b2 = kk + n2 * n2, *eye = b2 + 2 * n2;
     b2[o->force_dof - 1] = 1;
     for (int i = 0; i < n2; ++i) eye[i + i * n2] = 1;
     okid_status st = okid_chain_model(n2, masses, dampers, springs, mm, rr, kk);
@@ -104,11 +103,64 @@ okid_status simulate_build_model(const simulate_options *o, discrete_model *dm)
     if (o->sensing == (int)OKID_SENSING_ACCELERATION) model.out_acc = eye;
     if (o->sensing == (int)OKID_SENSING_VELOCITY) model.out_vel = eye;
     if (o->sensing == (int)OKID_SENSING_DISPLACEMENT) model.out_disp = eye;
-    if (st == OKID_OK) st = okid_model_state_space(&model, ac, bc, dm->c, dm->d, work, OKID_ZOH_WORK_REALS(2 * MAX_DOFS, 1));
+    if (st == OKID_OK) st = okid_model_state_space(&model, ac, bc, c, d, work, OKID_ZOH_WORK_REALS(2 * MAX_DOFS, 1));
+    free(mm);
+    return st;
+}
+
+okid_status simulate_build_model(const simulate_options *o, discrete_model *dm)
+{
+    const int n = 2 * o->dofs;
+    okid_real *ac = calloc((size_t)(2 * n * n), sizeof(okid_real));
+    okid_real *work = calloc(OKID_ZOH_WORK_REALS(2 * MAX_DOFS, 1), sizeof(okid_real));
+    if (ac == NULL || work == NULL) {
+        free(ac), free(work);
+        return OKID_E_WORKSPACE_TOO_SMALL;
+    }
+    okid_real *bc = ac + n * n;
+    okid_status st = continuous_model(o, ac, bc, dm->c, dm->d, work);
     if (st == OKID_OK) st = okid_discretize_zoh(n, 1, ac, bc, (okid_real)o->dt, dm->a, dm->b, work,
                                                 OKID_ZOH_WORK_REALS(2 * MAX_DOFS, 1));
-    free(mm);
+    free(ac);
     free(work);
+    return st;
+}
+
+okid_status simulate_fastest_mode(const simulate_options *o, double *damped_hz, double *natural_hz)
+{
+    const int n = 2 * o->dofs, m = o->dofs;
+    *damped_hz = *natural_hz = 0;
+    discrete_model *fine = calloc(1, sizeof *fine);
+    okid_real *ac = calloc((size_t)(2 * n * n), sizeof(okid_real));
+    okid_real *work = calloc(OKID_ZOH_WORK_REALS(2 * MAX_DOFS, 1), sizeof(okid_real));
+    okid_mode *modes = calloc((size_t)n, sizeof *modes);
+    const size_t bytes = (OKID_MODAL_WORKSPACE_BYTES(2 * MAX_DOFS, MAX_DOFS) + 15) / 16 * 16;
+    void *ws = aligned_alloc(OKID_WORKSPACE_ALIGN, bytes);
+    okid_status st = fine && ac && work && modes && ws ? OKID_OK : OKID_E_WORKSPACE_TOO_SMALL;
+    okid_real *bc = ac ? ac + n * n : NULL;
+    if (st == OKID_OK) st = continuous_model(o, ac, bc, fine->c, fine->d, work);
+    /* sampled at h <= 1 / ||ac||_inf every pole has |s| h <= 1 < pi: none aliases */
+    double norm = 0;
+    for (int i = 0; st == OKID_OK && i < n; ++i) {
+        double row = 0;
+        for (int j = 0; j < n; ++j) row += fabs((double)ac[i + j * n]);
+        norm = row > norm ? row : norm;
+    }
+    const okid_real h = (okid_real)(norm > 1 ? 1 / norm : 1);
+    if (st == OKID_OK) st = okid_discretize_zoh(n, 1, ac, bc, h, fine->a, fine->b, work, OKID_ZOH_WORK_REALS(2 * MAX_DOFS, 1));
+    int count = 0;
+    if (st == OKID_OK) {
+        st = okid_modal_analysis(n, m, fine->a, n, fine->c, m, h, (okid_sensing)o->sensing, ws, bytes, modes, &count,
+                                 NULL);
+    }
+    for (int k = 0; st == OKID_OK && k < count; ++k) {
+        const double damped = fabs((double)modes[k].pole.im) / (2 * 3.14159265358979323846);
+        if (modes[k].is_pair && damped > *damped_hz) {
+            *damped_hz = damped;
+            *natural_hz = (double)modes[k].frequency_hz;
+        }
+    }
+    free(fine), free(ac), free(work), free(modes), free(ws);
     return st;
 }
 

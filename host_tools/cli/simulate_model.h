@@ -28,6 +28,13 @@ int simulate_parse_options(const char *name, const char *synopsis, int argc, cha
 /* The exact ZOH model of the chain at o->dt. */
 okid_status simulate_build_model(const simulate_options *o, discrete_model *dm);
 
+/*
+ * The chain's continuous-time mode with the largest damped frequency |Im s| / 2 pi: that frequency
+ * and the mode's undamped natural frequency [Hz] (both 0 without an oscillating mode). Sampled at
+ * o->dt, a damped frequency at or above the Nyquist frequency 1 / (2 dt) aliases.
+ */
+okid_status simulate_fastest_mode(const simulate_options *o, double *damped_hz, double *natural_hz);
+
 /* The noise-free record: the white-noise force (seed) u (samples) and the outputs y (dofs x samples). */
 okid_status simulate_record(const simulate_options *o, const discrete_model *dm, okid_real *u, okid_real *y);
 

@@ -142,3 +142,28 @@ int time_stamps_step(const time_stamps *ts, const char *name, double *dt, char *
     *dt = mean * ts->unit;
     return 0;
 }
+
+int time_stamps_check_dt(const time_stamps *ts, const char *name, double dt, char *error, size_t error_size)
+{
+    if (ts->count < 2 || !(ts->min_step > 0)) {
+        return 0;
+    }
+    const double mean = (ts->last - ts->first) / (double)(ts->count - 1);
+    const double allowed = 1e-4 * mean + 8 * DBL_EPSILON * ts->largest; /* time_stamps_step's jitter rule */
+    const double low = (ts->min_step - allowed) * ts->unit, high = (ts->max_step + allowed) * ts->unit;
+    if (dt >= low && dt <= high) {
+        return 0;
+    }
+    if (ts->min_step == ts->max_step || high - low <= 4 * allowed * ts->unit) {
+        snprintf(error, error_size,
+                 "--dt %.9g disagrees with the time column '%s', whose stamps step by %.9g s (%.3g s allowed): "
+                 "drop --dt, or give --ignore-time-column to use --dt anyway",
+                 dt, name, mean * ts->unit, allowed * ts->unit);
+    } else {
+        snprintf(error, error_size,
+                 "--dt %.9g disagrees with the time column '%s', whose stamps step by %.9g to %.9g s: "
+                 "drop --dt, or give --ignore-time-column to use --dt anyway",
+                 dt, name, ts->min_step * ts->unit, ts->max_step * ts->unit);
+    }
+    return -1;
+}

@@ -35,4 +35,12 @@ void time_stamps_add(time_stamps *ts, double t);
  */
 int time_stamps_step(const time_stamps *ts, const char *name, double *dt, char *error, size_t error_size);
 
+/*
+ * --dt against the stamps: -1 with a message when dt [s] lies outside the steps the stamps take,
+ * [min step - allowed, max step + allowed] times the unit, allowed as in time_stamps_step (for
+ * uniform stamps: dt differs from their step by more than the jitter rule). 0 when it lies
+ * within, or when the stamps cannot say (fewer than two, not increasing).
+ */
+int time_stamps_check_dt(const time_stamps *ts, const char *name, double dt, char *error, size_t error_size);
+
 #endif

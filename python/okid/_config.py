@@ -7,6 +7,8 @@ from __future__ import annotations
 import math
 from typing import Any, Dict
 
+import numpy as np
+
 from . import _core
 from ._errors import E_BAD_ORDER, E_BAD_PARAMETER, E_BAD_SIZE, BadOrderError, BadParameterError, BadSizeError, OK
 
@@ -46,11 +48,41 @@ def _integer(name: str, value: Any) -> int:
     return int(value.__index__())
 
 
-def _real(name: str, value: Any) -> float:
+def _not_a_number(value: Any) -> bool:
+    """bool, complex, str, bytes (scalars or 0-d arrays): float() takes them, but they are no real number."""
+    if isinstance(value, np.ndarray):
+        return value.dtype.kind not in "iuf"
+    return isinstance(value, (bool, np.bool_, complex, np.complexfloating, str, bytes))
+
+
+def real_number(name: str, value: Any) -> float:
+    """value as a float; bool, complex and str are refused with a TypeError naming the argument."""
+    if _not_a_number(value):
+        raise TypeError(f"{name} = {value!r}: a real number (int or float), not {type(value).__name__}")
     try:
         return float(value)
     except (TypeError, ValueError):
         raise BadParameterError(f"{name} must be a real number, not {value!r}", E_BAD_PARAMETER) from None
+
+
+def real_array(values: Any, name: str) -> np.ndarray:
+    """values as a float64 array (no copy when it is one); arrays of bool, complex, str or objects are
+    refused with a TypeError naming the argument (a cast would drop imaginary parts, read True as 1)."""
+    a = np.asarray(values)
+    if a.dtype.kind not in "iuf":
+        raise TypeError(f"{name} has dtype {a.dtype}: an array of real numbers (integer or floating) is needed")
+    return a.astype(np.float64, copy=False)
+
+
+def check_bool(name: str, value: Any) -> bool:
+    """A flag argument that must be True or False (a string like "no" would be truthy)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} = {value!r}: True or False, not {type(value).__name__}")
+    return bool(value)
+
+
+def _real(name: str, value: Any) -> float:
+    return real_number(name, value)
 
 
 def build(num_inputs: int, num_outputs: int, dt: float, options: Dict[str, Any]) -> Dict[str, Any]:

@@ -30,7 +30,7 @@ class Progress:
 
 def _block(values: Any, channels: int, name: str) -> np.ndarray:
     """values as a C-contiguous float64 (count, channels) array: no copy when it is one already."""
-    a = np.asarray(values, dtype=np.float64)
+    a = _config.real_array(values, name)
     if a.ndim == 1 and channels == 1:
         a = a.reshape(-1, 1)
     if a.ndim != 2 or a.shape[1] != channels:
@@ -40,7 +40,7 @@ def _block(values: Any, channels: int, name: str) -> np.ndarray:
 
 
 def _sample(values: Any, channels: int, name: str) -> np.ndarray:
-    a = np.ascontiguousarray(np.asarray(values, dtype=np.float64).reshape(-1))
+    a = np.ascontiguousarray(_config.real_array(values, name).reshape(-1))
     if a.shape[0] != channels:
         raise BadSizeError(f"{name} has {a.shape[0]} values: one sample has {channels}", E_BAD_SIZE)
     return a
@@ -60,10 +60,17 @@ class Identifier:
         self._config = _config.build(num_inputs, num_outputs, dt, options)
         self.num_inputs: int = self._config["num_inputs"]
         self.num_outputs: int = self._config["num_outputs"]
-        self.dt: float = dt  #: sample interval of the pushed data [s]
+        self.dt: float = self._config["dt"]  #: sample interval of the pushed data [s]
         self._core: Optional[Any] = _core.IdentifierCore()
         self._last: Optional[Result] = None
         check(self._core.init(self._config), "okid_init")
+
+    def __copy__(self):
+        raise TypeError("an okid.Identifier cannot be copied: the copy would share its C core (the pushed "
+                        "samples); create another Identifier and push the same samples into it")
+
+    def __deepcopy__(self, memo):
+        self.__copy__()
 
     @property
     def config(self) -> dict:
@@ -222,7 +229,7 @@ def identify(u: Any, y: Any, dt: float, *,
     Samples with NaN or Inf are rejected with a NonFiniteSampleWarning. A refinement that stops
     without converging gives an :class:`okid.RefinementWarning`.
     """
-    if refine:
+    if _config.check_bool("refine", refine):
         max_passes, step_tolerance = check_settings(max_passes, step_tolerance)
         if decimation > 1:
             raise BadParameterError(f"refine=True with decimation = {decimation}: the refinement needs the record "
@@ -235,8 +242,8 @@ def identify(u: Any, y: Any, dt: float, *,
     for name in ("observer_order", "hankel_rows", "hankel_cols"):
         if options[name] is None:
             options[name] = DEFAULTS[name]
-    ua = np.asarray(u, dtype=np.float64)
-    ya = np.asarray(y, dtype=np.float64)
+    ua = _config.real_array(u, "u")
+    ya = _config.real_array(y, "y")
     r = 1 if ua.ndim == 1 else (ua.shape[1] if ua.ndim == 2 else -1)
     m = 1 if ya.ndim == 1 else (ya.shape[1] if ya.ndim == 2 else -1)
     if r < 0 or m < 0:

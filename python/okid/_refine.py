@@ -12,8 +12,9 @@ import numpy as np
 
 from . import _core
 from . import model as _model_mod
-from ._config import SENSING
-from ._errors import E_BAD_PARAMETER, E_BAD_SIZE, BadParameterError, BadSizeError, check
+from ._config import SENSING, real_array, real_number
+from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DATA_RANGE, E_RANK_DEFICIENT, OK, BadParameterError, BadSizeError,
+                      check)
 from ._mode import Mode, ModeArrays, modes_from_dicts
 
 _MAX_PASSES, _STEP_TOLERANCE = _core.refine_config_default()
@@ -74,6 +75,7 @@ class Refinement(_ModeArrays):
 
 def _refinement(core) -> Refinement:
     f = core.fields()
+    f.pop("std_status")  # okid.crlb's refusal (std_reason); a refinement's missing stds are -1
     modes = modes_from_dicts(f.pop("modes"))
     return Refinement(**f, modes=modes)
 
@@ -84,8 +86,8 @@ def check_settings(max_passes: Any, step_tolerance: Any) -> Tuple[int, float]:
         raise BadParameterError(f"max_passes = {max_passes!r}: an integer in 2..1000 (default {_MAX_PASSES})",
                                 E_BAD_PARAMETER)
     try:
-        tol = float(step_tolerance)
-    except (TypeError, ValueError):
+        tol = real_number("step_tolerance", step_tolerance)
+    except BadParameterError:
         tol = math.nan
     if not (math.isfinite(tol) and tol > 0):
         raise BadParameterError(f"step_tolerance = {step_tolerance!r}: a finite number > 0 (default {_STEP_TOLERANCE:g})",
@@ -94,8 +96,8 @@ def check_settings(max_passes: Any, step_tolerance: Any) -> Tuple[int, float]:
 
 
 def _record(u: Any, y: Any, r: int, m: int) -> Tuple[np.ndarray, np.ndarray]:
-    ua = np.ascontiguousarray(np.asarray(u, dtype=np.float64))
-    ya = np.ascontiguousarray(np.asarray(y, dtype=np.float64))
+    ua = np.ascontiguousarray(real_array(u, "u"))
+    ya = np.ascontiguousarray(real_array(y, "y"))
     if ua.ndim == 1 and r == 1:
         ua = ua.reshape(-1, 1)
     if ya.ndim == 1 and m == 1:
@@ -107,15 +109,15 @@ def _record(u: Any, y: Any, r: int, m: int) -> Tuple[np.ndarray, np.ndarray]:
 
 
 def _model(a, b, c, d) -> Tuple[np.ndarray, ...]:
-    a = np.ascontiguousarray(a, dtype=np.float64)
+    a = np.ascontiguousarray(real_array(a, "A"))
     n = a.shape[0] if a.ndim == 2 else -1
     if n < 1 or a.shape != (n, n):
         raise BadSizeError(f"A has shape {a.shape}: expected (n, n)", E_BAD_SIZE)
-    b = np.ascontiguousarray(np.reshape(np.asarray(b, dtype=np.float64), (n, -1)))
-    c = np.ascontiguousarray(np.asarray(c, dtype=np.float64))
+    b = np.ascontiguousarray(np.reshape(real_array(b, "B"), (n, -1)))
+    c = np.ascontiguousarray(real_array(c, "C"))
     if c.ndim != 2 or c.shape[1] != n:
         raise BadSizeError(f"C has shape {c.shape}: expected (m, {n})", E_BAD_SIZE)
-    d = np.ascontiguousarray(np.reshape(np.asarray(d, dtype=np.float64), (c.shape[0], b.shape[1])))
+    d = np.ascontiguousarray(np.reshape(real_array(d, "D"), (c.shape[0], b.shape[1])))
     return a, b, c, d
 
 
@@ -150,6 +152,15 @@ class CramerRaoBound(_ModeArrays):
 
 
 
+#: why okid_refine_result::std_status is not OKID_OK (the words of okid crlb's refusal)
+_STD_REASONS = {
+    E_RANK_DEFICIENT: "the Fisher information is singular: the record does not determine the model's parameters "
+                      "(a constant or too short force, a mode the force does not excite or the outputs do not see)",
+    E_DATA_RANGE: "a mode has no continuous-time pole (a real non-positive eigenvalue) or its standard deviation "
+                  "is not a finite number",
+}
+
+
 def crlb(u: Any, dt: float, *, model: Optional[Tuple[Any, Any, Any, Any]] = None, noise: Optional[float] = None,
          noise_std: Any = None, sensing: str = "acceleration") -> CramerRaoBound:
     """The Cramér–Rao lower bound of the natural frequencies and damping ratios of a model driven by
@@ -170,22 +181,37 @@ def crlb(u: Any, dt: float, *, model: Optional[Tuple[Any, Any, Any, Any]] = None
         raise BadParameterError(f"sensing = {sensing!r}: 'acceleration', 'velocity' or 'displacement'", E_BAD_PARAMETER)
     if (noise is None) == (noise_std is None):
         raise BadParameterError("give exactly one of noise (relative to each output's RMS) and noise_std", E_BAD_PARAMETER)
-    if not (math.isfinite(float(dt)) and dt > 0):
+    dt = real_number("dt", dt)
+    if not (math.isfinite(dt) and dt > 0):
         raise BadParameterError(f"dt = {dt!r}: a finite sample interval > 0 [s]", E_BAD_PARAMETER)
+    if model is None:
+        # the paper's continuous modes: one whose damped frequency reaches Nyquist aliases at this dt
+        poles = np.linalg.eigvals(_model_mod._paper_continuous(sensing)[0])
+        fastest = poles[np.argmax(np.abs(poles.imag))]
+        damped, natural = abs(fastest.imag) / (2 * math.pi), abs(fastest) / (2 * math.pi)
+        if damped >= 0.5 / dt:
+            raise BadParameterError(f"dt = {dt!r}: the paper system's mode of natural frequency {natural:.6g} Hz "
+                                    f"(damped {damped:.6g} Hz) is at or above the Nyquist frequency 1/(2 dt) = "
+                                    f"{0.5 / dt:.6g} Hz and aliases at this dt: its bound would be another mode's; "
+                                    f"give dt below {0.5 / damped:.6g} s", E_BAD_PARAMETER)
     a, b, c, d = _model(*(model if model is not None else _model_mod.paper_system(dt, sensing)))
     ua, _ = _record(u, np.zeros((np.shape(u)[0], c.shape[0])), b.shape[1], c.shape[0])
     y, _ = _model_mod.simulate(a, b, c, d, ua)
     if noise is not None:
-        if not (math.isfinite(float(noise)) and noise > 0):
+        noise = real_number("noise", noise)
+        if not (math.isfinite(noise) and noise > 0):
             raise BadParameterError(f"noise = {noise!r}: F > 0, the noise std relative to each output's RMS",
                                     E_BAD_PARAMETER)
         sigma = float(noise) * np.sqrt(np.mean(y * y, axis=0))
     else:
-        sigma = np.broadcast_to(np.asarray(noise_std, dtype=np.float64).reshape(-1), (c.shape[0],)).copy()
+        sigma = np.broadcast_to(real_array(noise_std, "noise_std").reshape(-1), (c.shape[0],)).copy()
     if not np.all(np.isfinite(sigma) & (sigma > 0)):
         raise BadParameterError(f"noise std {sigma.tolist()}: every value finite and > 0", E_BAD_PARAMETER)
     sigma = np.ascontiguousarray(sigma)
-    _, bound = run((a, b, c, d), dt, sensing, ua, y, 2, _STEP_TOLERANCE, sigma, what="crlb")
+    core, bound = run((a, b, c, d), dt, sensing, ua, y, 2, _STEP_TOLERANCE, sigma, what="crlb")
     if not bound.converged:
         raise BadParameterError(f"cannot compute the bound: {bound.message}", E_BAD_PARAMETER)
+    std_status = core.fields()["std_status"]
+    if std_status != OK:
+        check(std_status, f"cannot compute the bound: {_STD_REASONS.get(std_status, 'no covariance')}")
     return CramerRaoBound(bound.modes, sigma, bound.num_parameters, bound.samples)

@@ -89,10 +89,15 @@ def simulate(a, b, c, d, u, x0: Optional[np.ndarray] = None) -> Tuple[np.ndarray
 def paper_system(dt: float = 0.01, sensing: str = "acceleration"):
     """The paper's 2-DOF system (masses 2, 3 kg; dampers 2, 4, 3 N s/m; springs 20, 40, 30 N/m; the
     force on mass 1, both masses measured), discretised exactly: (A, B, C, D)."""
+    ac, bc, c, d = _paper_continuous(sensing)
+    a, b = discretize_zoh(ac, bc, dt)
+    return a, b, c, d
+
+
+def _paper_continuous(sensing: str = "acceleration"):
+    """The paper's 2-DOF system in continuous time: (Ac, Bc, C, D)."""
     mass, damping, stiffness = chain_model([2, 3], [2, 4, 3], [20, 40, 30])
     outputs = {sensing: np.eye(2)}
     if sensing not in ("acceleration", "velocity", "displacement"):
         raise ValueError(f"sensing = {sensing!r}: 'acceleration', 'velocity' or 'displacement'")
-    ac, bc, c, d = state_space(mass, damping, stiffness, [[1.0], [0.0]], **outputs)
-    a, b = discretize_zoh(ac, bc, dt)
-    return a, b, c, d
+    return state_space(mass, damping, stiffness, [[1.0], [0.0]], **outputs)

@@ -68,6 +68,7 @@ struct RefineCore {
         f["dt"] = (double)out.dt;
         f["cost"] = (double)out.cost;
         f["warnings"] = out.warnings;
+        f["std_status"] = (int)out.std_status;
         f["max_passes"] = cfg.max_passes;
         f["step_tolerance"] = (double)cfg.step_tolerance;
         f["A"] = matrix_array(out.A);

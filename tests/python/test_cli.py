@@ -164,8 +164,9 @@ def test_columns_by_name_count_and_dt(paper_csv, tmp_path):
     # --dt equal to the time column's step: the same result.
     with_dt = identify_json(paper_csv, "--dt", 0.01, *PAPER_SETTINGS)
     assert np.array_equal(eigenvalues(with_dt), eigenvalues(by_name))
-    # --dt wins over the time column: same eigenvalues, poles and frequencies scaled by 0.01 / 0.02.
-    slower = identify_json(paper_csv, "--dt", 0.02, *PAPER_SETTINGS)
+    # --dt wins over the time column with --ignore-time-column (without it, refused: test_hostile_round3.py):
+    # same eigenvalues, poles and frequencies scaled by 0.01 / 0.02.
+    slower = identify_json(paper_csv, "--dt", 0.02, "--ignore-time-column", *PAPER_SETTINGS)
     assert slower["dt"] == 0.02
     assert np.allclose(eigenvalues(slower), eigenvalues(by_name), rtol=1e-12)
     assert np.allclose([m["frequency_hz"] for m in slower["modes"]],

@@ -27,7 +27,8 @@ FLAG_EXCEPTIONS = {"num_inputs": "--inputs", "num_outputs": "--outputs"}
 PROBES = {
     "num_inputs": (["--inputs", "force,force2"], 2, set()),
     "num_outputs": (["--outputs", "acc2"], 1, set()),
-    "dt": (["--dt", "0.02"], 0.02, set()),
+    # the record's time column steps by 0.01 s: another --dt needs the CLI-only --ignore-time-column
+    "dt": (["--dt", "0.02", "--ignore-time-column"], 0.02, set()),
     "observer_order": (["--observer-order", "7"], 7, set()),
     "order": (["--order", "2"], 2, set()),
     "hankel_rows": (["--hankel-rows", "11"], 11, set()),

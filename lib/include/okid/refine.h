@@ -125,6 +125,15 @@ typedef struct okid_refine_result {
     okid_real dt;
     uint64_t samples;           /**< samples per pass */
     unsigned warnings;          /**< okid_warning bits of the refined modes */
+    /**
+     * OKID_OK: every value of mode_std is a standard deviation. Otherwise the ones that cannot be
+     * computed are -1 and this says why: OKID_E_RANK_DEFICIENT (the Fisher information is
+     * singular at working precision: the record does not determine every parameter, e.g. a
+     * constant force, an unexcited or unobserved mode), OKID_E_DATA_RANGE (a mode has no
+     * continuous-time pole, a real non-positive eigenvalue, or a standard deviation is not
+     * finite), OKID_E_NOT_AVAILABLE (the refinement diverged: no covariance).
+     */
+    okid_status std_status;
 } okid_refine_result;
 
 /**
@@ -178,7 +187,9 @@ okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, co
  * skipped. The Cramer-Rao bound of an experiment is the refinement of its true model over its
  * noise-free record with the planned noise: the first pass converges at once (zero residuals)
  * and okid_refine_result::mode_std holds the bound (okid crlb, docs/refinement.md).
- * \param[in] noise_std  m values, finite and > 0
+ * The bound is linear in the noise: the weights are computed relative to a power of two near the
+ * largest noise_std, so any finite positive noise (1e-200 or 1e200) gives a finite bound.
+ * \param[in] noise_std  m values, finite and > 0, within a factor ~1e150 of each other (double)
  * 
 eturn OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_BAD_PARAMETER (a value
  *         not finite or not > 0: nothing changes), OKID_E_NOT_AVAILABLE (a pass has begun)

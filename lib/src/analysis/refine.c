@@ -159,6 +159,8 @@ okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, co
     okid_refine_apply(rf, rf->theta_);
     rf->state_ = OKID_REFINE_NEED_PASS;
     rf->passes_ = rf->iterations_ = rf->in_pass_ = rf->finished_ = rf->noise_fixed_ = 0;
+    rf->noise_scale_ = 1;
+    rf->std_status_ = OKID_E_NOT_AVAILABLE;
     rf->best_ = 0;
     rf->mu_ = OKID_REFINE_MU_START;
     rf->cost_best_ = 0;
@@ -190,8 +192,25 @@ okid_status okid_refine_set_noise(okid_refiner *rf, const okid_real *noise_std)
     if (noise_std == NULL) {
         return OKID_E_NULL_POINTER;
     }
+    okid_real largest = 0;
     for (int i = 0; i < rf->m_; ++i) {
-        if (!okid_is_finite(noise_std[i]) || !(noise_std[i] > 0) || !okid_is_finite(1 / (noise_std[i] * noise_std[i]))) {
+        if (!okid_is_finite(noise_std[i]) || !(noise_std[i] > 0)) {
+            return OKID_E_BAD_PARAMETER;
+        }
+        largest = noise_std[i] > largest ? noise_std[i] : largest;
+    }
+    /* the bound is linear in the noise: weigh relative to a power of two (exact scaling) so that
+       1 / sigma^2 neither overflows nor underflows */
+    okid_real scale = 1;
+    while (scale <= largest / 2) {
+        scale *= 2;
+    }
+    while (scale > largest) {
+        scale /= 2;
+    }
+    for (int i = 0; i < rf->m_; ++i) {
+        const okid_real rel = noise_std[i] / scale;
+        if (!okid_is_finite(1 / (rel * rel))) {
             return OKID_E_BAD_PARAMETER;
         }
     }
@@ -199,8 +218,10 @@ okid_status okid_refine_set_noise(okid_refiner *rf, const okid_real *noise_std)
         return OKID_E_NOT_AVAILABLE;
     }
     for (int i = 0; i < rf->m_; ++i) {
-        rf->weight_[i] = 1 / (noise_std[i] * noise_std[i]);
+        const okid_real rel = noise_std[i] / scale;
+        rf->weight_[i] = 1 / (rel * rel);
     }
+    rf->noise_scale_ = scale;
     rf->noise_fixed_ = 1;
     rf->passes_ = 1; /* no residual pass: the weights are known */
     return OKID_OK;
@@ -420,8 +441,10 @@ static void finish(okid_refiner *rf, okid_refine_state state)
     rf->finished_ = 1;
     okid_refine_apply(rf, rf->theta_best_);
     /* a failure here leaves no modes (num_modes 0) but the model stands */
-    if (okid_refine_modes_and_std(rf, state != OKID_REFINE_DIVERGED) != OKID_OK) {
+    const okid_status st = okid_refine_modes_and_std(rf, state != OKID_REFINE_DIVERGED);
+    if (st != OKID_OK) {
         rf->num_modes_ = 0;
+        rf->std_status_ = st;
     }
 }
 
@@ -542,7 +565,8 @@ okid_status okid_refine_end_pass(okid_refiner *rf, okid_refine_state *state)
             exact &= rf->ss_[i] <= (1000 * OKID_EPSILON) * (1000 * OKID_EPSILON) * rf->yy_[i];
         }
         const okid_real dec = decrement(rf);
-        if (exact || (dec >= 0 && dec < rf->cfg_.step_tolerance)) {
+        /* the decrement of the cost in units of the noise (the weights are relative to noise_scale_) */
+        if (exact || (dec >= 0 && dec / rf->noise_scale_ / rf->noise_scale_ < rf->cfg_.step_tolerance)) {
             finish(rf, OKID_REFINE_CONVERGED);
             *state = rf->state_;
             return OKID_OK;
@@ -587,9 +611,10 @@ okid_status okid_refine_get_result(const okid_refiner *rf, okid_refine_result *r
     result->initial_state = rf->x0_;
     result->residual_rms_start = rf->rms_start_;
     result->residual_rms = rf->rms_;
-    result->cost = rf->cost_best_;
+    result->cost = rf->cost_best_ / rf->noise_scale_ / rf->noise_scale_;
     result->dt = rf->dt_;
     result->samples = rf->samples_;
     result->warnings = rf->warnings_;
+    result->std_status = rf->std_status_;
     return OKID_OK;
 }

@@ -37,7 +37,8 @@ int okid_refine_stable(const okid_refiner *rf);
 
 /*
  * Covariance of theta_best_ (the inverse of the accepted normal matrix, into nrm_[best_]), the
- * modes of the model and their standard deviations. with_covariance 0: stds are -1.
+ * modes of the model and their standard deviations, scaled by noise_scale_. with_covariance 0:
+ * stds are -1. Sets std_status_ (okid_refine_result::std_status).
  */
 okid_status okid_refine_modes_and_std(okid_refiner *rf, int with_covariance);
 

@@ -209,8 +209,12 @@ okid_status okid_refine_modes_and_std(okid_refiner *rf, int with_covariance)
 {
     const int n = rf->n_, m = rf->m_, np = rf->np_;
     okid_real *spare = rf->nrm_[1 - rf->best_], *p = rf->nrm_[rf->best_];
+    rf->std_status_ = with_covariance ? OKID_OK : OKID_E_NOT_AVAILABLE;
     if (with_covariance) {
         with_covariance = scaled_cholesky(np, p, 0, spare, rf->diag_);
+        if (!with_covariance) {
+            rf->std_status_ = OKID_E_RANK_DEFICIENT;
+        }
         if (with_covariance) {
             covariance(np, spare, rf->diag_, p);
         }
@@ -245,7 +249,28 @@ okid_status okid_refine_modes_and_std(okid_refiner *rf, int with_covariance)
         const int k = block_of(rf, &rf->modes_[j]);
         if (with_covariance && k >= 0) {
             mode_std(rf, &rf->modes_[j], k, p, out, shape_std);
+            /* the weights are relative to noise_scale_ (a power of two): the stds scale with it */
+            const okid_real s = rf->noise_scale_;
+            out->eigenvalue.re *= s, out->eigenvalue.im *= s, out->pole.re *= s, out->pole.im *= s;
+            int finite = okid_is_finite(out->eigenvalue.re) && okid_is_finite(out->eigenvalue.im) &&
+                         okid_is_finite(out->pole.re) && okid_is_finite(out->pole.im);
+            if (out->frequency_hz >= 0) {
+                out->frequency_hz *= s, out->damping_ratio *= s;
+                finite &= okid_is_finite(out->frequency_hz) && okid_is_finite(out->damping_ratio);
+            } else if (rf->std_status_ == OKID_OK) {
+                rf->std_status_ = OKID_E_DATA_RANGE; /* no continuous-time pole */
+            }
+            for (int i = 0; i < m; ++i) {
+                shape_std[i].re *= s, shape_std[i].im *= s;
+                finite &= okid_is_finite(shape_std[i].re) && okid_is_finite(shape_std[i].im);
+            }
+            if (!finite && rf->std_status_ == OKID_OK) {
+                rf->std_status_ = OKID_E_DATA_RANGE;
+            }
         } else {
+            if (rf->std_status_ == OKID_OK) {
+                rf->std_status_ = OKID_E_RANK_DEFICIENT; /* no block of the model has this mode */
+            }
             out->eigenvalue.re = out->eigenvalue.im = out->pole.re = out->pole.im = -1;
             out->frequency_hz = out->damping_ratio = -1;
             for (int i = 0; i < m; ++i) {

@@ -1,0 +1,280 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Hostile input, round three (issue 27): wrong answers with a success status, each now a correct
+answer or a refusal that names the value and why.
+
+1. okid crlb / okid.crlb: a bound that cannot be computed was printed as -1 with exit 0; a huge
+   noise overflowed the weights 1 / sigma^2 into that -1 (the bound is linear in the noise).
+2. okid crlb --dt 1: the chain's modes alias above Nyquist, and a finite bound of another "mode"
+   (0.345 Hz, damping 0.9995) came out without a word.
+3. okid identify with a header t,1,2,3: --outputs 2 took columns "2" and "3" (a name read as a count).
+4. okid identify --dt 0.02 on stamps 0.01 s apart halved every frequency without a word.
+5. Python: dt=True ran at 1 s, bool and complex arrays were cast (True -> 1, imaginary parts
+   dropped), refine="no" refined, and copy.copy(identifier) shared the C core.
+"""
+import json
+import copy
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import okid
+
+OKID = os.environ.get("OKID_CLI", "okid")
+
+
+def run(*args):
+    proc = subprocess.run([OKID, *map(str, args)], capture_output=True, timeout=300)
+    proc.stdout, proc.stderr = proc.stdout.decode("utf-8"), proc.stderr.decode("utf-8", "replace")
+    return proc
+
+
+def refused(proc, code=1):
+    """A refusal: the exit status, nothing on stdout, one 'okid: ' line on stderr."""
+    assert proc.returncode == code, (proc.returncode, proc.stdout, proc.stderr)
+    assert proc.stdout == ""
+    lines = proc.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("okid: "), proc.stderr
+    return lines[0]
+
+
+def crlb_table(proc):
+    assert proc.returncode == 0, proc.stderr
+    rows = [line.split(",") for line in proc.stdout.splitlines()[2:]]
+    return np.array([[float(v) for v in row[1:]] for row in rows])
+
+
+# --- 1. the Cramer-Rao bound ---------------------------------------------------------------------
+
+def test_crlb_cli_huge_noise_is_linear():
+    unit = crlb_table(run("crlb", "--noise", 1))
+    huge = crlb_table(run("crlb", "--noise", 1e200))
+    assert unit.shape == (2, 4) and np.all(unit[:, [1, 3]] > 0)
+    np.testing.assert_allclose(huge[:, [0, 2]], unit[:, [0, 2]], rtol=0)       # the modes
+    np.testing.assert_allclose(huge[:, [1, 3]], 1e200 * unit[:, [1, 3]], rtol=1e-5)  # 6 printed digits
+    assert huge[0, 1] == pytest.approx(1.35e198, rel=0.01)
+
+
+def test_crlb_cli_singular_fisher_is_refused():
+    # 12 samples of 2 outputs for 18 parameters: the Fisher information is singular at working precision
+    line = refused(run("crlb", "--noise", 0.05, "--samples", 12))
+    assert "cannot compute the bound: the Fisher information is singular" in line
+
+
+def test_crlb_python_huge_noise_is_linear():
+    u = np.random.default_rng(1).standard_normal(1001)
+    unit = okid.crlb(u, 0.01, noise=1.0)
+    huge = okid.crlb(u, 0.01, noise=1e200)
+    np.testing.assert_allclose(huge.frequency_std, 1e200 * unit.frequency_std, rtol=1e-12)
+    np.testing.assert_allclose(huge.damping_std, 1e200 * unit.damping_std, rtol=1e-12)
+    small = okid.crlb(u, 0.01, noise_std=1e-200)
+    assert np.all(np.isfinite(small.frequency_std)) and np.all(small.frequency_std > 0)
+
+
+def _zero_a():
+    return np.zeros((4, 4)), np.ones((4, 1)), np.ones((2, 4)), np.zeros((2, 1))
+
+
+@pytest.mark.parametrize("case", ["constant force", "zero A", "dt 10"])
+def test_crlb_python_singular_fisher_is_refused(case):
+    u = np.random.default_rng(1).standard_normal(1001)
+    # dt 10 with the paper system's discrete model at dt 10 given (not aliasing-checked: a discrete model)
+    args = {"constant force": (np.ones(1001), 0.01, {}), "zero A": (u, 0.01, {"model": _zero_a()}),
+            "dt 10": (u, 10.0, {"model": okid.model.paper_system(10.0)})}[case]
+    with pytest.raises(okid.OkidError, match="cannot compute the bound: the Fisher information is singular"):
+        okid.crlb(args[0], args[1], noise=0.05, **args[2])
+
+
+# --- 2. aliasing -----------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("dt", [1, 10])
+def test_crlb_cli_aliased_mode_is_refused(dt):
+    line = refused(run("crlb", "--noise", 0.05, "--dt", dt), code=2)
+    assert line == (f"okid: --dt {dt}: the chain's mode of natural frequency 1.04769 Hz (damped 0.98931 Hz) is at or "
+                    f"above the Nyquist frequency 1/(2 dt) = {0.5 / dt:g} Hz and aliases at this dt: its bound would "
+                    f"be another mode's; give --dt below 0.505403 s")
+
+
+def test_crlb_cli_below_nyquist_still_bounds():
+    # dt 0.5: Nyquist 1 Hz, above the damped 0.989 Hz: both true modes, finite bounds
+    table = crlb_table(run("crlb", "--noise", 0.05, "--dt", 0.5))
+    np.testing.assert_allclose(table[:, 0], [0.503292121, 1.047686096], rtol=1e-9)
+    assert np.all(np.isfinite(table[:, [1, 3]])) and np.all(table[:, [1, 3]] > 0)
+
+
+def test_crlb_python_aliased_mode_is_refused():
+    u = np.random.default_rng(1).standard_normal(1001)
+    with pytest.raises(okid.BadParameterError, match=r"dt = 1\.0: the paper system's mode of natural frequency "
+                       r"1\.04769 Hz \(damped 0\.98931 Hz\) is at or above the Nyquist frequency 1/\(2 dt\) = "
+                       r"0\.5 Hz"):
+        okid.crlb(u, 1.0, noise=0.05)
+    assert okid.crlb(u, 0.5, noise=0.05).frequencies_hz.tolist() == pytest.approx([0.503292121, 1.047686096], rel=1e-9)
+
+
+# --- 3. column names that look like counts --------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def numbered(tmp_path_factory):
+    """okid simulate's paper record with the header t,1,2,3 (force in '1', the outputs in '2' and '3')."""
+    proc = run("simulate", "--samples", 400)
+    assert proc.returncode == 0, proc.stderr
+    lines = proc.stdout.splitlines()
+    assert lines[0] == "t,force,acc1,acc2"
+    path = tmp_path_factory.mktemp("numbered") / "numbered.csv"
+    path.write_text("\n".join(["t,1,2,3", *lines[1:]]) + "\n")
+    return path
+
+
+def test_outputs_count_or_name_is_refused(numbered):
+    line = refused(run("identify", "--order", 2, "--outputs", 2, numbered), code=2)
+    assert line == ("okid: --outputs 2: ambiguous, both a count (the next 2 column(s)) and the name of column 3 "
+                    "('2'): write --outputs 2, (a trailing comma: a list of names) for that column, or name the "
+                    "columns you mean (--outputs A,B)")
+
+
+def outputs_of(proc):
+    assert proc.returncode == 0, proc.stderr
+    return [line for line in proc.stdout.splitlines() if line.startswith("inputs:")][0]
+
+
+@pytest.mark.parametrize("spec,expected", [("2,", "inputs: 1; outputs: 2"), ("3,", "inputs: 1; outputs: 3"),
+                                           ("2,3", "inputs: 1; outputs: 2 3")])
+def test_outputs_names_with_a_comma(numbered, spec, expected):
+    assert outputs_of(run("identify", "--order", 2, "--outputs", spec, numbered)) == expected
+
+
+def test_count_and_name_of_the_same_column_is_not_ambiguous(numbered):
+    # --inputs 1: the next column is the one named '1'
+    assert outputs_of(run("identify", "--order", 2, "--inputs", 1, numbered)) == "inputs: 1; outputs: 2 3"
+
+
+# --- 4. --dt against the time column ----------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def paper(tmp_path_factory):
+    proc = run("simulate", "--samples", 1000)
+    assert proc.returncode == 0, proc.stderr
+    path = tmp_path_factory.mktemp("paper") / "paper.csv"
+    path.write_text(proc.stdout)
+    return path
+
+
+def identify_json(*args):
+    proc = run("identify", "--json", "--order", 4, *args)
+    assert proc.returncode == 0, proc.stderr
+    return json.loads(proc.stdout)
+
+
+def test_dt_disagreeing_with_the_stamps_is_refused(paper):
+    line = refused(run("identify", "--order", 4, "--dt", 0.02, paper), code=2)
+    assert line == ("okid: --dt 0.02 disagrees with the time column 't', whose stamps step by 0.01 s (1e-06 s "
+                    "allowed): drop --dt, or give --ignore-time-column to use --dt anyway")
+
+
+def test_dt_agreeing_with_the_stamps_is_the_same_run(paper):
+    plain = identify_json(paper)
+    assert identify_json("--dt", 0.01, paper)["modes"] == plain["modes"]
+    f = [mode["frequency_hz"] for mode in plain["modes"]]
+    assert f == pytest.approx([0.503292121, 1.047686096], rel=1e-6)
+
+
+def test_ignore_time_column_uses_dt(paper):
+    plain = identify_json(paper)
+    forced = identify_json("--dt", 0.02, "--ignore-time-column", paper)
+    assert forced["config"]["dt"] == 0.02
+    np.testing.assert_allclose([m["frequency_hz"] for m in forced["modes"]],
+                               [m["frequency_hz"] / 2 for m in plain["modes"]], rtol=1e-12)
+
+
+def test_dt_within_jittery_stamps_is_accepted(tmp_path, paper):
+    lines = paper.read_text().splitlines()
+    rows = [line.split(",", 1) for line in lines[1:]]
+    # stamps printed to 3 digits with a 1 ms jitter on every 10th: not uniform, --dt 0.01 within their steps
+    jittery = [f"{float(t) + (0.001 if k % 10 == 5 else 0):.3f},{rest}" for k, (t, rest) in enumerate(rows)]
+    path = tmp_path / "jittery.csv"
+    path.write_text("\n".join([lines[0], *jittery]) + "\n")
+    assert "is not uniform" in refused(run("identify", "--order", 4, path))
+    assert identify_json("--dt", 0.01, path)["config"]["dt"] == 0.01
+    assert "disagrees with the time column 't', whose stamps step by 0.009 to 0.011 s" in \
+        refused(run("identify", "--order", 4, "--dt", 0.02, path), code=2)
+
+
+# --- 5. Python: numbers must be numbers ----------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def record():
+    u = np.random.default_rng(3).standard_normal(2000)
+    a, b, c, d = okid.model.paper_system(0.01)
+    y, _ = okid.model.simulate(a, b, c, d, u.reshape(-1, 1))
+    return u, y
+
+
+@pytest.mark.parametrize("dt", [True, np.bool_(True), 0.01 + 0j, "0.01"])
+def test_dt_must_be_a_real_number(record, dt):
+    u, y = record
+    with pytest.raises(TypeError, match=r"^dt = .*: a real number \(int or float\), not "):
+        okid.identify(u, y, dt, order=4)
+    with pytest.raises(TypeError, match=r"^dt = "):
+        okid.Identifier(1, 2, dt)
+    with pytest.raises(TypeError, match=r"^dt = "):
+        okid.crlb(u, dt, noise=0.05)
+
+
+@pytest.mark.parametrize("name", ["u", "y"])
+@pytest.mark.parametrize("kind", ["bool", "complex"])
+def test_arrays_must_be_real(record, name, kind):
+    u, y = record
+    bad = {"bool": lambda a: a > 0, "complex": lambda a: a + 1e-3j}[kind]
+    args = {"u": (bad(u), y), "y": (u, bad(y))}[name]
+    with pytest.raises(TypeError, match=rf"^{name} has dtype (bool|complex128): an array of real numbers"):
+        okid.identify(*args, 0.01, order=4)
+    identifier = okid.Identifier(1, 2, 0.01, order=4)
+    with pytest.raises(TypeError, match=rf"^{name} has dtype"):
+        identifier.push(*args)
+    assert identifier.progress.samples == 0
+    result = okid.identify(u, y, 0.01, order=4)
+    with pytest.raises(TypeError, match=rf"^{name} has dtype"):
+        result.refine(*args)
+
+
+def test_crlb_arrays_and_noise_must_be_real(record):
+    u, _ = record
+    with pytest.raises(TypeError, match=r"^u has dtype bool"):
+        okid.crlb(u > 0, 0.01, noise=0.05)
+    with pytest.raises(TypeError, match=r"^A has dtype complex128"):
+        a, b, c, d = okid.model.paper_system(0.01)
+        okid.crlb(u, 0.01, model=(a + 0j, b, c, d), noise=0.05)
+    with pytest.raises(TypeError, match=r"^noise = True: a real number"):
+        okid.crlb(u, 0.01, noise=True)
+    with pytest.raises(TypeError, match=r"^noise_std has dtype complex128"):
+        okid.crlb(u, 0.01, noise_std=[0.1 + 0j, 0.1])
+
+
+@pytest.mark.parametrize("refine", ["no", "", 1, 0, None])
+def test_refine_must_be_a_bool(record, refine):
+    u, y = record
+    with pytest.raises(TypeError, match=rf"^refine = {refine!r}: True or False, not "):
+        okid.identify(u, y, 0.01, order=4, refine=refine)
+
+
+def test_real_numbers_still_work(record):
+    u, y = record
+    plain = okid.identify(u, y, 0.01, order=4)
+    assert okid.identify(u.tolist(), y, np.float32(0.01).item(), order=4).frequencies_hz.tolist() == \
+        pytest.approx(plain.frequencies_hz.tolist(), rel=1e-6)
+    assert len(okid.identify((u * 1000).astype(np.int64), y, 0.01, order=4).modes) == 2
+    assert plain.frequencies_hz.tolist() == pytest.approx([0.503292121, 1.047686096], rel=1e-6)
+    refined = okid.identify(u, y, 0.01, order=4, refine=np.bool_(True), observer_order=20, hankel_rows=20,
+                            hankel_cols=20)
+    assert refined.refinement is not None and refined.refinement.converged
+
+
+@pytest.mark.parametrize("how", [copy.copy, copy.deepcopy])
+def test_identifier_cannot_be_copied(record, how):
+    u, y = record
+    identifier = okid.Identifier(1, 2, 0.01, order=4)
+    identifier.push(u[:1000], y[:1000])
+    with pytest.raises(TypeError, match=r"^an okid.Identifier cannot be copied: the copy would share its C core"):
+        how(identifier)
+    assert identifier.progress.samples == 1000
