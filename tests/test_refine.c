@@ -6,6 +6,7 @@
  */
 #include "test_support.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -355,9 +356,12 @@ static void test_bound_linear_in_noise(void **state)
     assert_int_equal(paper_crlb(0.05, 2001, 7, 1 / huge, tiny), OKID_OK);
     for (int i = 0; i < 4; ++i) {
         assert_true(unit[i] > 0 && isfinite(unit[i]));
-        const double tol = (OKID_REAL_IS_FLOAT ? 1e-5 : 1e-12) * unit[i];
-        assert_true(fabs(big[i] / huge - unit[i]) <= tol);
-        assert_true(fabs(tiny[i] * huge - unit[i]) <= tol);
+        /* the weights' rounding carried through the Fisher matrix's inverse: measured up to 90 eps in
+           float and 63 eps in double over five BLAS backends (scripts/blas_kernels.sh); 300 eps */
+        const double eps = OKID_REAL_IS_FLOAT ? (double)FLT_EPSILON : DBL_EPSILON;
+        const double tol = 300 * eps * unit[i];
+        assert_within(fabs(big[i] / huge - unit[i]), tol);
+        assert_within(fabs(tiny[i] * huge - unit[i]), tol);
     }
 }
 
