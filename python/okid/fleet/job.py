@@ -150,10 +150,19 @@ def _client(scheduler: Optional[str], workers: Optional[int]):
     return Client(cluster), cluster
 
 
-def _quiet_shutdown() -> None:
-    """Tasks cancelled mid-flight make Dask and Tornado log tracebacks while closing: not news after Ctrl-C."""
+def _silence_shutdown_logs() -> None:
     for name in ("distributed", "tornado", "asyncio"):
         logging.getLogger(name).setLevel(logging.CRITICAL)
+
+
+def _quiet_shutdown(client) -> None:
+    """Tasks cancelled mid-flight make Dask and Tornado log tracebacks while closing, here and in the
+    workers (whose heartbeats fail once the scheduler has gone): not news after Ctrl-C."""
+    _silence_shutdown_logs()
+    try:
+        client.run(_silence_shutdown_logs, on_error="ignore")
+    except Exception:  # a worker already gone: nothing of it left to silence
+        pass
 
 
 @contextlib.contextmanager
@@ -239,7 +248,7 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
                     if bar:
                         bar.update(result["records"], result["failed"])
         if pending:  # Ctrl-C: the tasks still out are cancelled, the parts written are whole
-            _quiet_shutdown()
+            _quiet_shutdown(client)
             client.cancel(list(pending))
             if bar:
                 bar.close()
