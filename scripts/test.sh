@@ -84,7 +84,8 @@ ctest --preset asan -j "$jobs"
 step "valgrind memcheck: every C test, the example, the CLI, the FMUs through a C importer"
 vg=(valgrind --error-exitcode=1 --leak-check=full --errors-for-leak-kinds=definite,indirect -q)
 for test in build/tests/test_*; do
-    OKID_MONTE_CARLO_DRAWS=3 "${vg[@]}" "$test" >/dev/null  # test_refine: 3 noise realisations, not 200
+    # test_refine: 3 noise realisations, not 200; test_mode_selection: one seed per case, not 6
+    OKID_MONTE_CARLO_DRAWS=3 OKID_SELECTION_SEEDS=1 "${vg[@]}" "$test" >/dev/null
 done
 "${vg[@]}" build/tests/fuzz_replay_api fuzz/corpus/api/* >/dev/null
 "${vg[@]}" build/tests/fuzz_replay_csv fuzz/corpus/csv/* >/dev/null
