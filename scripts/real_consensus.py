@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: Apache-2.0
-"""Consensus of the physical modes of the real records in ../shared/data/real (README there), by
+"""Consensus of the physical modes of the real records in tests/data/real (README there), by
 three independent routes, written to tests/data/real_consensus.json:
 
 1. okid at fixed orders over a grid of settings (observer order p, Hankel size alpha = beta,
@@ -27,7 +27,7 @@ consensus mode within 2 % and nothing else are counted ("selection_matches"); th
 smallest worst frequency error is recorded as "selection_settings" for
 tests/python/test_mode_selection_real.py.
 
-    .venv/bin/python scripts/real_consensus.py [--data ../shared/data/real] [--no-mdof]
+    .venv/bin/python scripts/real_consensus.py [--data tests/data/real] [--no-mdof]
 """
 import argparse
 import json
@@ -226,7 +226,7 @@ def selection_search(runner, path, spec, dt, modes):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--data", default=os.path.join(os.path.dirname(__file__), "..", "..", "shared", "data", "real"))
+    ap.add_argument("--data", default=os.path.join(os.path.dirname(__file__), "..", "tests", "data", "real"))
     ap.add_argument("--output", default=os.path.join(os.path.dirname(__file__), "..", "tests", "data",
                                                      "real_consensus.json"))
     ap.add_argument("--no-mdof", action="store_true")

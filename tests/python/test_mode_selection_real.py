@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: Apache-2.0
 """The automatic mode selection (okid_select_modes, through tests/mode_selection_run) on the real
-records of ../shared/data/real against their consensus modes (tests/data/real_consensus.json,
+records of tests/data/real against their consensus modes (tests/data/real_consensus.json,
 made by scripts/real_consensus.py from an okid grid at fixed orders, the multi-input H1 estimate
 and mdof's SRIM: independent of the selection).
 
@@ -10,8 +10,7 @@ the selection must give every consensus mode within 2 % in frequency and nothing
 record's band. A record for which no setting of the grid gives exactly the consensus (Hayward) has
 no such test yet: docs/quality.md section 7 says what the selection gives there.
 
-The records: OKID_REAL_DATA, else ../shared/data/real beside the repository (as CI has it);
-skipped with a message when absent. The driver: OKID_MODE_SELECTION_RUN (ctest sets it).
+The records: OKID_REAL_DATA, else tests/data/real (README there). The driver: OKID_MODE_SELECTION_RUN (ctest sets it).
 """
 import json
 import os
@@ -22,15 +21,14 @@ import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 CONSENSUS = json.loads((ROOT / "tests" / "data" / "real_consensus.json").read_text())
-DATA = pathlib.Path(os.environ.get("OKID_REAL_DATA", ROOT.parent / "shared" / "data" / "real"))
+DATA = pathlib.Path(os.environ.get("OKID_REAL_DATA", ROOT / "tests" / "data" / "real"))
 RUNNER = os.environ.get("OKID_MODE_SELECTION_RUN", str(ROOT / "build" / "tests" / "mode_selection_run"))
 FREQUENCY_TOL = 0.02  # the issue's acceptance: 2 % in frequency
 
 
 def select(stem, rec, decimation, observer_order, hankel, max_order):
     path = DATA / (stem + ".csv")
-    if not path.exists():
-        pytest.skip(f"real record {path} absent (set OKID_REAL_DATA or put shared/ beside the repository)")
+    assert path.exists(), f"real record {path} absent"
     if not os.path.exists(RUNNER):
         pytest.skip(f"driver {RUNNER} not built")
     lo, hi = rec["band_hz"]
