@@ -7,6 +7,9 @@
 #include <string.h>
 #include <time.h>
 
+#include "auto_modes.h"
+#include "auto_report.h"
+#include "auto_settings.h"
 #include "cli_common.h"
 #include "csv_reader.h"
 #include "identify_options.h"
@@ -93,7 +96,8 @@ typedef struct column_choice {
     int r, m;
 } column_choice;
 
-static void print_table(const okid_config *cfg, const okid_result *res, const column_choice *cc, const char *file)
+/* The settings, the diagnostics and the warnings of a result. */
+static void print_header(const okid_config *cfg, const okid_result *res, const column_choice *cc, const char *file)
 {
     printf("okid %s: %s, %llu samples, dt = %g s\n", OKID_VERSION_STRING, file, (unsigned long long)res->samples,
            (double)res->dt);
@@ -122,6 +126,11 @@ static void print_table(const okid_config *cfg, const okid_result *res, const co
             printf("warning: %s\n", okid_warning_str(bit));
         }
     }
+}
+
+/* The model's modes and their shapes (eq. 64). */
+static void print_model_modes(const okid_config *cfg, const okid_result *res, const column_choice *cc)
+{
     printf("\n mode  frequency [Hz]  damping ratio   EMAC    MPC    CMI          MSV   eigenvalue (discrete)\n");
     for (int i = 0; i < res->num_modes; ++i) {
         const okid_mode *md = &res->modes[i];
@@ -271,7 +280,7 @@ static void print_stabilization(const okid_stabilization *st)
 /* Print the result (and the stabilization diagram and refinement when asked) as a table or JSON. */
 static int report(const identify_options *o, const okid_config *cfg, okid_identifier *id, const okid_result *res,
                   const column_choice *cc, double elapsed, const okid_refine_result *refined,
-                  const start_search *search)
+                  const start_search *search, const auto_choice *choice, const auto_modes *am)
 {
     okid_stabilization st;
     void *stab_ws = NULL;
@@ -293,7 +302,12 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
         }
     }
     if (o->json) {
-        json_result(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
+        if (choice != NULL) {
+            json_result_fields(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
+            auto_json(stdout, choice, (double)cfg->dt, am, res, cfg->num_outputs);
+        } else {
+            json_result(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
+        }
         if (stab_ws != NULL) json_stabilization(stdout, &st, o->stabilization, 2, cfg->num_outputs);
         if (refined != NULL) {
             json_refinement(stdout, &o->refine_cfg, refined, cfg->num_outputs);
@@ -301,7 +315,13 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
         }
         fputs("\n}\n", stdout);
     } else {
-        print_table(cfg, res, cc, o->file);
+        print_header(cfg, res, cc, o->file);
+        if (choice != NULL) auto_print_choice(choice, (double)cfg->dt);
+        if (am != NULL) {
+            auto_print_modes(am, res, cc->output_names, cfg->num_outputs, o->all_poles);
+        } else {
+            print_model_modes(cfg, res, cc);
+        }
         if (stab_ws != NULL && st.num_orders > 0) print_stabilization(&st);
         if (refined != NULL && search->count > 0) print_start_search(search);
         if (refined != NULL) print_refinement(refined, cfg->num_outputs);
@@ -488,10 +508,103 @@ static int identify_and_refine(const identify_options *o, okid_config *cfg, reco
         okid_refine_result refined;
         void *rf_ws = NULL;
         rc = identify_refine(o, &res, n, u, y, 0, &rf, &rf_ws, &refined);
-        if (rc == 0) rc = report(o, cfg, &id, &res, cc, -1, &refined, &search);
+        if (rc == 0) rc = report(o, cfg, &id, &res, cc, -1, &refined, &search, NULL, NULL);
         free(rf_ws);
     }
     free(grown);
+    free(u);
+    free(y);
+    return rc;
+}
+
+/* --observer-seconds, --hankel-seconds: counts of K dt; the ones not given keep their counts. 0, or an exit code. */
+static int horizon_seconds(const identify_options *o, okid_config *cfg)
+{
+    if (!(o->observer_seconds > 0 || o->hankel_seconds > 0)) {
+        return 0;
+    }
+    const double step = (double)cfg->dt * (cfg->decimation > 1 ? cfg->decimation : 1);
+    const okid_status st = okid_config_horizons(
+        cfg, (okid_real)(o->observer_seconds > 0 ? o->observer_seconds : cfg->observer_order * step),
+        (okid_real)(o->hankel_seconds > 0 ? o->hankel_seconds : cfg->hankel_rows * step),
+        (okid_real)(o->hankel_seconds > 0 ? o->hankel_seconds : cfg->hankel_cols * step));
+    return st == OKID_OK ? 0
+                         : cli_error(EXIT_USAGE, "--observer-seconds/--hankel-seconds: %s (at most %d blocks of K dt = %g s)",
+                                     okid_status_str(st), OKID_MAX_HORIZON, step);
+}
+
+/*
+ * okid identify with a setting or the order left to the data (auto_settings.h, auto_modes.h): the
+ * record into memory, the band of its outputs, the settings, the physical modes over the Hankel
+ * windows (when the order is not given), and the model at the chosen order.
+ */
+static int identify_auto(const identify_options *o, okid_config *cfg, record_reader *reader,
+                         const record_columns *cols, const record_scan *scan, const column_choice *cc)
+{
+    const size_t n = scan->samples;
+    okid_real *u, *y;
+    int rc = load_samples(reader, cols, n, &u, &y);
+    if (rc != 0) {
+        return rc;
+    }
+    struct timespec t0, t1;
+    timespec_get(&t0, TIME_UTC);
+    auto_band band;
+    /* too short or flat to choose from, or a flat input (its rank check must see it undecimated):
+       the library's defaults, and their refusals */
+    auto_band input_band;
+    if (auto_channel_band(y, n, cols->m, (double)cfg->dt, &band) != 0 ||
+        auto_channel_band(u, n, cols->r, (double)cfg->dt, &input_band) != 0) {
+        band = (auto_band){0, 0, 0};
+    }
+    auto_choice choice;
+    auto_choose(cfg, o->given, n, &band, &choice);        /* the decimation first: */
+    rc = horizon_seconds(o, cfg);                         /* the spans in seconds count K dt, */
+    auto_choose(cfg, o->given | AUTO_GIVEN_DECIMATION, n, &band, &choice); /* then the rest */
+    choice.given = o->given;
+    size_t bytes = 0;
+    okid_status st = rc == 0 ? okid_workspace_size(cfg, &bytes) : OKID_OK;
+    const int q = cfg->num_inputs + (cfg->num_inputs + cfg->num_outputs) * cfg->observer_order;
+    if (rc == 0 && st != OKID_OK) {
+        rc = settings_error(cfg, st);
+    } else if (rc == 0 && rows_at_most(cfg, n) < (unsigned long long)q) {
+        rc = cli_error(EXIT_DATA, "not enough data: %zu samples give at most %llu regressor rows, %d needed "
+                       "(q = r + (r+m)p with p = %d)", n, rows_at_most(cfg, n), q, cfg->observer_order);
+    }
+    auto_modes *am = NULL;
+    if (rc == 0 && cfg->order == 0) {
+        if ((am = malloc(sizeof *am)) == NULL) {
+            rc = cli_error(EXIT_DATA, "out of memory");
+        } else if ((st = auto_modes_find(&choice, cfg, n, u, y, am)) != OKID_OK) {
+            rc = identify_failure(cfg, &am->runs[0].id, st, cc, scan);
+        } else {
+            /* the model: the order whose poles hold the physical modes, else the library's own choice */
+            cfg->order = am->num_modes > 0 ? am->order : am->runs[0].result.order;
+        }
+    }
+    void *ws = NULL;
+    okid_identifier id;
+    okid_result res;
+    if (rc == 0 && ((st = okid_workspace_size(cfg, &bytes)) != OKID_OK ||
+                    (ws = aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16)) == NULL)) {
+        rc = st != OKID_OK ? settings_error(cfg, st) : cli_error(EXIT_DATA, "out of memory (workspace of %zu bytes)", bytes);
+    }
+    if (rc == 0) {
+        st = okid_init(&id, cfg, ws, bytes, NULL);
+        if (st == OKID_OK) st = okid_push_block(&id, n, u, (size_t)cols->r, y, (size_t)cols->m, NULL);
+        if (st == OKID_OK) st = okid_identify(&id, &res);
+        timespec_get(&t1, TIME_UTC);
+        const double elapsed = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+        okid_config shown = *cfg; /* "config": the order as given (0: chosen, "chosen" says how) */
+        shown.order = o->cfg.order;
+        rc = st == OKID_OK ? report(o, &shown, &id, &res, cc, elapsed, NULL, NULL, &choice, am)
+                           : identify_failure(cfg, &id, st, cc, scan);
+    }
+    if (am != NULL) {
+        auto_modes_free(am);
+        free(am);
+    }
+    free(ws);
     free(u);
     free(y);
     return rc;
@@ -530,17 +643,16 @@ static int run(identify_options *o, record_reader *reader, const char *label)
     cfg.num_outputs = m;
     cfg.dt = (okid_real)dt;
     okid_status st = OKID_OK;
-    if (o->observer_seconds > 0 || o->hankel_seconds > 0) {
-        /* horizons in seconds: the ones not given keep their counts (count * K dt round-trips) */
-        const double step = dt * cfg.decimation;
-        st = okid_config_horizons(&cfg, (okid_real)(o->observer_seconds > 0 ? o->observer_seconds : cfg.observer_order * step),
-                                  (okid_real)(o->hankel_seconds > 0 ? o->hankel_seconds : cfg.hankel_rows * step),
-                                  (okid_real)(o->hankel_seconds > 0 ? o->hankel_seconds : cfg.hankel_cols * step));
-        if (st != OKID_OK) {
-            free(cc);
-            return cli_error(EXIT_USAGE, "--observer-seconds/--hankel-seconds: %s (at most %d blocks of K dt = %g s)",
-                             okid_status_str(st), OKID_MAX_HORIZON, step);
-        }
+    if ((rc = horizon_seconds(o, &cfg)) != 0) {
+        free(cc);
+        return rc;
+    }
+    /* settings not given, or the order: chosen from the data, the physical modes selected */
+    const unsigned all = AUTO_GIVEN_DECIMATION | AUTO_GIVEN_OBSERVER | AUTO_GIVEN_HANKEL;
+    if (!o->refine && (o->given != all || cfg.order == 0)) {
+        rc = identify_auto(o, &cfg, reader, &cols, &scan, cc);
+        free(cc);
+        return rc;
     }
     size_t bytes = 0;
     st = okid_workspace_size(&cfg, &bytes);
@@ -574,7 +686,7 @@ static int run(identify_options *o, record_reader *reader, const char *label)
     st = o->timing ? identify_timed(o, &cfg, reader, &cols, scan.samples, ws, bytes, &id, &res, &elapsed, &rc)
                    : identify_streamed(&cfg, reader, &cols, ws, bytes, &id, &res, &rc);
     if (rc == 0) {
-        rc = st == OKID_OK ? report(o, &cfg, &id, &res, cc, elapsed, NULL, NULL)
+        rc = st == OKID_OK ? report(o, &cfg, &id, &res, cc, elapsed, NULL, NULL, NULL, NULL)
                            : identify_failure(&cfg, &id, st, cc, &scan);
     }
     free(ws);

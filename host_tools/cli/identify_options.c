@@ -10,6 +10,7 @@
 #include <stddef.h>
 #include <string.h>
 
+#include "auto_settings.h"
 #include "cli_common.h"
 #include "option_table.h"
 
@@ -101,6 +102,9 @@ static const cli_option identify_table[] = {
     {"ignore-time-column", NULL, CLI_FLAG, OWN(ignore_time_column), 0, 0, 0, NULL, NULL, NULL, NULL, NULL,
      "with --dt: use it although the time column's stamps step otherwise\n"
      "(without it such a --dt is refused: it would scale every frequency)"},
+    {"all-poles", NULL, CLI_FLAG, OWN(all_poles), 0, 0, 0, NULL, NULL, NULL, NULL, NULL,
+     "list every pole of the model with its verdict: physical, or why it was\n"
+     "rejected (the JSON has them always, under \"poles\")"},
     {"json", NULL, CLI_FLAG, OWN(json), 0, 0, 0, NULL, NULL, NULL, NULL, NULL,
      "print one JSON object instead of a table"},
     {"timing", NULL, CLI_FLAG, OWN(timing), 0, 0, 0, NULL, NULL, NULL, NULL, NULL,
@@ -116,10 +120,14 @@ static const char synopsis[] =
     "FILE.csv has a header row of column names; a time column (t, time, timestamp, seconds, ... with an\n"
     "optional unit such as time_ms or t [s], in any position; docs/robustness.md) holds the sample\n"
     "times, which must be uniform (else give --dt). Every other cell is a finite number; a NaN, an empty\n"
-    "or a non-numeric cell, or a row with a missing field rejects the file. Noisy records need a\n"
-    "larger p and a Hankel window spanning about one period of the slowest mode; for the paper's\n"
-    "case with 2 % noise:\n"
-    "  --observer-order 60 --hankel-rows 100 --hankel-cols 100\n"
+    "or a non-numeric cell, or a row with a missing field rejects the file.\n"
+    "\n"
+    "--decimation, --observer-order and --hankel-rows/--hankel-cols that are not given are chosen from\n"
+    "the record (the band of the outputs' energy: the decimation filter above 95 % of it, the observer\n"
+    "half and the Hankel window three slowest periods), and without --order the modes listed are the\n"
+    "physical ones, stable across model orders and Hankel windows; each choice is printed with its\n"
+    "reason (docs/quality.md, section 8). Give all of them and --order to stream the file in fixed\n"
+    "memory with exactly those settings.\n"
     "\n"
     "Each option is the okid_config field of the same name (docs/cli.md); '--name=value' works too.\n"
     "In brackets: the valid values and the default (okid_config_default()).\n"
@@ -152,16 +160,23 @@ int identify_parse_options(int argc, char **argv, identify_options *o)
     }
     o->file = file;
     o->have_dt = o->dt > 0;
-    /* --refine chooses p and the Hankel size itself unless one of them is given (docs/refinement.md) */
-    static const char *const horizons[] = {"--observer-order", "--hankel-rows", "--hankel-cols", "--observer-seconds",
-                                           "--hankel-seconds"};
+    /* the settings not given are chosen from the data (auto_settings.h); --refine chooses p and the
+       Hankel size itself unless one of them is given (docs/refinement.md) */
+    static const struct {
+        const char *flag;
+        unsigned bit;
+    } settings[] = {{"--observer-order", AUTO_GIVEN_OBSERVER}, {"--observer-seconds", AUTO_GIVEN_OBSERVER},
+                    {"--hankel-rows", AUTO_GIVEN_HANKEL},      {"--hankel-cols", AUTO_GIVEN_HANKEL},
+                    {"--hankel-seconds", AUTO_GIVEN_HANKEL},   {"--decimation", AUTO_GIVEN_DECIMATION},
+                    {"--decimate", AUTO_GIVEN_DECIMATION}};
     for (int i = 1; i < argc; ++i) {
-        for (size_t k = 0; k < sizeof horizons / sizeof horizons[0]; ++k) {
-            const size_t len = strlen(horizons[k]);
-            if (strncmp(argv[i], horizons[k], len) == 0 && (argv[i][len] == '\0' || argv[i][len] == '=')) {
-                o->horizons_given = 1;
+        for (size_t k = 0; k < sizeof settings / sizeof settings[0]; ++k) {
+            const size_t len = strlen(settings[k].flag);
+            if (strncmp(argv[i], settings[k].flag, len) == 0 && (argv[i][len] == '\0' || argv[i][len] == '=')) {
+                o->given |= settings[k].bit;
             }
         }
     }
+    o->horizons_given = (o->given & (AUTO_GIVEN_OBSERVER | AUTO_GIVEN_HANKEL)) != 0;
     return 0;
 }

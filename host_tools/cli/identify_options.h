@@ -14,6 +14,8 @@ typedef struct identify_options {
     okid_refine_config refine_cfg; /* okid_refine_config_default() before the options */
     int horizons_given;            /* --observer-order, --hankel-rows/-cols or --*-seconds was given */
     int ignore_time_column;        /* --ignore-time-column: --dt wins over the stamps */
+    unsigned given;                /* AUTO_GIVEN_* (auto_settings.h): the settings given, the others chosen from the data */
+    int all_poles;                 /* --all-poles: every pole of the model with its verdict in the table */
 } identify_options;
 
 /* Fills o from the command line; 0, or EXIT_USAGE after one line on stderr. "--help" exits 0. */

@@ -155,8 +155,8 @@ static void json_old_setting_keys(FILE *out, const okid_config *cfg)
             cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL ? "instrumental" : "least-squares");
 }
 
-void json_result(FILE *out, const okid_config *cfg, const okid_result *res, const char *const *input_names,
-                 const char *const *output_names, double elapsed)
+void json_result_fields(FILE *out, const okid_config *cfg, const okid_result *res, const char *const *input_names,
+                        const char *const *output_names, double elapsed)
 {
     const int m = cfg->num_outputs;
     fprintf(out, "{\n  \"order\": %d,\n", res->order);
@@ -210,6 +210,17 @@ void json_result(FILE *out, const okid_config *cfg, const okid_result *res, cons
     }
     fputs(",\n  \"markov\": ", out); /* [Y_0 Y_1 ... Y_L], m x r(L+1), eq. 51 */
     json_matrix(out, res->markov);
+}
+
+void json_result(FILE *out, const okid_config *cfg, const okid_result *res, const char *const *input_names,
+                 const char *const *output_names, double elapsed)
+{
+    json_result_fields(out, cfg, res, input_names, output_names, elapsed);
+    json_modes(out, res, cfg->num_outputs);
+}
+
+void json_modes(FILE *out, const okid_result *res, int m)
+{
     fputs(",\n  \"modes\": [", out);
     for (int i = 0; i < res->num_modes; ++i) {
         fputs(i ? ",\n    {" : "\n    {", out);

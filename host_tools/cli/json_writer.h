@@ -30,6 +30,13 @@ void json_mode_members(FILE *out, const okid_mode *md, int m);
 void json_result(FILE *out, const okid_config *cfg, const okid_result *res, const char *const *input_names,
                  const char *const *output_names, double elapsed);
 
+/* ',\n  "modes": [...]': the model's modes, json_result's last member. */
+void json_modes(FILE *out, const okid_result *res, int m);
+
+/* json_result without its last member, "modes" (okid identify's physical modes replace it). */
+void json_result_fields(FILE *out, const okid_config *cfg, const okid_result *res, const char *const *input_names,
+                        const char *const *output_names, double elapsed);
+
 /* ',\n  "stabilization": {...}': the diagram data (keys documented in docs/quality.md). */
 void json_stabilization(FILE *out, const okid_stabilization *st, int max_order, int step, int m);
 

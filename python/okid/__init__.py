@@ -17,7 +17,7 @@ from ._errors import (BadOrderError, BadParameterError, BadSizeError, Concurrent
                       DataRangeError, DecompositionError, InternalError, NonFiniteSampleError, NonFiniteSampleWarning,
                       NotAvailableError, NotEnoughDataError, NotPersistentlyExcitingError, OkidError)
 from ._identifier import Identifier, Progress, identify
-from ._mode import Mode, StabilityFlag, WarningFlag
+from ._mode import Mode, Pole, SelectedMode, StabilityFlag, WarningFlag
 from ._refine import REFINE_DEFAULTS, CramerRaoBound, Refinement, RefinementWarning, crlb
 from ._result import Result, Stabilization, StabilizationOrder
 from . import model
@@ -25,7 +25,7 @@ from . import model
 __version__ = _core.VERSION
 
 __all__ = [
-    "identify", "Identifier", "Progress", "Result", "Mode", "WarningFlag", "Stabilization", "StabilizationOrder",
+    "identify", "Identifier", "Progress", "Result", "Mode", "SelectedMode", "Pole", "WarningFlag", "Stabilization", "StabilizationOrder",
     "StabilityFlag", "model", "DEFAULTS", "OPTION_NAMES", "Refinement", "RefinementWarning", "REFINE_DEFAULTS",
     "crlb", "CramerRaoBound",
     "OkidError", "ConfigurationError", "BadSizeError", "BadOrderError", "BadParameterError", "NotEnoughDataError",

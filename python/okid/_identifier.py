@@ -4,8 +4,10 @@ caller's arrays are read, never written; a C-contiguous float64 block goes to ok
 without a copy."""
 from __future__ import annotations
 
+import json
 import warnings
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
+from types import MappingProxyType
 from typing import Any, Optional
 
 import numpy as np
@@ -15,6 +17,7 @@ from ._config import DEFAULTS
 from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_AVAILABLE, E_NOT_ENOUGH_DATA, OK,
                       BadParameterError, BadSizeError, NonFiniteSampleWarning, OkidError, check, error_for)
 from ._refine import REFINE_DEFAULTS, check_settings
+from ._mode import Mode, Pole, SelectedMode
 from ._result import Result
 from ._start_search import choose_start
 
@@ -182,7 +185,7 @@ def identify(u: Any, y: Any, dt: float, *,
              sensing: str = DEFAULTS["sensing"],
              realization: str = DEFAULTS["realization"],
              zero_initial_state: int = DEFAULTS["zero_initial_state"],
-             decimation: int = DEFAULTS["decimation"],
+             decimation: Optional[int] = None,
              scaling: str = DEFAULTS["scaling"],
              estimator: str = DEFAULTS["estimator"],
              instrument_lags: int = DEFAULTS["instrument_lags"],
@@ -195,18 +198,22 @@ def identify(u: Any, y: Any, dt: float, *,
     dt: sample interval [s]. The keywords are okid_config's fields with okid_config_default()'s
     defaults (docs/cli.md):
 
-    observer_order: p, observer Markov parameters (1..1000; m p >= order); None is okid_config_default()'s
-    (20), or with refine=True and no Hankel size either, chosen from the data (below)
-    order: model order n (states); 0 picks the largest gap of the Hankel singular values
+    observer_order: p, observer Markov parameters (1..1000; m p >= order); None: chosen from the
+    data, half the slowest period (docs/quality.md section 8; with refine=True and no Hankel size
+    either, by the start search below)
+    order: model order n (states); 0: chosen with the physical modes: ``modes`` then holds the
+    modes stable across orders and Hankel windows (okid.SelectedMode), ``poles`` every pole of the
+    model with its verdict (okid.Pole), ``chosen`` each choice and its reason, as okid identify does
     hankel_rows, hankel_cols: alpha, beta block rows/columns of the ERA Hankel matrix (1..1000);
-    None is the default (20), or chosen from the data like observer_order
+    None: chosen from the data, three slowest periods (checked at two and four)
     block_rows: regressor rows folded per update (0 = 32)
     forgetting_factor: lambda in (0, 1] (0 reads as 1): a row k samples old weighs lambda^k
     rank_tolerance: relative tolerance of the rank-revealing least squares (0 = 1e-10)
     sensing: what y measures: "acceleration", "velocity" or "displacement" (sets the mode shapes' c)
     realization: "system" (robust default) or "combined" (also the observer gain G)
     zero_initial_state: 1 when the record starts at rest (uses its first samples with zero history)
-    decimation: K, anti-alias filter and every K-th sample (1..64); the model's dt is K dt
+    decimation: K, anti-alias filter and every K-th sample (1..64); the model's dt is K dt; None:
+    chosen from the data (the filter's -3 dB point above 95 % of the outputs' energy; 1 with refine)
     scaling: "none" or "auto" (each channel divided by its RMS over the first block)
     estimator: "least_squares" or "instrumental" (removes the bias of output noise)
     instrument_lags: L of the instrumental estimator (0 = automatic)
@@ -229,6 +236,12 @@ def identify(u: Any, y: Any, dt: float, *,
     Samples with NaN or Inf are rejected with a NonFiniteSampleWarning. A refinement that stops
     without converging gives an :class:`okid.RefinementWarning`.
     """
+    # the settings not given are chosen from the data (docs/quality.md section 8), as okid identify does
+    given = ((_core.AUTO_GIVEN_DECIMATION if decimation is not None else 0) |
+             (_core.AUTO_GIVEN_OBSERVER if observer_order is not None else 0) |
+             (_core.AUTO_GIVEN_HANKEL if hankel_rows is not None or hankel_cols is not None else 0))
+    if decimation is None:
+        decimation = DEFAULTS["decimation"]
     if _config.check_bool("refine", refine):
         max_passes, step_tolerance = check_settings(max_passes, step_tolerance)
         if decimation > 1:
@@ -268,6 +281,20 @@ def identify(u: Any, y: Any, dt: float, *,
                 return result, None
         options, search = choose_start(trial, options)
         identifier = Identifier(r, m, dt, **options)
+    auto = None
+    if not refine and (given != _core.AUTO_GIVEN_ALL or options["order"] == 0) and \
+            np.isfinite(ub).all() and np.isfinite(yb).all():
+        status, settings, auto_json, selected, verdicts = _core.auto_identify(identifier._config, given, ub, yb)
+        if status == E_NOT_ENOUGH_DATA:
+            p, k = settings["observer_order"], settings["decimation"]
+            raise error_for(status, f"{-(-ub.shape[0] // k) - p} regressor rows from {ub.shape[0]} samples, "
+                                    f"{r + (r + m) * p} needed (q = r + (r + m) observer_order, observer_order = {p}, "
+                                    f"decimation = {k})")
+        check(status, "identify")
+        user_order = options["order"]
+        options.update(settings)
+        identifier = Identifier(r, m, dt, **options)
+        auto = (user_order, auto_json, selected, verdicts)
     status, accepted = identifier._core.push_block(ub, yb)
     if status == E_NONFINITE_SAMPLE:
         warnings.warn(f"{ub.shape[0] - accepted} of {ub.shape[0]} samples held NaN or Inf and were rejected",
@@ -275,6 +302,22 @@ def identify(u: Any, y: Any, dt: float, *,
     elif status != OK:
         raise error_for(status, "push")
     result = identifier.identify()
+    if auto is not None:
+        return _with_choices(result, *auto)
     if not refine:
         return result
     return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2), start_search=search)
+
+
+def _with_choices(result: Result, user_order: int, auto_json: str, selected, verdicts) -> Result:
+    """The result with the settings chosen from the data and, with the order chosen, the physical
+    modes as ``modes`` and every pole with its verdict as ``poles``."""
+    doc = json.loads("{" + auto_json.lstrip().lstrip(",") + "}")
+    chosen = MappingProxyType({k: MappingProxyType(v) if isinstance(v, dict) else v for k, v in doc["chosen"].items()})
+    config = MappingProxyType({**result.config, "order": user_order})
+    if selected is None:
+        return replace(result, chosen=chosen, config=config, _auto_json=auto_json)
+    modes = tuple(SelectedMode(**d) for d in selected)
+    poles = tuple(Pole(**{f.name: getattr(md, f.name) for f in fields(Mode)}, verdict="rejected" if why else "physical",
+                       reason=why) for md, why in zip(result.modes, verdicts))
+    return replace(result, modes=modes, poles=poles, chosen=chosen, config=config, _auto_json=auto_json)

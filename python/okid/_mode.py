@@ -74,6 +74,44 @@ class Mode:
     sensor_shape_std: Optional[np.ndarray] = None  #: (m,) complex: std of Re and of Im of each sensor_shape entry
 
 
+@dataclass(frozen=True)
+class SelectedMode(Mode):
+    """A physical mode chosen automatically (okid/mode_selection.h, docs/quality.md section 8): the
+    representative pole of a cluster of poles stable across model orders, with the cluster's spread.
+
+    order: model order of the representative; num_orders of of_orders: orders of its window's
+    stabilization table the cluster has a pole in (lowest_order..highest_order); frequency_mean,
+    frequency_std (population), frequency_min, frequency_max [Hz] and damping_mean, damping_std,
+    damping_min, damping_max [-] over the cluster; cmi_min: its smallest CMI; windows of
+    of_windows: the Hankel windows whose selection holds the mode.
+    """
+    order: int = 0
+    num_orders: int = 0
+    of_orders: int = 0
+    lowest_order: int = 0
+    highest_order: int = 0
+    frequency_mean: float = 0.0
+    frequency_std: float = 0.0
+    frequency_min: float = 0.0
+    frequency_max: float = 0.0
+    damping_mean: float = 0.0
+    damping_std: float = 0.0
+    damping_min: float = 0.0
+    damping_max: float = 0.0
+    cmi_min: float = 0.0
+    windows: int = 0
+    of_windows: int = 0
+
+
+@dataclass(frozen=True)
+class Pole(Mode):
+    """A pole (mode) of the reported model with the selection's verdict: "physical" when it is one of
+    Result.modes, else "rejected" with the reason (a real pole, unstable, damping above 0.2, outside
+    the band, MPC or EMAC below 0.5, or not stable across orders and windows)."""
+    verdict: str = "physical"
+    reason: Optional[str] = None
+
+
 def modes_from_dicts(dicts) -> Tuple[Mode, ...]:
     """The binding's mode dicts (mode_dict() in python/src) as Modes."""
     return tuple(Mode(**d) for d in dicts)

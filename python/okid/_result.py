@@ -88,6 +88,13 @@ class Result(ModeArrays):
     #: with refine=True and no horizon given: the starts tried ({"chosen": index, "candidates":
     #: [{observer_order, hankel_rows, hankel_cols, state, cost}]}, the JSON's "start_search"), else None
     start_search: Optional[Mapping[str, Any]] = None
+    #: the settings chosen from the data, each {"value", "chosen", "reason"}, with the outputs' band
+    #: (the JSON's "chosen"; docs/quality.md section 8); None when every setting was given
+    chosen: Optional[Mapping[str, Any]] = None
+    #: with the order chosen (order=0): every pole of the model with its verdict (okid.Pole), while
+    #: ``modes`` holds the physical modes (okid.SelectedMode); else None
+    poles: Optional[Tuple[Any, ...]] = None
+    _auto_json: Optional[str] = field(repr=False, default=None)
 
     @classmethod
     def _from_core(cls, core, config: Mapping[str, Any], identifier, generation: int) -> "Result":
@@ -106,6 +113,10 @@ class Result(ModeArrays):
             # json_result()'s members, then json_refinement()'s, as okid identify --refine writes them
             text = text[:text.rindex("}")].rstrip() + self._refine_core.to_json() + "\n}\n"
         out = json.loads(text)
+        if self._auto_json is not None:  # the CLI's members after the model: "chosen", "modes", "poles"
+            out.pop("modes")
+            out["config"]["order"] = self.config["order"]
+            out.update(json.loads("{" + self._auto_json.lstrip().lstrip(",") + "}"))
         if self.start_search is not None:
             out["start_search"] = json.loads(json.dumps(self.start_search))
         return out

@@ -81,5 +81,6 @@ template <class Writer> nb::str write_to_string(Writer &&write)
 void bind_identifier(nb::module_ &m);
 void bind_model(nb::module_ &m);
 void bind_refine(nb::module_ &m);
+void bind_auto(nb::module_ &m);
 
 }  // namespace okid_py

@@ -77,14 +77,26 @@ def test_block_rows_sets_the_field(paper_csv):
     assert np.allclose(eigenvalues(default), eigenvalues(blocked), rtol=0, atol=1e-11)
 
 
+LIBRARY_DEFAULTS = {"num_inputs": 1, "num_outputs": 2, "observer_order": 20, "order": 0, "hankel_rows": 20,
+                    "hankel_cols": 20, "block_rows": 0, "dt": 0.01, "forgetting_factor": 1.0,
+                    "rank_tolerance": 0.0, "sensing": "acceleration", "realization": "system",
+                    "zero_initial_state": 0, "decimation": 1, "scaling": "none",
+                    "estimator": "least_squares", "instrument_lags": 0}
+CHOSEN = ("decimation", "observer_order", "hankel_rows", "hankel_cols", "order")
+
+
 def test_defaults_are_okid_config_default(paper_csv):
-    """No option given: the settings are okid_config_default()'s (observer order 20, not 10)."""
-    config = identify(paper_csv)["config"]
-    assert config == {"num_inputs": 1, "num_outputs": 2, "observer_order": 20, "order": 0, "hankel_rows": 20,
-                      "hankel_cols": 20, "block_rows": 0, "dt": 0.01, "forgetting_factor": 1.0,
-                      "rank_tolerance": 0.0, "sensing": "acceleration", "realization": "system",
-                      "zero_initial_state": 0, "decimation": 1, "scaling": "none",
-                      "estimator": "least_squares", "instrument_lags": 0}
+    """No option given: the settings are okid_config_default()'s (observer order 20, not 10), except
+    those chosen from the data, which "chosen" names with their reasons."""
+    res = identify(paper_csv)
+    config, chosen = res["config"], res["chosen"]
+    assert {k: v for k, v in config.items() if k not in CHOSEN} == {
+        k: v for k, v in LIBRARY_DEFAULTS.items() if k not in CHOSEN}
+    for key in CHOSEN:  # "config" keeps order 0 (automatic); the model's order is the top-level "order"
+        used = res["order"] if key == "order" else config[key]
+        assert chosen[key]["chosen"] is True and chosen[key]["value"] == used and chosen[key]["reason"]
+    fixed = identify(paper_csv, "--decimation", 1, "--observer-order", 20, "--hankel-rows", 20, "--hankel-cols", 20)
+    assert fixed["config"] == LIBRARY_DEFAULTS and not fixed["chosen"]["observer_order"]["chosen"]
 
 
 def test_config_holds_what_was_given(paper_csv):

@@ -75,3 +75,56 @@ def test_selection_finds_the_consensus(stem):
         # each selected mode is a physical mode by the rule: in at least min_orders orders
         assert m["num_orders"] >= res["min_orders"]
         assert m["frequency_min"] <= m["frequency_hz"] <= m["frequency_max"]
+
+
+# ---- issue 23: `okid identify --inputs K --outputs M FILE`, nothing else ----
+
+OKID = os.environ.get("OKID_CLI", str(ROOT / "build" / "host_tools" / "cli" / "okid"))
+# What the defaults reach today (docs/quality.md section 8): the consensus modes each record's
+# default run finds within 2 %. The rest is the issue's gap, kept as strict xfails below so that a
+# change that closes it (or loses a mode found today) is seen.
+FOUND_TODAY = {"hayward_transverse": [2.704], "meloland_transverse": [], "gws_building_351": [1.266, 1.610],
+               "gws_building_261": [1.042, 6.060]}
+
+
+def defaults(stem):
+    rec = CONSENSUS["records"][stem]
+    if not os.path.exists(OKID):
+        pytest.skip(f"CLI {OKID} not built")
+    out = subprocess.run([OKID, "identify", "--json", "--inputs", str(rec["inputs"]), "--outputs", str(rec["outputs"]),
+                          str(DATA / (stem + ".csv"))], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    return rec, json.loads(out.stdout)
+
+
+@pytest.mark.parametrize("stem", RECORDS)
+def test_defaults_report_few_physical_modes_and_their_choices(stem):
+    """The default answer is the selected modes, not the model's poles (30 "modes" on the issue's
+    bridge): each stable over half the orders in two of three windows, damped 0..0.2, every
+    pole of the model listed with its verdict, every setting with its reason."""
+    rec, res = defaults(stem)
+    chosen = res["chosen"]
+    for key in ("decimation", "observer_order", "hankel_rows", "hankel_cols", "order"):
+        assert chosen[key]["chosen"] is True and chosen[key]["reason"], key
+    assert res["config"]["decimation"] == chosen["decimation"]["value"] and res["order"] == chosen["order"]["value"]
+    assert 1 <= len(res["modes"]) <= len(rec["modes"]) + 1
+    for m in res["modes"]:
+        assert m["windows"] >= 2 and 2 * m["num_orders"] >= m["of_orders"]
+        assert 0 < m["damping_ratio"] <= 0.2 and m["frequency_min"] <= m["frequency_hz"] <= m["frequency_max"]
+    assert res["poles"]
+    assert {p["verdict"] for p in res["poles"]} <= {"physical", "rejected"}
+    assert all((p["verdict"] == "rejected") == (p["reason"] is not None) for p in res["poles"])
+    for want in FOUND_TODAY[stem]:
+        assert any(abs(m["frequency_hz"] - want) <= FREQUENCY_TOL * want for m in res["modes"]), want
+
+
+@pytest.mark.parametrize("stem", [s for s in RECORDS if len(FOUND_TODAY[s]) < len(CONSENSUS["records"][s]["modes"])])
+@pytest.mark.xfail(strict=True, reason="the defaults do not reach this record's consensus yet (issue 23)")
+def test_defaults_reach_the_consensus(stem):
+    rec, res = defaults(stem)
+    assert not mismatch(rec, res["modes"])
+
+
+def test_defaults_reach_the_consensus_of_gws_351():
+    rec, res = defaults("gws_building_351")
+    assert not mismatch(rec, res["modes"])

@@ -191,6 +191,9 @@ def numeric(values):
     return np.array(flat, dtype=float) if all(is_number(v) for v in flat) else None
 
 
+INDICATORS = {"emac", "emac_input", "emac_output", "mpc", "cmi", "cmi_min"}
+
+
 def assert_same_json(a, b, path="$", kappa=1.0):
     """Equal structure, equal integers and strings; reals to 1e-7 kappa of their array's scale: the
     CLI links the system's LAPACK, the package scipy-openblas32, so round-off differs (kappa: how
@@ -199,7 +202,9 @@ def assert_same_json(a, b, path="$", kappa=1.0):
         tol = (1e-4 if "condition" in path else 1e-7) * kappa  # condition numbers amplify round-off by themselves
         if isinstance(a, int) and isinstance(b, int):
             assert a == b, (path, a, b)
-        assert abs(a - b) <= tol * max(abs(a), abs(b), 1e-300), (path, a, b)
+        # the modal indicators lie in [0, 1]: round-off is relative to that range, not to a value near 0
+        scale = 1.0 if path.rsplit(".", 1)[-1] in INDICATORS else max(abs(a), abs(b), 1e-300)
+        assert abs(a - b) <= tol * scale, (path, a, b)
         return
     assert type(a) is type(b), (path, a, b)
     if isinstance(a, dict):
@@ -235,12 +240,28 @@ GRID = [
 def test_to_dict_equals_the_cli_json(options):
     _, u, y = paper_data(samples=1500, noise=0.02, seed=5)
     res = okid.identify(u, y, 0.01, **options)
-    assert_same_json(res.to_dict(), cli_json(u, y, 0.01, options))
+    ours, theirs = res.to_dict(), cli_json(u, y, 0.01, options)
+    if "poles" in ours:  # order chosen: the rejected poles include noise poles of a high order
+        assert_same_rejected_poles(ours, theirs)
+    assert_same_json(ours, theirs)
     config = res.to_dict().get("config")  # the JSON's settings object (docs/cli.md), where the CLI writes one
     if config is not None:
         assert list(config) == ["num_inputs", "num_outputs", "observer_order", "order", "hankel_rows", "hankel_cols",
                                 "block_rows", "dt", *okid.OPTION_NAMES[5:]]
         assert all(config[k] == res.config[k] for k in okid.OPTION_NAMES), (config, res.config)
+
+
+def assert_same_rejected_poles(ours, theirs):
+    """The verdicts agree; a rejected pole's frequency, damping and eigenvalue agree within the
+    realization's conditioning, and its indicators are left out (a noise pole's EMAC moves by 0.4
+    between two LAPACKs: it measures round-off). Removes those indicators from both documents."""
+    assert [p["verdict"] for p in ours["poles"]] == [p["verdict"] for p in theirs["poles"]]
+    kappa = max(ours["realization_condition"], 1.0)
+    for a, b in zip(ours["poles"], theirs["poles"]):
+        if a["verdict"] == "rejected":
+            for key in ("emac", "emac_input", "emac_output", "mpc", "cmi", "msv", "sensor_shape", "shape", "reason"):
+                a.pop(key), b.pop(key)
+            assert_same_json(a, b, "$.poles[rejected]", kappa)
 
 
 # ---- property tests ----
@@ -355,7 +376,8 @@ def test_errors_from_the_library():
 
 def test_samples_blocks_and_one_shot_agree_bit_for_bit():
     _, u, y = paper_data(samples=800, noise=0.01)
-    options = dict(observer_order=10, order=4)
+    # every setting given: identify() then chooses nothing from the data, as an Identifier
+    options = dict(observer_order=10, order=4, hankel_rows=20, hankel_cols=20, decimation=1)
     one_shot = okid.identify(u, y, 0.01, **options).to_dict()
     with okid.Identifier(1, 2, 0.01, **options) as idf:
         for k in range(300):
@@ -450,7 +472,7 @@ def test_the_callers_arrays_are_never_written():
 
 def test_two_identifiers_in_two_threads_give_the_sequential_results():
     cases = [paper_data(samples=3000, noise=0.02, seed=s)[1:] for s in (1, 2)]
-    options = dict(observer_order=20, order=4)
+    options = dict(observer_order=20, order=4, hankel_rows=20, hankel_cols=20, decimation=1)  # nothing chosen
     sequential = [okid.identify(u, y, 0.01, **options).to_dict() for u, y in cases]
     results = [None, None]
 

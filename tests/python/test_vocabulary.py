@@ -86,8 +86,13 @@ def docs_table():
 FIELDS = config_fields()
 
 
+# The settings the CLI otherwise chooses from the data, at okid_config_default()'s values (a later
+# flag of the same name wins): the "config" object then holds the library's defaults.
+LIBRARY_DEFAULTS = ("--decimation", "1", "--observer-order", "20", "--hankel-rows", "20", "--hankel-cols", "20")
+
+
 def identify_config(path, *args):
-    proc = subprocess.run([OKID, "identify", "--json", "--outputs", "acc1,acc2", *args, str(path)],
+    proc = subprocess.run([OKID, "identify", "--json", "--outputs", "acc1,acc2", *LIBRARY_DEFAULTS, *args, str(path)],
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     return json.loads(proc.stdout)["config"]

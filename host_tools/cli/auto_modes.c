@@ -1,0 +1,171 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The physical modes over the Hankel windows of the choice: identify, table, select, combine. */
+#include "auto_modes.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void *workspace_of(size_t bytes)
+{
+    return aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + OKID_WORKSPACE_ALIGN - 1) / OKID_WORKSPACE_ALIGN *
+                                                   OKID_WORKSPACE_ALIGN);
+}
+
+/* MAC of two sensor shapes (m complex values each). */
+static double mac(const okid_complex *a, const okid_complex *b, int m)
+{
+    double re = 0, im = 0, na = 0, nb = 0;
+    for (int i = 0; i < m; ++i) {
+        re += (double)a[i].re * (double)b[i].re + (double)a[i].im * (double)b[i].im;
+        im += (double)a[i].im * (double)b[i].re - (double)a[i].re * (double)b[i].im;
+        na += (double)a[i].re * (double)a[i].re + (double)a[i].im * (double)a[i].im;
+        nb += (double)b[i].re * (double)b[i].re + (double)b[i].im * (double)b[i].im;
+    }
+    return na > 0 && nb > 0 ? (re * re + im * im) / (na * nb) : 0;
+}
+
+/* The selection's clustering gates in frequency and shape: the same physical mode. */
+static int same_mode(const okid_mode_selection_criteria *c, const okid_mode *a, const okid_mode *b, int m)
+{
+    const double fa = (double)a->frequency_hz, fb = (double)b->frequency_hz;
+    return a->is_pair && b->is_pair && fabs(fa - fb) <= (double)c->frequency_distance * fa &&
+           mac(a->sensor_shape, b->sensor_shape, m) >= (double)c->mac_min;
+}
+
+/* window > 0: alpha = beta = window; 0 keeps cfg's Hankel size (given by the user). */
+static okid_status run_window(auto_run *run, const okid_config *cfg, int window, int max_order, size_t n,
+                              const okid_real *u, const okid_real *y, const okid_mode_selection_criteria *criteria)
+{
+    run->cfg = *cfg;
+    if (window > 0) run->cfg.hankel_rows = run->cfg.hankel_cols = window;
+    run->cfg.order = 0;
+    size_t bytes = 0;
+    okid_status st = okid_workspace_size(&run->cfg, &bytes);
+    if (st != OKID_OK) return st;
+    if ((run->workspace = workspace_of(bytes)) == NULL) return OKID_E_WORKSPACE_TOO_SMALL;
+    st = okid_init(&run->id, &run->cfg, run->workspace, bytes, NULL);
+    if (st == OKID_OK) {
+        st = okid_push_block(&run->id, n, u, (size_t)cfg->num_inputs, y, (size_t)cfg->num_outputs, NULL);
+    }
+    if (st == OKID_OK) st = okid_identify(&run->id, &run->result);
+    int top = max_order < run->result.num_singular_values ? max_order : run->result.num_singular_values;
+    top -= top % 2;
+    if (st == OKID_OK && top < 2) st = OKID_E_BAD_ORDER;
+    if (st == OKID_OK) st = okid_stabilization_workspace_size(&run->id, top, 2, &bytes);
+    if (st == OKID_OK && (run->table_workspace = workspace_of(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
+    if (st == OKID_OK) st = okid_stabilization_compute(&run->id, top, 2, NULL, run->table_workspace, bytes, &run->table);
+    if (st == OKID_OK) st = okid_mode_selection_workspace_size(top, 2, &bytes);
+    if (st == OKID_OK && (run->selection_workspace = workspace_of(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
+    if (st == OKID_OK) {
+        st = okid_select_modes(&run->table, cfg->num_outputs, criteria, run->selection_workspace, bytes,
+                               &run->selection, NULL);
+    }
+    return st;
+}
+
+/* The lowest order of the main table whose poles hold every reported mode (else the most of them). */
+static void choose_order(auto_modes *am, int m)
+{
+    const okid_stabilization *t = &am->runs[0].table;
+    int best = -1, best_count = -1;
+    for (int i = 0; i < t->num_orders; ++i) {
+        const okid_stabilization_order *o = &t->orders[i];
+        int count = 0;
+        for (int k = 0; k < am->num_modes; ++k) {
+            for (int j = 0; j < o->num_modes; ++j) {
+                if (same_mode(&am->criteria, &am->modes[k].selected->mode, &t->modes[o->first + j], m)) {
+                    ++count;
+                    break;
+                }
+            }
+        }
+        if (count > best_count) best = o->order, best_count = count;
+    }
+    am->order = best;
+    am->order_holds_all = best_count == am->num_modes;
+}
+
+okid_status auto_modes_find(const auto_choice *choice, const okid_config *cfg, size_t n, const okid_real *u,
+                            const okid_real *y, auto_modes *out)
+{
+    memset(out, 0, sizeof *out);
+    okid_mode_selection_criteria_default(&out->criteria);
+    out->criteria.frequency_min_hz = (okid_real)choice->frequency_min_hz;
+    out->criteria.frequency_max_hz = (okid_real)choice->frequency_max_hz;
+    out->num_runs = choice->num_windows;
+    for (int w = 0; w < out->num_runs; ++w) {
+        const int window = (choice->given & AUTO_GIVEN_HANKEL) ? 0 : choice->windows[w];
+        out->runs[w].status = run_window(&out->runs[w], cfg, window, choice->max_order, n, u, y, &out->criteria);
+    }
+    if (out->runs[0].status != OKID_OK) {
+        return out->runs[0].status;
+    }
+    /* group the windows' modes: a mode of window w joins the first reported mode it matches */
+    const int m = cfg->num_outputs;
+    int support[OKID_MAX_ORDER] = {0};
+    for (int w = 0; w < out->num_runs; ++w) {
+        const auto_run *run = &out->runs[w];
+        if (run->status != OKID_OK) continue;
+        for (int k = 0; k < run->selection.num_modes; ++k) {
+            const okid_selected_mode *s = &run->selection.modes[k];
+            int g = 0;
+            while (g < out->num_modes && !same_mode(&out->criteria, &out->modes[g].selected->mode, &s->mode, m)) ++g;
+            if (g == out->num_modes) {
+                if (g == OKID_MAX_ORDER) continue;
+                out->modes[g] = (auto_mode){s, w, 0};
+                ++out->num_modes;
+            }
+            if (!(support[g] & (1 << w))) support[g] |= 1 << w, ++out->modes[g].windows;
+        }
+    }
+    /* two of three windows; with one window its selection alone */
+    const int needed = out->num_runs > 1 ? 2 : 1;
+    int kept = 0;
+    for (int g = 0; g < out->num_modes; ++g) {
+        if (out->modes[g].windows >= needed) out->modes[kept++] = out->modes[g];
+    }
+    out->num_modes = kept;
+    /* by increasing frequency */
+    for (int i = 1; i < kept; ++i) {
+        const auto_mode x = out->modes[i];
+        int j = i;
+        while (j > 0 && out->modes[j - 1].selected->mode.frequency_hz > x.selected->mode.frequency_hz) {
+            out->modes[j] = out->modes[j - 1];
+            --j;
+        }
+        out->modes[j] = x;
+    }
+    choose_order(out, m);
+    return OKID_OK;
+}
+
+const char *auto_pole_verdict(const auto_modes *am, const okid_mode *pole, int m)
+{
+    for (int k = 0; k < am->num_modes; ++k) {
+        if (same_mode(&am->criteria, &am->modes[k].selected->mode, pole, m)) return NULL;
+    }
+    const okid_mode_selection_criteria *c = &am->criteria;
+    const double f = (double)pole->frequency_hz, z = (double)pole->damping_ratio;
+    const double magnitude = hypot((double)pole->eigenvalue.re, (double)pole->eigenvalue.im);
+    if (!pole->is_pair) return "real pole";
+    if (!(magnitude < 1)) return "unstable (|lambda| >= 1)";
+    if (!(z > (double)c->damping_min)) return "damping ratio <= 0";
+    if (z > (double)c->damping_max) return "damping ratio above 0.2";
+    if (f < (double)c->frequency_min_hz || (c->frequency_max_hz > 0 && f > (double)c->frequency_max_hz)) {
+        return "outside the band of the selection";
+    }
+    if ((double)pole->mpc < (double)c->mpc_min) return "MPC below 0.5";
+    if ((double)pole->emac < (double)c->emac_min) return "EMAC below 0.5";
+    return "not stable across orders and windows";
+}
+
+void auto_modes_free(auto_modes *am)
+{
+    for (int w = 0; w < am->num_runs; ++w) {
+        free(am->runs[w].workspace);
+        free(am->runs[w].table_workspace);
+        free(am->runs[w].selection_workspace);
+    }
+    memset(am, 0, sizeof *am);
+}

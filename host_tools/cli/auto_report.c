@@ -1,0 +1,191 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The report of the settings chosen from the data and of the physical modes. */
+#include "auto_report.h"
+
+#include <math.h>
+
+#include "json_writer.h"
+
+/* 1 when the setting was chosen from the data (not given, and the record had a band). */
+static int chosen(const auto_choice *c, unsigned bit)
+{
+    return !c->no_band && !(c->given & bit);
+}
+
+/* What a setting's line says about where it came from. */
+static const char *origin(const auto_choice *c, unsigned bit)
+{
+    return (c->given & bit) ? "given" : chosen(c, bit) ? "chosen" : "default";
+}
+
+void auto_print_choice(const auto_choice *c, double dt)
+{
+    const double step = c->decimation * dt;
+    if (c->no_band) {
+        printf("the outputs are too short or flat to choose settings from: the library's defaults\n");
+    } else if (c->given != (AUTO_GIVEN_DECIMATION | AUTO_GIVEN_OBSERVER | AUTO_GIVEN_HANKEL)) {
+        printf("band of the outputs' energy: 5 %% below %.3g Hz, 95 %% below %.3g Hz (Welch, %d-sample segments)\n",
+               c->band.low_hz, c->band.high_hz, c->band.segment);
+    }
+    printf("decimation %d (%s)", c->decimation, origin(c, AUTO_GIVEN_DECIMATION));
+    if (chosen(c, AUTO_GIVEN_DECIMATION)) {
+        printf(": the anti-alias filter's -3 dB point 1/(4 K dt) = %.3g Hz stays above the 95 %% frequency",
+               1.0 / (4 * step));
+    }
+    printf("\nobserver order %d (%s)", c->observer_order, origin(c, AUTO_GIVEN_OBSERVER));
+    if (chosen(c, AUTO_GIVEN_OBSERVER)) {
+        printf(": %.3g s, half the slowest period %.3g s (1 / the 5 %% frequency)%s", c->observer_order * step,
+               c->slowest_period_s, c->observer_order == c->observer_limit ? ", capped by the record's length" : "");
+    }
+    printf("\nHankel %d x %d (%s)", c->hankel, c->hankel_cols, origin(c, AUTO_GIVEN_HANKEL));
+    if (chosen(c, AUTO_GIVEN_HANKEL)) {
+        printf(": %.3g s, three slowest periods; modes confirmed at %d and %d blocks (two and four periods)",
+               c->hankel * step, c->windows[1], c->windows[2]);
+    }
+    printf("\n");
+}
+
+/* A reported mode's sensor shape C psi, scaled so that its largest component is 1 (real and positive). */
+static void print_sensor_shape(const okid_mode *md, int m)
+{
+    int big = 0;
+    for (int i = 1; i < m; ++i) {
+        if (hypot((double)md->sensor_shape[i].re, (double)md->sensor_shape[i].im) >
+            hypot((double)md->sensor_shape[big].re, (double)md->sensor_shape[big].im)) {
+            big = i;
+        }
+    }
+    const double br = (double)md->sensor_shape[big].re, bi = (double)md->sensor_shape[big].im;
+    const double norm = br * br + bi * bi;
+    for (int i = 0; i < m; ++i) {
+        const double ar = (double)md->sensor_shape[i].re, ai = (double)md->sensor_shape[i].im;
+        const double re = norm > 0 ? (ar * br + ai * bi) / norm : 0, im = norm > 0 ? (ai * br - ar * bi) / norm : 0;
+        printf(" %+9.5f%+.5fi", re, im);
+    }
+    printf("\n");
+}
+
+void auto_print_modes(const auto_modes *am, const okid_result *res, const char *const *output_names, int m,
+                      int all_poles)
+{
+    const int orders = am->runs[0].table.num_orders;
+    printf("\nphysical modes: %d (stable in at least %d of the %d orders 2..%d of a Hankel window, in %s)\n",
+           am->num_modes, am->runs[0].selection.min_orders, orders, orders > 0 ? am->runs[0].table.orders[orders - 1].order : 0,
+           am->num_runs > 1 ? "two of its three windows" : "the one window");
+    if (am->num_modes == 0) {
+        printf("warning: no physical mode found: no pole stays put across the orders%s (--all-poles lists the "
+               "model's poles and why each was rejected)\n", am->num_runs > 1 ? " and the Hankel windows" : "");
+    } else {
+        printf(" mode  frequency [Hz]  damping ratio  f std over orders  damping range    orders  windows  EMAC   MPC\n");
+        for (int k = 0; k < am->num_modes; ++k) {
+            const okid_selected_mode *s = am->modes[k].selected;
+            printf("%5d  %14.6f  %13.6f  %17.3g  %6.4f..%6.4f  %4d/%-3d  %3d/%-3d  %5.3f  %5.3f\n", k + 1,
+                   (double)s->mode.frequency_hz, (double)s->mode.damping_ratio, (double)s->frequency_std,
+                   (double)s->damping_min, (double)s->damping_max, s->num_orders, orders, am->modes[k].windows,
+                   am->num_runs, (double)s->mode.emac, (double)s->mode.mpc);
+        }
+        printf("\nsensor shapes C psi (largest component 1); columns:");
+        for (int i = 0; i < m; ++i) printf(" %s", output_names[i]);
+        printf("\n");
+        for (int k = 0; k < am->num_modes; ++k) {
+            printf("%5d", k + 1);
+            print_sensor_shape(&am->modes[k].selected->mode, m);
+        }
+    }
+    printf("\nmodel: order %d of the %d-block window%s\n", res->order, am->runs[0].cfg.hankel_rows,
+           am->order_holds_all ? ", the lowest whose poles hold every physical mode"
+                               : ", the one whose poles hold the most physical modes");
+    if (!all_poles) {
+        return;
+    }
+    printf("\npoles of the model (--all-poles)\n pole  frequency [Hz]  damping ratio   EMAC    MPC  verdict\n");
+    for (int i = 0; i < res->num_modes; ++i) {
+        const okid_mode *md = &res->modes[i];
+        const char *why = auto_pole_verdict(am, md, m);
+        printf("%5d  %14.6f  %13.6f  %5.3f  %5.3f  %s%s\n", i + 1, (double)md->frequency_hz, (double)md->damping_ratio,
+               (double)md->emac, (double)md->mpc, why ? "rejected: " : "physical", why ? why : "");
+    }
+}
+
+static void json_setting(FILE *out, const char *name, int value, int chosen, const char *reason)
+{
+    fprintf(out, "\"%s\": {\"value\": %d, \"chosen\": %s, \"reason\": ", name, value, chosen ? "true" : "false");
+    json_string(out, reason);
+    fputc('}', out);
+}
+
+void auto_json(FILE *out, const auto_choice *c, double dt, const auto_modes *am, const okid_result *res, int m)
+{
+    const double step = c->decimation * dt;
+    char reason[256];
+    fputs(",\n  \"chosen\": {\"band_hz\": [", out);
+    json_number(out, c->band.low_hz);
+    fputs(", ", out);
+    json_number(out, c->band.high_hz);
+    fputs("], \"slowest_period_seconds\": ", out);
+    json_number(out, c->slowest_period_s);
+    fputs(",\n    ", out);
+    snprintf(reason, sizeof reason, "the anti-alias filter's -3 dB point 1/(4 K dt) = %.6g Hz at or above the 95 %% "
+             "energy frequency %.6g Hz", 1.0 / (4 * step), c->band.high_hz);
+    json_setting(out, "decimation", c->decimation, chosen(c, AUTO_GIVEN_DECIMATION),
+                 chosen(c, AUTO_GIVEN_DECIMATION) ? reason : origin(c, AUTO_GIVEN_DECIMATION));
+    fputs(",\n    ", out);
+    snprintf(reason, sizeof reason, "%.6g s, half the slowest period%s", c->observer_order * step,
+             c->observer_order == c->observer_limit ? ", capped by the record's length (ten rows per unknown)" : "");
+    json_setting(out, "observer_order", c->observer_order, chosen(c, AUTO_GIVEN_OBSERVER),
+                 chosen(c, AUTO_GIVEN_OBSERVER) ? reason : origin(c, AUTO_GIVEN_OBSERVER));
+    fputs(",\n    ", out);
+    snprintf(reason, sizeof reason, "%.6g s, three slowest periods", c->hankel * step);
+    for (int i = 0; i < 2; ++i) {
+        if (i) fputs(",\n    ", out);
+        json_setting(out, i ? "hankel_cols" : "hankel_rows", i ? c->hankel_cols : c->hankel, chosen(c, AUTO_GIVEN_HANKEL),
+                     chosen(c, AUTO_GIVEN_HANKEL) ? reason : origin(c, AUTO_GIVEN_HANKEL));
+    }
+    fprintf(out, ",\n    \"hankel_windows\": [%d", c->windows[0]);
+    for (int i = 1; i < c->num_windows; ++i) fprintf(out, ", %d", c->windows[i]);
+    fprintf(out, "], \"max_order\": %d, \"selection_band_hz\": [", c->max_order);
+    json_number(out, c->frequency_min_hz);
+    fputs(", ", out);
+    json_number(out, c->frequency_max_hz);
+    fputc(']', out);
+    if (am != NULL) {
+        fputs(",\n    ", out);
+        json_setting(out, "order", res->order, 1,
+                     am->order_holds_all ? "the lowest order whose poles hold every physical mode"
+                                         : "the order whose poles hold the most physical modes");
+    }
+    fputs("}", out);
+    if (am == NULL) { /* an order given: that model's modes */
+        json_modes(out, res, m);
+        return;
+    }
+    fputs(",\n  \"modes\": [", out);
+    for (int k = 0; k < am->num_modes; ++k) {
+        const okid_selected_mode *s = am->modes[k].selected;
+        fputs(k ? ",\n    {" : "\n    {", out);
+        json_mode_members(out, &s->mode, m);
+        fprintf(out, ", \"order\": %d, \"num_orders\": %d, \"of_orders\": %d, \"lowest_order\": %d, \"highest_order\": %d",
+                s->order, s->num_orders, am->runs[am->modes[k].window].table.num_orders, s->lowest_order,
+                s->highest_order);
+        const char *names[9] = {"frequency_mean", "frequency_std", "frequency_min", "frequency_max", "damping_mean",
+                                "damping_std", "damping_min", "damping_max", "cmi_min"};
+        const okid_real values[9] = {s->frequency_mean, s->frequency_std, s->frequency_min, s->frequency_max,
+                                     s->damping_mean, s->damping_std, s->damping_min, s->damping_max, s->cmi_min};
+        for (int i = 0; i < 9; ++i) {
+            fprintf(out, ", \"%s\": ", names[i]);
+            json_number(out, (double)values[i]);
+        }
+        fprintf(out, ", \"windows\": %d, \"of_windows\": %d}", am->modes[k].windows, am->num_runs);
+    }
+    fputs(am->num_modes ? "\n  ]" : "]", out);
+    fputs(",\n  \"poles\": [", out);
+    for (int i = 0; i < res->num_modes; ++i) {
+        const char *why = auto_pole_verdict(am, &res->modes[i], m);
+        fputs(i ? ",\n    {" : "\n    {", out);
+        json_mode_members(out, &res->modes[i], m);
+        fprintf(out, ", \"verdict\": \"%s\", \"reason\": ", why ? "rejected" : "physical");
+        if (why) json_string(out, why); else fputs("null", out);
+        fputc('}', out);
+    }
+    fputs(res->num_modes ? "\n  ]" : "]", out);
+}
