@@ -278,3 +278,58 @@ def test_identifier_cannot_be_copied(record, how):
     with pytest.raises(TypeError, match=r"^an okid.Identifier cannot be copied: the copy would share its C core"):
         how(identifier)
     assert identifier.progress.samples == 1000
+
+
+# --- 6. the host reader's limits (host_tools/common/csv_reader.c) ---------------------------------
+
+def test_long_header_line_is_refused_before_it_is_read_whole():
+    """A 64 MB header line: refused once its first ~1 MB (4096 names of 256 characters) is read.
+    Fed through a pipe, the bytes the reader took are what was written before the pipe broke (the
+    pipe itself holds 64 KiB); before, the whole line was read and then refused by the name limit."""
+    proc = subprocess.Popen([OKID, "identify", "--dt", "0.01", "-"], stdin=subprocess.PIPE,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    chunk, written = b"x" * (1 << 16), 0
+    try:
+        while written < 64 << 20:
+            proc.stdin.write(chunk)
+            written += len(chunk)
+        proc.stdin.close()
+    except BrokenPipeError:
+        pass
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 1 and out == b""
+    line = err.decode().strip()
+    assert line.startswith("okid: standard input: line 1 is longer than 1081344 bytes") and "\n" not in line
+    assert written <= 4 << 20, written  # the 2 MiB buffer, the pipe and a chunk of slack
+
+
+def test_long_numeric_cell_is_a_number(tmp_path):
+    """A 300-digit number is a number (it was "not a number" past 256 characters); past 4096
+    characters a cell is refused as too long, naming the limit."""
+    digits = "1" + "0" * 299                              # 1e299, written out
+    rows = "".join(f"{k * 0.01!r},{np.sin(k) if k != 5 else digits},{np.cos(k)}\n" for k in range(50))
+    path = tmp_path / "long.csv"
+    path.write_text("t,f,a\n" + rows)
+    rec = okid.read_record(path)
+    assert rec.u[5, 0] == 1e299 and rec.u.shape == (50, 1)
+    path.write_text("t,f,a\n" + rows.replace(digits, "0." + "1" * 5000))
+    with pytest.raises(okid.RecordError, match="line 7, column 'f': a cell of more than 4096 characters"):
+        okid.read_record(path)
+
+
+@pytest.mark.parametrize("name, value", [("order", 2**31), ("observer_order", 2**40), ("hankel_rows", -2**31 - 1),
+                                         ("decimation", 10**30)])
+def test_integers_beyond_a_c_int_are_an_okid_error(name, value):
+    """order=2**31 raised RuntimeError: std::bad_cast from the binding's int conversion."""
+    with pytest.raises(okid.ConfigurationError, match=rf"^{name} = {value} is outside the range of a C int"):
+        okid.Identifier(1, 2, 0.01, **{name: value})
+
+
+def test_config_message_is_the_clis(paper):
+    """The explanation of a refused configuration is written once (config_explain.c): Python prints
+    the CLI's line with the settings spelled as keywords."""
+    cli = refused(run("identify", "--order", 5, "--observer-order", 2, paper), code=2)
+    with pytest.raises(okid.BadOrderError) as info:
+        okid.Identifier(1, 2, 0.01, order=5, observer_order=2)
+    assert str(info.value) == cli[len("okid: "):].replace("--order ", "order=")
+    assert "order = 5 is outside 0..4" in str(info.value)
