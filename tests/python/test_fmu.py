@@ -537,6 +537,20 @@ def test_fmi3_structural_parameter_rules():
     s.fmu.freeInstance()
 
 
+@pytest.mark.parametrize("value", [2**31, 2**32 - 1, 2**40, 2**64 - 1])
+def test_fmi3_uint64_beyond_int_is_refused_as_given(value):
+    """A UInt64 above 2^31 was stored as -1 and logged so ("num_outputs = -1 refused"); now the set
+    itself is refused, naming the value as the importer gave it, and nothing is stored."""
+    log = Log()
+    s = identifier(3, log)
+    s.fmu.enterConfigurationMode()
+    assert status_of(s.fmu.setUInt64, [s.vr("num_outputs")], [value]) == 3
+    assert f"num_outputs = {value} is outside the integers this FMU stores (-2147483648..2147483647)" in log.text()
+    assert "-1" not in log.text()
+    assert s.fmu.getUInt64([s.vr("num_outputs")]) == [2]  # the start value, untouched
+    s.fmu.freeInstance()
+
+
 # ---- issue 16: FMI 2 FMUs for any configuration from the one prebuilt binary (okid-fmu) ----
 
 def generated_chain_fmu(tmp_path, **extra):
