@@ -260,15 +260,6 @@ static okid_status identify_streamed(const okid_config *cfg, record_reader *read
     return st;
 }
 
-/* Regressor rows the record can give at most: every K-th sample kept, the first p only fill the window. */
-static unsigned long long rows_at_most(const okid_config *cfg, size_t samples)
-{
-    const unsigned long long k = cfg->decimation > 1 ? (unsigned long long)cfg->decimation : 1u;
-    const unsigned long long kept = (samples + k - 1) / k;
-    const unsigned long long window = cfg->zero_initial_state ? 0u : (unsigned long long)cfg->observer_order;
-    return kept > window ? kept - window : 0u;
-}
-
 /*
  * okid identify --refine: the chosen channels come back from the scan into memory ((r + m) 8 bytes
  * per sample), since the refinement makes several passes over them and, without horizons, the
@@ -375,12 +366,9 @@ static int run(identify_options *o, record_reader *reader, const char *label)
         return settings_error(&cfg, st);
     }
     /* the data's sufficiency before the large allocation */
-    const int q = r + (r + m) * cfg.observer_order;
-    if (rows_at_most(&cfg, scan.samples) < (unsigned long long)q) {
+    if (config_data_shortfall(&cfg, scan.samples, error, sizeof error)) {
         free(cc);
-        return cli_error(EXIT_DATA, "not enough data: %zu samples give at most %llu regressor rows, %d needed "
-                                    "(q = r + (r+m)p with p = %d)",
-                         scan.samples, rows_at_most(&cfg, scan.samples), q, cfg.observer_order);
+        return cli_error(EXIT_DATA, "%s", error);
     }
     /* aligned_alloc wants a size that is a multiple of the alignment */
     void *ws = aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16);

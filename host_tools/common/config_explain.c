@@ -25,6 +25,21 @@ static const char *spelled(config_explain_style style, const char *field, char *
     return buf;
 }
 
+int config_data_shortfall(const okid_config *cfg, unsigned long long samples, char *out, size_t size)
+{
+    const unsigned long long k = cfg->decimation > 1 ? (unsigned long long)cfg->decimation : 1u;
+    const unsigned long long kept = (samples + k - 1) / k;
+    const unsigned long long window = cfg->zero_initial_state ? 0u : (unsigned long long)cfg->observer_order;
+    const unsigned long long rows = kept > window ? kept - window : 0u;
+    const long long q = (long long)cfg->num_inputs + (long long)(cfg->num_inputs + cfg->num_outputs) * cfg->observer_order;
+    if (rows >= (unsigned long long)q) {
+        return 0;
+    }
+    snprintf(out, size, "not enough data: %llu samples give at most %llu regressor rows, %lld needed "
+             "(q = r + (r+m)p with p = %d)", samples, rows, q, cfg->observer_order);
+    return 1;
+}
+
 const char *config_explain(const okid_config *cfg, okid_status st, config_explain_style style, char *out,
                            size_t size)
 {

@@ -26,4 +26,12 @@ typedef enum config_explain_style {
 const char *config_explain(const okid_config *cfg, okid_status st, config_explain_style style, char *out,
                            size_t size);
 
+/*
+ * The data's sufficiency before the workspace is allocated: samples give at most
+ * ceil(samples / K) - p regressor rows (every K-th kept, the first p only fill the observer's window
+ * unless zero_initial_state), and q = r + (r + m) p are needed. 1 with the refusal in out[size]
+ * when they cannot be enough, 0 when they may be.
+ */
+int config_data_shortfall(const okid_config *cfg, unsigned long long samples, char *out, size_t size);
+
 #endif

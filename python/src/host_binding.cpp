@@ -41,6 +41,15 @@ void bind_host(nb::module_ &m)
             return nb::make_tuple(status, field ? nb::object(nb::str(field)) : nb::none(), std::string(message));
         },
         "(status of okid_workspace_size, the field okid_config_check names or None, the one-line explanation).");
+    m.def(
+        "data_shortfall",
+        [](const nb::dict &d, unsigned long long samples) -> std::optional<std::string> {
+            const okid_config cfg = config_from_dict(d);
+            char message[320];
+            if (!config_data_shortfall(&cfg, samples, message, sizeof message)) return std::nullopt;
+            return std::string(message);
+        },
+        "The refusal when samples cannot give the regressor rows cfg needs (the CLI's check), else None.");
     m.def("time_column_unit", [](const std::string &name) { return time_column_unit(name.c_str()); },
           "Seconds per unit of a time column named so (time_column.h), 0 when the name marks none.");
     m.def(

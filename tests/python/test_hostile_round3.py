@@ -333,3 +333,25 @@ def test_config_message_is_the_clis(paper):
         okid.Identifier(1, 2, 0.01, order=5, observer_order=2)
     assert str(info.value) == cli[len("okid: "):].replace("--order ", "order=")
     assert "order = 5 is outside 0..4" in str(info.value)
+
+
+def test_sufficiency_before_the_workspace():
+    """50 samples, 10 inputs, 40 outputs, p = 300: okid.identify allocated the 1766 MB workspace
+    (1.8 GB peak resident) before NotEnoughDataError; now the CLI's check (config_explain.c) comes
+    first, with the CLI's message. Measured in a child: its peak resident memory must stay far below
+    the workspace (a quarter of it: the interpreter, numpy and okid take some 45 MB)."""
+    import sys
+    bytes_needed = okid._core.workspace_size(okid._config.build(10, 40, 0.01, {"observer_order": 300}))[1]
+    assert bytes_needed > 1.7e9
+    child = ("import resource, numpy as np, okid\n"
+             "rng = np.random.default_rng(1)\n"
+             "try:\n"
+             "    okid.identify(rng.standard_normal((50, 10)), rng.standard_normal((50, 40)), 0.01, observer_order=300)\n"
+             "except okid.NotEnoughDataError as e:\n"
+             "    print(e)\n"
+             "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)\n")
+    proc = subprocess.run([sys.executable, "-c", child], capture_output=True, text=True, timeout=120)
+    message, peak_kib = proc.stdout.splitlines()
+    assert message == ("not enough data: 50 samples give at most 0 regressor rows, 15010 needed "
+                       "(q = r + (r+m)p with p = 300)")
+    assert int(peak_kib) * 1024 < bytes_needed / 4, peak_kib
