@@ -355,3 +355,70 @@ def test_sufficiency_before_the_workspace():
     assert message == ("not enough data: 50 samples give at most 0 regressor rows, 15010 needed "
                        "(q = r + (r+m)p with p = 300)")
     assert int(peak_kib) * 1024 < bytes_needed / 4, peak_kib
+
+
+# --- 7. okid-fleet: every network call has a timeout, every refusal is one line -----------------
+
+def _fleet(*args, timeout=120):
+    import sys
+    cmd = [sys.executable, "-c", "import sys; from okid.fleet.cli import main; sys.exit(main())", *map(str, args)]
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+
+
+def test_fleet_scheduler_that_does_not_speak_dask_times_out():
+    """A TCP port that accepts and says nothing held Client() forever (Dask's timeout covers the
+    connection only); now the connection is given up on after connect_seconds, with one line."""
+    import socket
+    import threading
+    import time
+    from okid.fleet import job
+
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(8)
+    held = []
+    stop = threading.Event()
+
+    def accept():
+        server.settimeout(0.2)
+        while not stop.is_set():
+            try:
+                held.append(server.accept()[0])
+            except OSError:
+                pass
+
+    thread = threading.Thread(target=accept, daemon=True)
+    thread.start()
+    address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
+    try:
+        began = time.monotonic()
+        with pytest.raises(job.FleetError, match=rf"^no Dask scheduler answered at {address} within 3 s"):
+            job._client(address, None, connect_seconds=3)
+        assert time.monotonic() - began < 3 + 2  # the deadline, and a thread's wake-up
+    finally:
+        stop.set()
+        thread.join()
+        for conn in held:
+            conn.close()
+        server.close()
+
+
+@pytest.mark.parametrize("args, says", [
+    (["--scheduler", "notaproto://x:1"], "no Dask scheduler at notaproto://x:1: ValueError: unknown address scheme"),
+    (["--scheduler", "tls://127.0.0.1:1"], "no Dask scheduler at tls://127.0.0.1:1: TypeError: TLS expects"),
+])
+def test_fleet_refusals_are_one_line(paper, tmp_path, args, says):
+    proc = _fleet("identify", "--out", tmp_path / "out.parquet", *args, paper)
+    assert proc.returncode == 1 and proc.stderr.splitlines() == [proc.stderr.strip()], proc.stderr
+    assert proc.stderr.startswith("okid-fleet: " + says)
+
+
+def test_fleet_out_that_is_a_file_is_one_line(paper, tmp_path):
+    """--out naming a file (or a folder under one) was a FileExistsError / NotADirectoryError traceback."""
+    blocker = tmp_path / "a_file"
+    blocker.write_text("mine\n")
+    for out in (blocker, blocker / "modes.parquet"):
+        proc = _fleet("identify", "--workers", 1, "--out", out, paper)
+        assert proc.returncode == 1 and len(proc.stderr.splitlines()) == 1, proc.stderr
+        assert proc.stderr.startswith(f"okid-fleet: --out {out}: cannot be the output folder")
+    assert blocker.read_text() == "mine\n"
