@@ -60,6 +60,7 @@ def test_crlb_cli_singular_fisher_is_refused():
     # 12 samples of 2 outputs for 18 parameters: the Fisher information is singular at working precision
     line = refused(run("crlb", "--noise", 0.05, "--samples", 12))
     assert "cannot compute the bound: the Fisher information is singular" in line
+    assert line.endswith("the record spans 0.12 s, less than one period of the chain's fastest mode (0.954484 s at 1.04769 Hz)")
 
 
 def test_crlb_python_huge_noise_is_linear():
@@ -422,3 +423,16 @@ def test_fleet_out_that_is_a_file_is_one_line(paper, tmp_path):
         assert proc.returncode == 1 and len(proc.stderr.splitlines()) == 1, proc.stderr
         assert proc.stderr.startswith(f"okid-fleet: --out {out}: cannot be the output folder")
     assert blocker.read_text() == "mine\n"
+
+
+# --- 8. okid crlb names the cause --------------------------------------------------------------
+
+@pytest.mark.parametrize("args", [("--dt", "1e-300"), ("--dt", "1e-6"), ("--samples", 1)])
+def test_crlb_short_record_is_named(args):
+    """--dt 1e-300 blamed the force ("rank deficient ... not persistently exciting") and --samples 1
+    "a real parameter": the cause is a record shorter than one period of the fastest mode (0.954 s,
+    1.04769 Hz: the paper chain's, numpy's eig of its K and M in test_refine_cli.py)."""
+    proc = run("crlb", "--noise", 0.02, *args)
+    line = refused(proc, code=proc.returncode if proc.returncode in (1, 2) else 2)
+    assert "less than one period of the chain's fastest mode (0.954484 s at 1.04769 Hz)" in line
+    assert "excit" not in line and "real parameter" not in line
