@@ -66,7 +66,7 @@ fi
 # The okid package (pyproject.toml: the C core, its binding, okid.tools and the console scripts),
 # rebuilt when a file it is built from changes.
 package_stamp=.venv/.okid-package.sha256
-want=$(find pyproject.toml CMakeLists.txt cmake lib python host_tools/cli -type f -not -name '*.pyc' -print0 \
+want=$(find pyproject.toml CMakeLists.txt cmake lib python host_tools/cli host_tools/common -type f -not -name '*.pyc' -print0 \
        | sort -z | xargs -0 sha256sum | sha256sum | cut -d' ' -f1)
 if [[ ! -f $package_stamp || $(cat "$package_stamp") != "$want" ]]; then
     echo "setup: building and installing the okid Python package into .venv"

@@ -393,7 +393,22 @@ static void to_caller(fmu_value_kind kind, const void *stored, void *values, siz
     }
 }
 
-/* Integers outside int's range are stored as -1, which every range check refuses. */
+/* An Int64 or UInt64 value that int cannot hold, printed as the caller gave it (a UInt64 above
+   2^31 is no "-1"): 1 and the text, or 0. */
+static int beyond_int(fmu_value_kind kind, const void *values, size_t i, char *text, size_t size)
+{
+    if (kind == FMU_AS_INT64) {
+        const int64_t x = ((const int64_t *)values)[i];
+        if (x < INT32_MIN || x > INT32_MAX) return snprintf(text, size, "%lld", (long long)x), 1;
+    } else if (kind == FMU_AS_UINT64) {
+        const uint64_t x = ((const uint64_t *)values)[i];
+        if (x > INT32_MAX) return snprintf(text, size, "%llu", (unsigned long long)x), 1;
+    }
+    return 0;
+}
+
+/* Integers outside int's range are stored as -1, which every range check refuses (fmu_set refuses
+   them first, naming the value). */
 static void from_caller(fmu_value_kind kind, const void *values, size_t i, void *stored)
 {
     int v = 0;
@@ -484,6 +499,19 @@ fmu_status fmu_set(fmu_instance *inst, fmu_value_kind kind, const unsigned vr[],
     if (total != nvalues) {
         log_error(inst, "%s: the variables have %zu values in all, not nValues = %zu", function, total, nvalues);
         return FMU_ERROR;
+    }
+    for (size_t i = 0, at = 0; i < nvr; ++i) {
+        int g;
+        size_t first, count;
+        resolve(inst, kind, vr[i], function, &g, &first, &count);
+        for (size_t e = 0; e < count; ++e, ++at) {
+            char text[32];
+            if (beyond_int(kind, values, at, text, sizeof text)) {
+                log_error(inst, "%s: %s = %s is outside the integers this FMU stores (%d..%d)", function,
+                          FMU_MODEL.groups[g].name, text, (int)INT32_MIN, (int)INT32_MAX);
+                return FMU_ERROR;
+            }
+        }
     }
     size_t at = 0;
     for (size_t i = 0; i < nvr; ++i) {

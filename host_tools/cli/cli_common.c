@@ -2,12 +2,8 @@
 /* See cli_common.h. */
 #include "cli_common.h"
 
-#include <errno.h>
-#include <limits.h>
 #include <stdarg.h>
 #include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
 
 int cli_error(int code, const char *format, ...)
 {
@@ -18,51 +14,4 @@ int cli_error(int code, const char *format, ...)
     fputc('\n', stderr);
     va_end(args);
     return code;
-}
-
-int cli_parse_int(const char *text, int *out)
-{
-    char *end = NULL;
-    errno = 0;
-    const long v = strtol(text, &end, 10);
-    if (end == text || *end != '\0' || errno != 0 || v < INT_MIN || v > INT_MAX) {
-        return -1;
-    }
-    *out = (int)v;
-    return 0;
-}
-
-const cli_name cli_sensing_names[] = {{"displacement", OKID_SENSING_DISPLACEMENT, 0},
-                                      {"velocity", OKID_SENSING_VELOCITY, 0},
-                                      {"acceleration", OKID_SENSING_ACCELERATION, 0},
-                                      {NULL, 0, 0}};
-const cli_name cli_realization_names[] = {{"system", OKID_REALIZATION_SYSTEM, 0},
-                                          {"combined", OKID_REALIZATION_COMBINED, 0},
-                                          {NULL, 0, 0}};
-const cli_name cli_scaling_names[] = {{"none", OKID_SCALING_NONE, 0}, {"auto", OKID_SCALING_AUTO, 0}, {NULL, 0, 0}};
-/* "least-squares": the old spelling, accepted for one release (docs/cli.md) */
-const cli_name cli_estimator_names[] = {{"least_squares", OKID_ESTIMATOR_LEAST_SQUARES, 0},
-                                        {"instrumental", OKID_ESTIMATOR_INSTRUMENTAL, 0},
-                                        {"least-squares", OKID_ESTIMATOR_LEAST_SQUARES, 1},
-                                        {NULL, 0, 0}};
-
-const char *cli_name_of(const cli_name *names, int value)
-{
-    for (const cli_name *n = names; n->name != NULL; ++n) {
-        if (!n->alias && n->value == value) {
-            return n->name;
-        }
-    }
-    return "?";
-}
-
-int cli_value_of(const cli_name *names, const char *text, int *value)
-{
-    for (const cli_name *n = names; n->name != NULL; ++n) {
-        if (strcmp(n->name, text) == 0) {
-            *value = n->value;
-            return 0;
-        }
-    }
-    return -1;
 }

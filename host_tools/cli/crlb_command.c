@@ -40,11 +40,22 @@ static const char *crlb_std_reason(const okid_refine_result *rr)
     }
 }
 
+/* A record shorter than one period of the fastest mode determines no mode: that is the cause to
+   name when the outputs vanish or the Fisher information is singular, not the force. */
+static int short_record_error(const simulate_options *o, double fastest_hz)
+{
+    const double span = o->samples * o->dt;
+    return cli_error(EXIT_USAGE, "cannot compute the bound: the record spans %g s (%d samples of dt %g s), less than "
+                     "one period of the chain's fastest mode (%g s at %.6g Hz): no mode is determined; give a larger "
+                     "--dt or more --samples", span, o->samples, o->dt, 1 / fastest_hz, fastest_hz);
+}
+
 /* The bound: start from the exact model, noise fixed, one pass over the noise-free record. */
 static int compute_bound(const simulate_options *o, const discrete_model *dm, const okid_real *u, const okid_real *y,
-                         okid_refiner *rf, void **ws, okid_refine_result *out, okid_real *sigma)
+                         double fastest_hz, okid_refiner *rf, void **ws, okid_refine_result *out, okid_real *sigma)
 {
     const int n = 2 * o->dofs, m = o->dofs;
+    const int short_record = fastest_hz > 0 && o->samples * o->dt * fastest_hz < 1;
     okid_result truth;
     memset(&truth, 0, sizeof truth);
     truth.order = n;
@@ -57,6 +68,11 @@ static int compute_bound(const simulate_options *o, const discrete_model *dm, co
         double power = 0;
         for (int k = 0; k < o->samples; ++k) power += (double)y[(size_t)k * (size_t)m + (size_t)i] * (double)y[(size_t)k * (size_t)m + (size_t)i];
         sigma[i] = (okid_real)(o->noise * sqrt(power / o->samples));
+        if (!(sigma[i] > 0)) { /* a noise std of 0 is no bound: say which output is silent, and why */
+            if (short_record) return short_record_error(o, fastest_hz);
+            return cli_error(EXIT_USAGE, "output %d (mass %d) is zero over the record's %d sample(s): the noise, F times its "
+                             "RMS, is 0 and bounds nothing; give more --samples", i + 1, i + 1, o->samples);
+        }
     }
     okid_refine_config rc;
     okid_refine_config_default(&rc);
@@ -72,9 +88,18 @@ static int compute_bound(const simulate_options *o, const discrete_model *dm, co
     okid_refine_state state = OKID_REFINE_NEED_PASS;
     if (st == OKID_OK) st = okid_refine_end_pass(rf, &state);
     if (st == OKID_OK) st = okid_refine_get_result(rf, out);
+    if (short_record && st == OKID_E_RANK_DEFICIENT) {
+        return short_record_error(o, fastest_hz);
+    }
     if (st != OKID_OK) return cli_error(EXIT_DATA, "cannot compute the bound: %s", okid_status_str(st));
     if (state != OKID_REFINE_CONVERGED) {
+        if (short_record) return short_record_error(o, fastest_hz);
         return cli_error(EXIT_DATA, "cannot compute the bound: %s", okid_refine_state_str(state));
+    }
+    if (out->std_status != OKID_OK && short_record && out->std_status == OKID_E_RANK_DEFICIENT) {
+        return cli_error(EXIT_DATA, "cannot compute the bound: %s; the record spans %g s, less than one period of "
+                         "the chain's fastest mode (%g s at %.6g Hz)", crlb_std_reason(out), o->samples * o->dt,
+                         1 / fastest_hz, fastest_hz);
     }
     if (out->std_status != OKID_OK) {
         return cli_error(EXIT_DATA, "cannot compute the bound: %s", crlb_std_reason(out));
@@ -129,7 +154,7 @@ int crlb_command(int argc, char **argv)
     if (st != OKID_OK) {
         rc = cli_error(EXIT_USAGE, "cannot simulate this model: %s", okid_status_str(st));
     } else {
-        rc = compute_bound(&o, dm, u, y, &rf, &ws, &rr, sigma);
+        rc = compute_bound(&o, dm, u, y, natural_hz, &rf, &ws, &rr, sigma);
     }
     if (rc == 0) {
         FILE *out = o.output ? fopen(o.output, "w") : stdout;

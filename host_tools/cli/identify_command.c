@@ -11,83 +11,13 @@
 #include "auto_report.h"
 #include "auto_settings.h"
 #include "cli_common.h"
+#include "config_explain.h"
 #include "csv_reader.h"
 #include "identify_options.h"
 #include "identify_refine.h"
 #include "json_writer.h"
+#include "record_channels.h"
 #include "record_reader.h"
-#include "time_column.h"
-
-/*
- * Fills columns[] (room for OKID_MAX_DIMENSION) from NAMES or COUNT (a count starts at column
- * *next). used[] marks the columns already taken (the time column, the inputs): a column is an
- * input or an output, never both, and never twice. A value that names a column is a name; one
- * that could be a count too is refused (docs/cli.md). is_default: the built-in count, never a name.
- */
-static int select_columns(const csv_table *t, const char *spec, int *next, char *used, int *columns, int *count,
-                          const char *what, int is_default)
-{
-    int n = 0;
-    *count = 0;
-    int left = 0;
-    for (int j = *next; j < t->num_columns; ++j) left += !used[j];
-    int named = is_default ? -1 : csv_find_column(t, spec);
-    int first_free = *next;
-    while (first_free < t->num_columns && used[first_free]) ++first_free;
-    if (cli_parse_int(spec, &n) == 0 && n == 1 && named == first_free) {
-        named = -1; /* the count and the name take the same column */
-    }
-    if (cli_parse_int(spec, &n) == 0 && named >= 0 && !used[named] && n >= 1 && n <= left &&
-        n <= OKID_MAX_DIMENSION) {
-        return cli_error(EXIT_USAGE,
-                         "--%s %s: ambiguous, both a count (the next %d column(s)) and the name of column %d ('%s'): "
-                         "write --%s %s, (a trailing comma: a list of names) for that column, or name the columns "
-                         "you mean (--%s A,B)",
-                         what, spec, n, named + 1, t->names[named], what, spec, what);
-    }
-    if (cli_parse_int(spec, &n) == 0 && named < 0) {
-        /* a count takes the next columns not yet taken (the time column, named inputs): never one twice */
-        if (n < 1 || n > left) {
-            return cli_error(EXIT_USAGE, "--%s %d: the file has %d column(s) after the ones already taken", what, n,
-                             left);
-        }
-        if (n > OKID_MAX_DIMENSION) {
-            return cli_error(EXIT_USAGE, "--%s %d: at most %d %s", what, n, OKID_MAX_DIMENSION, what);
-        }
-        for (int j = 0; j < n; ++j) {
-            while (used[*next]) ++*next;
-            used[*next] = 1;
-            columns[j] = (*next)++;
-        }
-        *count = n;
-        return 0;
-    }
-    char *copy = malloc(strlen(spec) + 1);
-    if (copy == NULL) {
-        return cli_error(EXIT_DATA, "out of memory");
-    }
-    strcpy(copy, spec);
-    int rc = 0;
-    for (char *name = strtok(copy, ","); name != NULL && rc == 0; name = strtok(NULL, ",")) {
-        const int col = csv_find_column(t, name);
-        if (col < 0) {
-            rc = cli_error(EXIT_USAGE, "--%s: no column named '%s' in the file", what, name);
-        } else if (used[col]) {
-            rc = cli_error(EXIT_USAGE, "--%s: column '%s' is already %s", what, name,
-                           time_column_unit(name) > 0 ? "the time column (see docs/robustness.md)" : "an input or an output");
-        } else if (*count >= OKID_MAX_DIMENSION) {
-            rc = cli_error(EXIT_USAGE, "--%s: at most %d %s", what, OKID_MAX_DIMENSION, what);
-        } else {
-            used[col] = 1;
-            columns[(*count)++] = col;
-        }
-    }
-    free(copy);
-    if (rc == 0 && *count == 0) {
-        rc = cli_error(EXIT_USAGE, "--%s: no column given", what);
-    }
-    return rc;
-}
 
 /* Names of the chosen columns, for the table and the JSON. */
 typedef struct column_choice {
@@ -159,99 +89,12 @@ static void print_model_modes(const okid_config *cfg, const okid_result *res, co
     }
 }
 
-/* The time column (time_column.h), -1 without one; two of them are refused (-2, message printed). */
-static int find_time_column(const csv_table *t)
-{
-    int found = -1;
-    for (int j = 0; j < t->num_columns; ++j) {
-        if (time_column_unit(t->names[j]) > 0) {
-            if (found >= 0) {
-                cli_error(EXIT_DATA, "two time columns ('%s' and '%s'): keep one (docs/robustness.md)", t->names[found],
-                          t->names[j]);
-                return -2;
-            }
-            found = j;
-        }
-    }
-    return found;
-}
-
-/* Inputs and outputs from --inputs / --outputs (defaults: one input, every other column an output);
-   the time column is never one of them. */
-static int choose_columns(const identify_options *o, const csv_table *t, int time_col, column_choice *cc)
-{
-    char *used = calloc((size_t)t->num_columns, 1);
-    if (used == NULL) {
-        return cli_error(EXIT_DATA, "out of memory");
-    }
-    if (time_col >= 0) used[time_col] = 1;
-    int next = 0;
-    int rc = select_columns(t, o->inputs ? o->inputs : "1", &next, used, cc->inputs, &cc->r, "inputs", o->inputs == NULL);
-    if (rc == 0 && o->outputs != NULL) {
-        rc = select_columns(t, o->outputs, &next, used, cc->outputs, &cc->m, "outputs", 0);
-    } else if (rc == 0) {
-        cc->m = 0;
-        for (int j = 0; j < t->num_columns && rc == 0; ++j) {
-            if (used[j]) continue;
-            if (cc->m == OKID_MAX_DIMENSION) {
-                rc = cli_error(EXIT_USAGE, "more than %d output columns: choose them with --outputs", OKID_MAX_DIMENSION);
-            } else {
-                cc->outputs[cc->m++] = j;
-            }
-        }
-        if (rc == 0 && cc->m == 0) {
-            rc = cli_error(EXIT_USAGE, "no output columns left after the inputs");
-        }
-    }
-    free(used);
-    for (int i = 0; rc == 0 && i < cc->r; ++i) cc->input_names[i] = t->names[cc->inputs[i]];
-    for (int i = 0; rc == 0 && i < cc->m; ++i) cc->output_names[i] = t->names[cc->outputs[i]];
-    return rc;
-}
-
-/*
- * okid_workspace_size() said no: the setting, its value and its valid range (okid_config_check),
- * and where the range comes from other settings, the combination with its numbers.
- */
-static long long min3(long long a, long long b, long long c)
-{
-    const long long ab = a < b ? a : b;
-    return ab < c ? ab : c;
-}
-
+/* okid_workspace_size() said no: the setting, its value, its valid range (config_explain.h). */
 static int settings_error(const okid_config *cfg, okid_status st)
 {
-    okid_config_issue issue;
-    (void)okid_config_check(cfg, &issue);
-    char range[160] = "";
-    if (issue.field != NULL && strcmp(issue.field, "rank_tolerance") == 0) {
-        snprintf(range, sizeof range, "; rank_tolerance = %g must be 0 (the default) or in [%g, %g)", issue.value,
-                 issue.min, issue.max);
-    } else if (issue.field != NULL && strcmp(issue.field, "workspace bytes") == 0) {
-        snprintf(range, sizeof range, "; the workspace would be %.4g bytes, more than this machine can address (%g)",
-                 issue.value, issue.max);
-    } else if (issue.field != NULL) {
-        snprintf(range, sizeof range, "; %s = %.6g is outside %.6g..%.6g", issue.field, issue.value, issue.min,
-                 issue.max);
-    }
-    const long long r = cfg->num_inputs, m = cfg->num_outputs, p = cfg->observer_order;
-    const long long columns = r + (cfg->realization == OKID_REALIZATION_COMBINED ? m : 0);
-    const long long hankel = cfg->hankel_rows * m, window = cfg->hankel_cols * columns;
-    const long long largest = min3(hankel, window, m * p);
-    char hint[256] = "";
-    if (st == OKID_E_BAD_ORDER && cfg->order == 0) {
-        snprintf(hint, sizeof hint, "; the automatic order would search up to min(alpha m, beta columns, m p) = "
-                 "%lld, more than %d: give --order", largest, OKID_MAX_ORDER);
-    } else if (st == OKID_E_BAD_ORDER) {
-        snprintf(hint, sizeof hint, "; --order %d must be at most min(alpha m, beta columns, m p) = "
-                 "min(%lld, %lld, %lld) = %lld", cfg->order, hankel, window, m * p, largest);
-    } else if (cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL && st == OKID_E_BAD_SIZE) {
-        snprintf(hint, sizeof hint, "; --instrument-lags %d: instrumental variables need r (L + 1) >= q = %lld, "
-                 "L >= p = %lld and L <= %d", cfg->instrument_lags, r + (r + m) * p, p, OKID_MAX_INSTRUMENT_LAGS);
-    }
-    return cli_error(EXIT_USAGE, "invalid settings (r = %d, m = %d, p = %d, n = %d, Hankel %d x %d): %s%s%s",
-                     cfg->num_inputs, cfg->num_outputs, cfg->observer_order, cfg->order, cfg->hankel_rows,
-                     cfg->hankel_cols, okid_status_str(st), range, hint);
+    char message[640];
+    (void)config_explain(cfg, st, CONFIG_EXPLAIN_CLI, message, sizeof message);
+    return cli_error(EXIT_USAGE, "%s", message);
 }
 
 /* The stability marks of the table: 's' all three criteria, 'f' frequency only or with one more, 'o' new. */
@@ -437,38 +280,6 @@ static okid_status identify_streamed(const okid_config *cfg, record_reader *read
     return st;
 }
 
-/* dt: --dt, or the time column's uniform step (time_column.h). */
-static int record_dt(const identify_options *o, const csv_table *header, int time_col, const record_scan *scan,
-                     double *dt)
-{
-    char error[512];
-    if (o->have_dt) {
-        *dt = o->dt;
-        /* --dt with a time column: they must agree (a wrong --dt scales every frequency) */
-        if (time_col >= 0 && !o->ignore_time_column &&
-            time_stamps_check_dt(&scan->stamps, header->names[time_col], o->dt, error, sizeof error) != 0) {
-            return cli_error(EXIT_USAGE, "%s", error);
-        }
-        return 0;
-    }
-    if (time_col < 0) {
-        return cli_error(EXIT_USAGE, "no time column (t, time or timestamp, with an optional unit: docs/robustness.md) "
-                                     "in the file: give --dt");
-    }
-    return time_stamps_step(&scan->stamps, header->names[time_col], dt, error, sizeof error) == 0
-               ? 0
-               : cli_error(EXIT_DATA, "%s", error);
-}
-
-/* Regressor rows the record can give at most: every K-th sample kept, the first p only fill the window. */
-static unsigned long long rows_at_most(const okid_config *cfg, size_t samples)
-{
-    const unsigned long long k = cfg->decimation > 1 ? (unsigned long long)cfg->decimation : 1u;
-    const unsigned long long kept = (samples + k - 1) / k;
-    const unsigned long long window = cfg->zero_initial_state ? 0u : (unsigned long long)cfg->observer_order;
-    return kept > window ? kept - window : 0u;
-}
-
 /*
  * okid identify --refine: the chosen channels come back from the scan into memory ((r + m) 8 bytes
  * per sample), since the refinement makes several passes over them and, without horizons, the
@@ -564,12 +375,11 @@ static int identify_auto(const identify_options *o, okid_config *cfg, record_rea
     choice.given = o->given;
     size_t bytes = 0;
     okid_status st = rc == 0 ? okid_workspace_size(cfg, &bytes) : OKID_OK;
-    const int q = cfg->num_inputs + (cfg->num_inputs + cfg->num_outputs) * cfg->observer_order;
+    char shortfall[512];
     if (rc == 0 && st != OKID_OK) {
         rc = settings_error(cfg, st);
-    } else if (rc == 0 && rows_at_most(cfg, n) < (unsigned long long)q) {
-        rc = cli_error(EXIT_DATA, "not enough data: %zu samples give at most %llu regressor rows, %d needed "
-                       "(q = r + (r+m)p with p = %d)", n, rows_at_most(cfg, n), q, cfg->observer_order);
+    } else if (rc == 0 && config_data_shortfall(cfg, n, shortfall, sizeof shortfall)) {
+        rc = cli_error(EXIT_DATA, "%s", shortfall);
     }
     auto_modes *am = NULL;
     if (rc == 0 && cfg->order == 0) {
@@ -613,26 +423,32 @@ static int identify_auto(const identify_options *o, okid_config *cfg, record_rea
 static int run(identify_options *o, record_reader *reader, const char *label)
 {
     const csv_table *header = &reader->stream.header;
-    const int time_col = find_time_column(header);
-    if (time_col == -2) {
-        return EXIT_DATA;
+    char error[512];
+    int time_col = -1;
+    record_columns cols;
+    int rc = record_find_time_column(header, &time_col, error, sizeof error);
+    if (rc == 0) rc = record_choose_columns(header, time_col, o->inputs, o->outputs, &cols, error, sizeof error);
+    if (rc != 0) {
+        return cli_error(rc, "%s", error);
     }
     column_choice *cc = calloc(1, sizeof *cc);
     if (cc == NULL) {
         return cli_error(EXIT_DATA, "out of memory");
     }
-    int rc = choose_columns(o, header, time_col, cc);
-    record_columns cols = {time_col, time_col >= 0 ? time_column_unit(header->names[time_col]) : 1, {0}, {0}, cc->r,
-                           cc->m};
-    memcpy(cols.inputs, cc->inputs, sizeof cols.inputs);
-    memcpy(cols.outputs, cc->outputs, sizeof cols.outputs);
+    cc->r = cols.r, cc->m = cols.m;
+    memcpy(cc->inputs, cols.inputs, sizeof cc->inputs);
+    memcpy(cc->outputs, cols.outputs, sizeof cc->outputs);
+    for (int i = 0; i < cc->r; ++i) cc->input_names[i] = header->names[cc->inputs[i]];
+    for (int i = 0; i < cc->m; ++i) cc->output_names[i] = header->names[cc->outputs[i]];
     record_scan scan;
-    char error[512];
-    if (rc == 0 && record_scan_all(reader, &cols, &scan, error, sizeof error) != 0) {
+    if (record_scan_all(reader, &cols, &scan, error, sizeof error) != 0) {
         rc = cli_error(EXIT_DATA, "%s: %s", label, error);
     }
     double dt = 0;
-    if (rc == 0) rc = record_dt(o, header, time_col, &scan, &dt);
+    if (rc == 0) {
+        rc = record_dt(&scan, header, time_col, o->have_dt, o->dt, o->ignore_time_column, &dt, error, sizeof error);
+        if (rc != 0) cli_error(rc, "%s", error);
+    }
     if (rc != 0) {
         free(cc);
         return rc;
@@ -661,12 +477,9 @@ static int run(identify_options *o, record_reader *reader, const char *label)
         return settings_error(&cfg, st);
     }
     /* the data's sufficiency before the large allocation */
-    const int q = r + (r + m) * cfg.observer_order;
-    if (rows_at_most(&cfg, scan.samples) < (unsigned long long)q) {
+    if (config_data_shortfall(&cfg, scan.samples, error, sizeof error)) {
         free(cc);
-        return cli_error(EXIT_DATA, "not enough data: %zu samples give at most %llu regressor rows, %d needed "
-                                    "(q = r + (r+m)p with p = %d)",
-                         scan.samples, rows_at_most(&cfg, scan.samples), q, cfg.observer_order);
+        return cli_error(EXIT_DATA, "%s", error);
     }
     /* aligned_alloc wants a size that is a multiple of the alignment */
     void *ws = aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16);

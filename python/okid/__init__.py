@@ -15,9 +15,10 @@ from . import _core
 from ._config import DEFAULTS, OPTION_NAMES
 from ._errors import (BadOrderError, BadParameterError, BadSizeError, ConcurrentUseError, ConfigurationError,
                       DataRangeError, DecompositionError, InternalError, NonFiniteSampleError, NonFiniteSampleWarning,
-                      NotAvailableError, NotEnoughDataError, NotPersistentlyExcitingError, OkidError)
+                      NotAvailableError, NotEnoughDataError, NotPersistentlyExcitingError, OkidError, RecordError)
 from ._identifier import Identifier, Progress, identify
 from ._mode import Mode, Pole, SelectedMode, StabilityFlag, WarningFlag
+from ._record import Record, read_record
 from ._refine import REFINE_DEFAULTS, CramerRaoBound, Refinement, RefinementWarning, crlb
 from ._result import Result, Stabilization, StabilizationOrder
 from . import model
@@ -27,7 +28,7 @@ __version__ = _core.VERSION
 __all__ = [
     "identify", "Identifier", "Progress", "Result", "Mode", "SelectedMode", "Pole", "WarningFlag", "Stabilization", "StabilizationOrder",
     "StabilityFlag", "model", "DEFAULTS", "OPTION_NAMES", "Refinement", "RefinementWarning", "REFINE_DEFAULTS",
-    "crlb", "CramerRaoBound",
+    "crlb", "CramerRaoBound", "read_record", "Record", "RecordError",
     "OkidError", "ConfigurationError", "BadSizeError", "BadOrderError", "BadParameterError", "NotEnoughDataError",
     "NotPersistentlyExcitingError", "DecompositionError", "NotAvailableError", "NonFiniteSampleError", "DataRangeError",
     "ConcurrentUseError", "InternalError", "NonFiniteSampleWarning",

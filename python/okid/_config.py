@@ -10,7 +10,8 @@ from typing import Any, Dict
 import numpy as np
 
 from . import _core
-from ._errors import E_BAD_ORDER, E_BAD_PARAMETER, E_BAD_SIZE, BadOrderError, BadParameterError, BadSizeError, OK
+from ._errors import (_CLASSES, E_BAD_ORDER, E_BAD_PARAMETER, E_BAD_SIZE, BadOrderError, BadParameterError, BadSizeError,
+                      ConfigurationError, OK)
 
 SENSING = {"displacement": 0, "velocity": 1, "acceleration": 2}
 REALIZATION = {"system": 0, "combined": 1}
@@ -19,7 +20,7 @@ ESTIMATOR = {"least_squares": 0, "instrumental": 1}
 ENUMS = {"sensing": SENSING, "realization": REALIZATION, "scaling": SCALING, "estimator": ESTIMATOR}
 
 #: okid_config's fields in the struct's order with their kinds ("int", "real", "enum", "flag"): the
-#: binding's copy of OKID_CONFIG_FIELDS (host_tools/cli/okid_fields.h), the CLI's JSON writer's table.
+#: binding's copy of OKID_CONFIG_FIELDS (host_tools/common/okid_fields.h), the CLI's JSON writer's table.
 CONFIG_FIELDS = tuple(_core.CONFIG_FIELDS)
 #: The settings of okid_config a caller gives by keyword, in the struct's order (num_inputs,
 #: num_outputs and dt are positional or come from the arrays).
@@ -42,10 +43,19 @@ def _defaults() -> Dict[str, Any]:
 DEFAULTS: Dict[str, Any] = _defaults()
 
 
+#: okid_config's integers are C ints.
+_INT_MIN, _INT_MAX = -2**31, 2**31 - 1
+
+
 def _integer(name: str, value: Any) -> int:
     if isinstance(value, bool) or not isinstance(value, (int,)) and not hasattr(value, "__index__"):
         raise BadParameterError(f"{name} must be an integer, not {value!r}", E_BAD_PARAMETER)
-    return int(value.__index__())
+    value = int(value.__index__())
+    if not _INT_MIN <= value <= _INT_MAX:  # the binding's int conversion would fail (std::bad_cast)
+        cls = BadOrderError if name == "order" else BadSizeError
+        code = E_BAD_ORDER if name == "order" else E_BAD_SIZE
+        raise cls(f"{name} = {value} is outside the range of a C int ({_INT_MIN}..{_INT_MAX})", code)
+    return value
 
 
 def _not_a_number(value: Any) -> bool:
@@ -119,36 +129,9 @@ def build(num_inputs: int, num_outputs: int, dt: float, options: Dict[str, Any])
 
 
 def _explain(cfg: Dict[str, Any], status: int) -> Exception:
-    """The first setting out of its range, as the exception of status."""
-    r, m, p = cfg["num_inputs"], cfg["num_outputs"], cfg["observer_order"]
-    alpha, beta = cfg["hankel_rows"], cfg["hankel_cols"]
-    columns = r + m if cfg["realization"] == REALIZATION["combined"] else r
-    q = r + (r + m) * p
-    checks = [
-        (E_BAD_SIZE, "num_inputs", 1 <= r <= _core.MAX_DIMENSION, f"1..{_core.MAX_DIMENSION}"),
-        (E_BAD_SIZE, "num_outputs", 1 <= m <= _core.MAX_DIMENSION, f"1..{_core.MAX_DIMENSION}"),
-        (E_BAD_SIZE, "observer_order", 1 <= p <= _core.MAX_HORIZON, f"1..{_core.MAX_HORIZON}"),
-        (E_BAD_SIZE, "hankel_rows", 1 <= alpha <= _core.MAX_HORIZON, f"1..{_core.MAX_HORIZON}"),
-        (E_BAD_SIZE, "hankel_cols", 1 <= beta <= _core.MAX_HORIZON, f"1..{_core.MAX_HORIZON}"),
-        (E_BAD_SIZE, "decimation", 0 <= cfg["decimation"] <= _core.MAX_DECIMATION,
-         f"1..{_core.MAX_DECIMATION} (0 reads as 1)"),
-        (E_BAD_SIZE, "block_rows", cfg["block_rows"] >= 0, "0 (= 32) or more"),
-        (E_BAD_ORDER, "order", 0 <= cfg["order"] <= min(alpha * m, beta * columns, m * p, _core.MAX_ORDER),
-         f"0 (automatic) or 1..min(hankel_rows m, hankel_cols columns, m observer_order) = "
-         f"{min(alpha * m, beta * columns, m * p, _core.MAX_ORDER)} here"),
-        (E_BAD_PARAMETER, "forgetting_factor", 0 <= cfg["forgetting_factor"] <= 1, "(0, 1] (0 reads as 1)"),
-        (E_BAD_PARAMETER, "rank_tolerance", cfg["rank_tolerance"] == 0 or 2.2e-16 <= cfg["rank_tolerance"] < 1,
-         "0 (default) or [machine epsilon, 1)"),
-        (E_BAD_SIZE, "instrument_lags", 0 <= cfg["instrument_lags"] <= _core.MAX_INSTRUMENT_LAGS,
-         f"0 (automatic) or observer_order..{_core.MAX_INSTRUMENT_LAGS} with r (L + 1) >= q = {q}"),
-    ]
-    classes = {E_BAD_SIZE: BadSizeError, E_BAD_ORDER: BadOrderError, E_BAD_PARAMETER: BadParameterError}
-    for code, name, ok, valid in checks:
-        if not ok:
-            return classes[code](f"{name} = {cfg[name]}: valid range {valid}", status)
-    if cfg["estimator"] == ESTIMATOR["instrumental"] and status == E_BAD_SIZE:
-        return BadSizeError(f"instrument_lags = {cfg['instrument_lags']}: instrumental variables need "
-                            f"r (L + 1) >= q = {q}, L >= observer_order = {p} and L <= {_core.MAX_INSTRUMENT_LAGS}",
-                            status)
-    settings = ", ".join(f"{k} = {v}" for k, v in cfg.items())
-    return classes.get(status, BadParameterError)(f"invalid settings ({settings}): {_core.status_str(status)}", status)
+    """The refusal of cfg as the exception of status: the host library's one line (config_explain.c,
+    the CLI's text with the settings spelled as keywords), naming the field okid_config_check()
+    refused, its value and its valid range."""
+    _, _, message = _core.explain_config(cfg)
+    cls = _CLASSES.get(status, BadParameterError)
+    return cls(message, status) if issubclass(cls, ConfigurationError) else BadParameterError(message, status)

@@ -7,7 +7,7 @@ from . import _core
 __all__ = [
     "OkidError", "ConfigurationError", "BadSizeError", "BadOrderError", "BadParameterError",
     "NotEnoughDataError", "NotPersistentlyExcitingError", "DecompositionError", "NotAvailableError",
-    "NonFiniteSampleError", "DataRangeError", "ConcurrentUseError", "InternalError", "NonFiniteSampleWarning",
+    "NonFiniteSampleError", "DataRangeError", "ConcurrentUseError", "InternalError", "NonFiniteSampleWarning", "RecordError",
 ]
 
 # okid_status values (lib/include/okid/status.h)
@@ -84,6 +84,11 @@ class ConcurrentUseError(OkidError, RuntimeError):
 
 class InternalError(OkidError, RuntimeError):
     """okid broke its own contract (workspace, backend argument): please report it."""
+
+
+class RecordError(OkidError, ValueError):
+    """okid.read_record refused a file: the CLI's one line for it (status: the CLI's exit code, 1 a
+    bad file, 2 a request the file cannot meet)."""
 
 
 class NonFiniteSampleWarning(UserWarning):

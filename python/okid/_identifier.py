@@ -15,7 +15,8 @@ import numpy as np
 from . import _config, _core
 from ._config import DEFAULTS
 from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_AVAILABLE, E_NOT_ENOUGH_DATA, OK,
-                      BadParameterError, BadSizeError, NonFiniteSampleWarning, OkidError, check, error_for)
+                      BadParameterError, BadSizeError, NonFiniteSampleWarning, NotEnoughDataError, OkidError, check,
+                      error_for)
 from ._refine import REFINE_DEFAULTS, check_settings
 from ._mode import Mode, Pole, SelectedMode
 from ._result import Result
@@ -261,10 +262,15 @@ def identify(u: Any, y: Any, dt: float, *,
     m = 1 if ya.ndim == 1 else (ya.shape[1] if ya.ndim == 2 else -1)
     if r < 0 or m < 0:
         raise BadSizeError(f"u has shape {ua.shape} and y {ya.shape}: expected (samples, channels) or (samples,)", E_BAD_SIZE)
-    identifier = Identifier(r, m, dt, **options)
     ub, yb = _block(ua, r, "u"), _block(ya, m, "y")
     if ub.shape[0] != yb.shape[0]:
         raise BadSizeError(f"u has {ub.shape[0]} samples and y {yb.shape[0]}: time along axis 0 must match", E_BAD_SIZE)
+    # the data's sufficiency before the workspace is allocated (the CLI's rule, config_explain.c);
+    # the start search tries smaller observer orders itself
+    shortfall = _core.data_shortfall(_config.build(r, m, dt, options), ub.shape[0])
+    if shortfall is not None and not (refine and not horizons_given):
+        raise NotEnoughDataError(shortfall, E_NOT_ENOUGH_DATA)
+    identifier = Identifier(r, m, dt, **options)
     search = None
     if refine and not horizons_given:
         def trial(opts):

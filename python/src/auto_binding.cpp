@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // okid._core.auto_identify: the settings chosen from the data and the physical modes, by the CLI's
-// own code (host_tools/cli/auto_settings.c, auto_modes.c, auto_report.c): one rule on both surfaces.
+// own code (host_tools/common/auto_settings.c, auto_modes.c, auto_report.c): one rule on both surfaces.
 #include <cstdio>  // before nanobind (binding.h says why)
 #include <cstdlib>
 #include <memory>

@@ -78,7 +78,11 @@ template <class Writer> nb::str write_to_string(Writer &&write)
     return s;
 }
 
+// An okid_config from the dict of its fields (okid/_config.py makes it).
+okid_config config_from_dict(const nb::dict &d);
+
 void bind_identifier(nb::module_ &m);
+void bind_host(nb::module_ &m);
 void bind_model(nb::module_ &m);
 void bind_refine(nb::module_ &m);
 void bind_auto(nb::module_ &m);

@@ -22,6 +22,7 @@ NB_MODULE(_core, m)
     bind_identifier(m);
     bind_model(m);
     bind_refine(m);
+    bind_host(m);
     bind_auto(m);
 }
 

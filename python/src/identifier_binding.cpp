@@ -212,7 +212,7 @@ struct IdentifierCore {
 using CBlock = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 using CVector = nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 
-static okid_config config_from_dict(const nb::dict &d)
+okid_config config_from_dict(const nb::dict &d)
 {
     okid_config c{};
     okid_config_default(&c, 1, 1);

@@ -6,6 +6,7 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -537,6 +538,20 @@ def test_fmi3_structural_parameter_rules():
     s.fmu.freeInstance()
 
 
+@pytest.mark.parametrize("value", [2**31, 2**32 - 1, 2**40, 2**64 - 1])
+def test_fmi3_uint64_beyond_int_is_refused_as_given(value):
+    """A UInt64 above 2^31 was stored as -1 and logged so ("num_outputs = -1 refused"); now the set
+    itself is refused, naming the value as the importer gave it, and nothing is stored."""
+    log = Log()
+    s = identifier(3, log)
+    s.fmu.enterConfigurationMode()
+    assert status_of(s.fmu.setUInt64, [s.vr("num_outputs")], [value]) == 3
+    assert f"num_outputs = {value} is outside the integers this FMU stores (-2147483648..2147483647)" in log.text()
+    assert "-1" not in log.text()
+    assert s.fmu.getUInt64([s.vr("num_outputs")]) == [2]  # the start value, untouched
+    s.fmu.freeInstance()
+
+
 # ---- issue 16: FMI 2 FMUs for any configuration from the one prebuilt binary (okid-fmu) ----
 
 def generated_chain_fmu(tmp_path, **extra):
@@ -577,6 +592,49 @@ def test_generated_fmi2_fmu_identifies_the_chain(tmp_path):
     assert s.get("status", "num_modes", "identifications", "num_inputs", "num_outputs") == [1, 3, 1, 2, 3]
     assert_modes_match(s, ref)
     s.close()
+
+
+@pytest.mark.parametrize("setting, value, message", [
+    ("dt", float("nan"), "dt = nan is not a finite number"),
+    ("dt", float("inf"), "dt = inf is not a finite number"),
+    ("dt", -1.0, "dt = -1.0 is outside 2.2250738585072014e-308.."),
+    ("forgetting_factor", 1e14, "forgetting_factor = 100000000000000.0 is outside 2.2250738585072014e-308..1"),
+    ("observer_order", -1, "observer_order = -1 is outside 1..1000"),
+    ("identify_every", 10**14, "identify_every = 100000000000000 is outside 1..2147483647"),
+    ("order", 7, "invalid settings (r = 2, m = 3, p = 2, n = 7, Hankel 20 x 20)"),  # the C check: n <= m p = 6
+])
+def test_okid_fmu_validates_every_value(tmp_path, setting, value, message):
+    """NaN, inf, 1e14, -1 made an FMU that fmpy refused or that failed at initialization; now the
+    generator refuses each, naming it, and writes nothing. The settings together are checked by the
+    library's own okid_config_check (its explanation: the CLI's line)."""
+    from okid.tools.fmu_generator import generate
+    out = tmp_path / "bad.fmu"
+    settings = [("num_inputs", 2), ("num_outputs", 3), ("max_modes", 3), ("observer_order", 2), (setting, value)]
+    settings = list(dict(settings).items())
+    with pytest.raises(SystemExit, match="^okid-fmu: " + re.escape(message)):
+        generate(fmu(2), out, settings)
+    assert not out.exists()
+
+
+def test_okid_fmu_refuses_to_overwrite_its_base(tmp_path):
+    """okid-fmu -o X --base X replaced the prebuilt FMU, exit 0."""
+    import shutil
+    base = tmp_path / "base.fmu"
+    shutil.copy(fmu(2), base)
+    before = base.read_bytes()
+    proc = subprocess.run([sys.executable, "-m", "okid.tools.fmu_generator", "--base", str(base), "--inputs", "1",
+                           "--outputs", "2", "--max-modes", "2", "-o", str(tmp_path / "." / "base.fmu")],
+                          capture_output=True, text=True)
+    assert proc.returncode != 0 and proc.stdout == ""
+    assert proc.stderr.strip().splitlines() == [
+        f"okid-fmu: the output {tmp_path / '.' / 'base.fmu'} is the prebuilt FMU it is made from (--base): give another -o"]
+    assert base.read_bytes() == before
+    # an output that cannot be written (its folder is a file): one line, no traceback
+    proc = subprocess.run([sys.executable, "-m", "okid.tools.fmu_generator", "--base", str(base), "--inputs", "1",
+                           "--outputs", "2", "--max-modes", "2", "-o", str(base / "x.fmu")],
+                          capture_output=True, text=True)
+    assert proc.returncode == 1 and len(proc.stderr.strip().splitlines()) == 1, proc.stderr
+    assert proc.stderr.startswith("okid-fmu: ") and "Traceback" not in proc.stderr
 
 
 def test_generated_fmi2_configuration_is_bound_and_checked(tmp_path):

@@ -60,6 +60,7 @@ def test_crlb_cli_singular_fisher_is_refused():
     # 12 samples of 2 outputs for 18 parameters: the Fisher information is singular at working precision
     line = refused(run("crlb", "--noise", 0.05, "--samples", 12))
     assert "cannot compute the bound: the Fisher information is singular" in line
+    assert line.endswith("the record spans 0.12 s, less than one period of the chain's fastest mode (0.954484 s at 1.04769 Hz)")
 
 
 def test_crlb_python_huge_noise_is_linear():
@@ -278,3 +279,161 @@ def test_identifier_cannot_be_copied(record, how):
     with pytest.raises(TypeError, match=r"^an okid.Identifier cannot be copied: the copy would share its C core"):
         how(identifier)
     assert identifier.progress.samples == 1000
+
+
+# --- 6. the host reader's limits (host_tools/common/csv_reader.c) ---------------------------------
+
+def test_long_header_line_is_refused_before_it_is_read_whole():
+    """A 64 MB header line: refused once its first ~1 MB (4096 names of 256 characters) is read.
+    Fed through a pipe, the bytes the reader took are what was written before the pipe broke (the
+    pipe itself holds 64 KiB); before, the whole line was read and then refused by the name limit."""
+    proc = subprocess.Popen([OKID, "identify", "--dt", "0.01", "-"], stdin=subprocess.PIPE,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    chunk, written = b"x" * (1 << 16), 0
+    try:
+        while written < 64 << 20:
+            proc.stdin.write(chunk)
+            written += len(chunk)
+        proc.stdin.close()
+    except BrokenPipeError:
+        pass
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 1 and out == b""
+    line = err.decode().strip()
+    assert line.startswith("okid: standard input: line 1 is longer than 1081344 bytes") and "\n" not in line
+    assert written <= 4 << 20, written  # the 2 MiB buffer, the pipe and a chunk of slack
+
+
+def test_long_numeric_cell_is_a_number(tmp_path):
+    """A 300-digit number is a number (it was "not a number" past 256 characters); past 4096
+    characters a cell is refused as too long, naming the limit."""
+    digits = "1" + "0" * 299                              # 1e299, written out
+    rows = "".join(f"{k * 0.01!r},{np.sin(k) if k != 5 else digits},{np.cos(k)}\n" for k in range(50))
+    path = tmp_path / "long.csv"
+    path.write_text("t,f,a\n" + rows)
+    rec = okid.read_record(path)
+    assert rec.u[5, 0] == 1e299 and rec.u.shape == (50, 1)
+    path.write_text("t,f,a\n" + rows.replace(digits, "0." + "1" * 5000))
+    with pytest.raises(okid.RecordError, match="line 7, column 'f': a cell of more than 4096 characters"):
+        okid.read_record(path)
+
+
+@pytest.mark.parametrize("name, value", [("order", 2**31), ("observer_order", 2**40), ("hankel_rows", -2**31 - 1),
+                                         ("decimation", 10**30)])
+def test_integers_beyond_a_c_int_are_an_okid_error(name, value):
+    """order=2**31 raised RuntimeError: std::bad_cast from the binding's int conversion."""
+    with pytest.raises(okid.ConfigurationError, match=rf"^{name} = {value} is outside the range of a C int"):
+        okid.Identifier(1, 2, 0.01, **{name: value})
+
+
+def test_config_message_is_the_clis(paper):
+    """The explanation of a refused configuration is written once (config_explain.c): Python prints
+    the CLI's line with the settings spelled as keywords."""
+    cli = refused(run("identify", "--order", 5, "--observer-order", 2, "--hankel-rows", 20, "--hankel-cols", 20,
+                      "--decimation", 1, paper), code=2)
+    with pytest.raises(okid.BadOrderError) as info:
+        okid.Identifier(1, 2, 0.01, order=5, observer_order=2)
+    assert str(info.value) == cli[len("okid: "):].replace("--order ", "order=")
+    assert "order = 5 is outside 0..4" in str(info.value)
+
+
+def test_sufficiency_before_the_workspace():
+    """50 samples, 10 inputs, 40 outputs, p = 300: okid.identify allocated the 1766 MB workspace
+    (1.8 GB peak resident) before NotEnoughDataError; now the CLI's check (config_explain.c) comes
+    first, with the CLI's message. Measured in a child: its peak resident memory must stay far below
+    the workspace (a quarter of it: the interpreter, numpy and okid take some 45 MB)."""
+    import sys
+    bytes_needed = okid._core.workspace_size(okid._config.build(10, 40, 0.01, {"observer_order": 300}))[1]
+    assert bytes_needed > 1.7e9
+    child = ("import resource, numpy as np, okid\n"
+             "rng = np.random.default_rng(1)\n"
+             "try:\n"
+             "    okid.identify(rng.standard_normal((50, 10)), rng.standard_normal((50, 40)), 0.01, observer_order=300)\n"
+             "except okid.NotEnoughDataError as e:\n"
+             "    print(e)\n"
+             "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)\n")
+    proc = subprocess.run([sys.executable, "-c", child], capture_output=True, text=True, timeout=120)
+    message, peak_kib = proc.stdout.splitlines()
+    assert message == ("not enough data: 50 samples give at most 0 regressor rows, 15010 needed "
+                       "(q = r + (r+m)p with p = 300)")
+    assert int(peak_kib) * 1024 < bytes_needed / 4, peak_kib
+
+
+# --- 7. okid-fleet: every network call has a timeout, every refusal is one line -----------------
+
+def _fleet(*args, timeout=120):
+    import sys
+    cmd = [sys.executable, "-c", "import sys; from okid.fleet.cli import main; sys.exit(main())", *map(str, args)]
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+
+
+def test_fleet_scheduler_that_does_not_speak_dask_times_out():
+    """A TCP port that accepts and says nothing held Client() forever (Dask's timeout covers the
+    connection only); now the connection is given up on after connect_seconds, with one line."""
+    import socket
+    import threading
+    import time
+    from okid.fleet import job
+
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(8)
+    held = []
+    stop = threading.Event()
+
+    def accept():
+        server.settimeout(0.2)
+        while not stop.is_set():
+            try:
+                held.append(server.accept()[0])
+            except OSError:
+                pass
+
+    thread = threading.Thread(target=accept, daemon=True)
+    thread.start()
+    address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
+    try:
+        began = time.monotonic()
+        with pytest.raises(job.FleetError, match=rf"^no Dask scheduler answered at {address} within 3 s"):
+            job._client(address, None, connect_seconds=3)
+        assert time.monotonic() - began < 3 + 2  # the deadline, and a thread's wake-up
+    finally:
+        stop.set()
+        thread.join()
+        for conn in held:
+            conn.close()
+        server.close()
+
+
+@pytest.mark.parametrize("args, says", [
+    (["--scheduler", "notaproto://x:1"], "no Dask scheduler at notaproto://x:1: ValueError: unknown address scheme"),
+    (["--scheduler", "tls://127.0.0.1:1"], "no Dask scheduler at tls://127.0.0.1:1: TypeError: TLS expects"),
+])
+def test_fleet_refusals_are_one_line(paper, tmp_path, args, says):
+    proc = _fleet("identify", "--out", tmp_path / "out.parquet", *args, paper)
+    assert proc.returncode == 1 and proc.stderr.splitlines() == [proc.stderr.strip()], proc.stderr
+    assert proc.stderr.startswith("okid-fleet: " + says)
+
+
+def test_fleet_out_that_is_a_file_is_one_line(paper, tmp_path):
+    """--out naming a file (or a folder under one) was a FileExistsError / NotADirectoryError traceback."""
+    blocker = tmp_path / "a_file"
+    blocker.write_text("mine\n")
+    for out in (blocker, blocker / "modes.parquet"):
+        proc = _fleet("identify", "--workers", 1, "--out", out, paper)
+        assert proc.returncode == 1 and len(proc.stderr.splitlines()) == 1, proc.stderr
+        assert proc.stderr.startswith(f"okid-fleet: --out {out}: cannot be the output folder")
+    assert blocker.read_text() == "mine\n"
+
+
+# --- 8. okid crlb names the cause --------------------------------------------------------------
+
+@pytest.mark.parametrize("args", [("--dt", "1e-300"), ("--dt", "1e-6"), ("--samples", 1)])
+def test_crlb_short_record_is_named(args):
+    """--dt 1e-300 blamed the force ("rank deficient ... not persistently exciting") and --samples 1
+    "a real parameter": the cause is a record shorter than one period of the fastest mode (0.954 s,
+    1.04769 Hz: the paper chain's, numpy's eig of its K and M in test_refine_cli.py)."""
+    proc = run("crlb", "--noise", 0.02, *args)
+    line = refused(proc, code=proc.returncode if proc.returncode in (1, 2) else 2)
+    assert "less than one period of the chain's fastest mode (0.954484 s at 1.04769 Hz)" in line
+    assert "excit" not in line and "real parameter" not in line

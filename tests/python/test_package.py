@@ -350,7 +350,7 @@ def test_invalid_dt(dt):
 
 
 def test_sizes_and_shapes():
-    with pytest.raises(okid.BadSizeError, match="num_inputs = 65: valid range 1..64"):
+    with pytest.raises(okid.BadSizeError, match="num_inputs = 65 is outside 1..64"):
         okid.Identifier(65, 1, 0.01)
     with pytest.raises(okid.BadSizeError, match="time along axis 0"):
         okid.identify(np.zeros((100, 1)), np.zeros((90, 2)), 0.01)
@@ -554,7 +554,7 @@ PACKAGE_LAYERS = {
     "_core": 0,
     "_errors": 1,
     "_config": 2, "model": 2, "_mode": 2,
-    "_refine": 3,
+    "_refine": 3, "_record": 3,
     "_result": 4, "_start_search": 4,
     "_identifier": 5,
     "__init__": 6,

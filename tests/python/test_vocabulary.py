@@ -195,7 +195,7 @@ def test_fmu_defaults_are_okid_config_default(version):
     assert not wrong, f"{description.relative_to(FMU_DIR)}: start values (FMU, okid_config_default) {wrong}"
 
 
-# ---- the field tables (host_tools/cli/okid_fields.h, okid/modal.h) against the structs ----
+# ---- the field tables (host_tools/common/okid_fields.h, okid/modal.h) against the structs ----
 
 def test_config_table_is_the_struct():
     """OKID_CONFIG_FIELDS, which the JSON writer, the binding and okid.OPTION_NAMES read, lists

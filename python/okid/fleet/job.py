@@ -136,14 +136,54 @@ class Progress:
             self.stream.flush()
 
 
-def _client(scheduler: Optional[str], workers: Optional[int]):
+#: Seconds a --scheduler has to answer. Dask's own timeout covers the TCP connection only: a port
+#: that accepts and never speaks Dask held Client() forever, so the connection runs in a thread
+#: that is given up on after this long.
+CONNECT_SECONDS = 30.0
+
+
+def _quiet_abandoned_clients():
+    """A Client whose connection failed tries to close itself when collected and prints "Exception
+    ignored in Client.__del__" with a traceback after the refusal's one line: not news."""
+    previous = sys.unraisablehook
+
+    def hook(unraisable):
+        if getattr(unraisable.object, "__qualname__", "") != "Client.__del__":
+            previous(unraisable)
+
+    sys.unraisablehook = hook
+
+
+def _connect(scheduler: str, seconds: float):
+    from distributed import Client
+
+    box: dict = {}
+
+    def connect():
+        try:
+            box["client"] = Client(scheduler, timeout=f"{max(1.0, seconds - 5)}s")
+        except BaseException as exc:  # noqa: B902 (reported below as one line)
+            box["error"] = exc
+
+    thread = threading.Thread(target=connect, name="okid-fleet-connect", daemon=True)
+    thread.start()
+    thread.join(seconds)
+    if thread.is_alive() or "error" in box:
+        _quiet_abandoned_clients()
+    if thread.is_alive():
+        raise FleetError(f"no Dask scheduler answered at {scheduler} within {seconds:g} s "
+                         f"(is it a Dask scheduler's address?)")
+    if "error" in box:
+        exc = box["error"]
+        raise FleetError(f"no Dask scheduler at {scheduler}: {type(exc).__name__}: {exc}") from None
+    return box["client"]
+
+
+def _client(scheduler: Optional[str], workers: Optional[int], connect_seconds: float = CONNECT_SECONDS):
     from distributed import Client, LocalCluster
 
     if scheduler:
-        try:
-            return Client(scheduler, timeout="20s"), None
-        except OSError as exc:
-            raise FleetError(f"no Dask scheduler at {scheduler}: {exc}") from None
+        return _connect(scheduler, connect_seconds), None
     n = workers or os.cpu_count() or 1
     cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
                            silence_logs=logging.ERROR)
@@ -218,7 +258,10 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
                          "--overwrite to start again")
     if existing and overwrite:
         shutil.rmtree(out_dir)
-    os.makedirs(out_dir, exist_ok=True)
+    try:
+        os.makedirs(out_dir, exist_ok=True)
+    except OSError as exc:  # --out a file, or under one: one line, never a traceback
+        raise FleetError(f"--out {out_dir}: cannot be the output folder ({exc.strerror})") from None
     for stale in (f for f in os.listdir(out_dir) if f.endswith(".tmp")):
         os.remove(os.path.join(out_dir, stale))  # a part an interrupted run did not finish
     done = records_done(out_dir) if resume else set()

@@ -28,16 +28,6 @@ from typing import Iterable, List, Optional, Sequence, Tuple
 import numpy as np
 
 META_COLUMNS = ("asset", "record", "start", "dt")
-# The CLI's time-column rule (host_tools/cli/time_column.c, docs/robustness.md): a base name, then
-# optionally a unit after _ - / or in brackets; case and blanks ignored.
-TIME_BASES = ("timestamp", "time_stamp", "elapsed_time", "elapsed", "seconds", "time", "zeit", "t")
-TIME_UNITS = {"s": 1.0, "sec": 1.0, "secs": 1.0, "second": 1.0, "seconds": 1.0, "ms": 1e-3, "msec": 1e-3,
-              "millisecond": 1e-3, "milliseconds": 1e-3, "us": 1e-6, "\u00b5s": 1e-6, "\u03bcs": 1e-6,
-              "usec": 1e-6, "microsecond": 1e-6, "microseconds": 1e-6, "ns": 1e-9, "nanosecond": 1e-9,
-              "nanoseconds": 1e-9, "min": 60.0, "minute": 60.0, "minutes": 60.0, "h": 3600.0, "hour": 3600.0,
-              "hours": 3600.0}
-
-
 class RecordError(Exception):
     """A record that cannot be read or does not have the channels asked for."""
 
@@ -96,20 +86,10 @@ class ChannelSpec:
 
 
 def time_unit(name: str) -> float:
-    """Seconds per unit when NAME names a time column (the CLI's rule), else 0."""
-    squeezed = "".join(name.split()).lower()
-    for base in TIME_BASES:
-        if not squeezed.startswith(base):
-            continue
-        rest = squeezed[len(base):]
-        if rest == "":
-            return 1.0
-        if rest[0] in "_-/":
-            return TIME_UNITS.get(rest[1:], 0.0)
-        brackets = {"[": "]", "(": ")", "{": "}"}
-        if rest[0] in brackets and rest.endswith(brackets[rest[0]]) and len(rest) >= 3:
-            return TIME_UNITS.get(rest[1:-1], 0.0)
-    return 0.0
+    """Seconds per unit when NAME names a time column (the CLI's rule: host_tools/common/time_column.c), else 0."""
+    from okid import _core
+
+    return _core.time_column_unit(name)
 
 
 def is_time_name(name: str) -> bool:
@@ -253,18 +233,6 @@ def read(ref: RecordRef, channels: ChannelSpec) -> RecordData:
         raise RecordError(f"{ref.path}: {type(exc).__name__}: {exc}") from None
 
 
-def _uniform_dt(time: np.ndarray, where: str) -> float:
-    if time.size < 2:
-        raise RecordError(f"{where}: fewer than two samples")
-    steps = np.diff(time)
-    dt = float(np.median(steps))
-    # relative to dt, with room for the rounding of large time stamps (epoch seconds)
-    slack = 1e-6 * dt + 4 * np.finfo(float).eps * float(np.max(np.abs(time)))
-    if not (dt > 0) or np.max(np.abs(steps - dt)) > slack:
-        raise RecordError(f"{where}: the time column is not uniform (steps {steps.min():.9g}..{steps.max():.9g} s)")
-    return dt
-
-
 def _split(values: np.ndarray, names: Sequence[str], channels: ChannelSpec):
     ins, outs = channels.select(names)
     return (np.ascontiguousarray(values[:, ins]), np.ascontiguousarray(values[:, outs]),
@@ -272,34 +240,19 @@ def _split(values: np.ndarray, names: Sequence[str], channels: ChannelSpec):
 
 
 def _read_csv(ref: RecordRef, channels: ChannelSpec) -> RecordData:
-    import pyarrow.csv as pcsv
+    """The CLI's reader and rules (okid.read_record, host_tools/common): the same samples, dt and
+    refusals as ``okid identify`` with the same --inputs/--outputs/--dt."""
+    import okid
 
-    table = pcsv.read_csv(ref.path)  # Arrow skips a UTF-8 byte-order mark
-    names = [n.strip() for n in table.column_names]
-    if not names or table.num_rows == 0:
-        raise RecordError(f"{ref.path}: no samples")
+    inputs = None if channels.inputs.strip() == "1" else channels.inputs  # the CLI's default: a count, never a name
     try:
-        values = np.column_stack([table.column(i).to_numpy(zero_copy_only=False).astype(np.float64)
-                                  for i in range(table.num_columns)])
-    except (ValueError, TypeError) as exc:
-        raise RecordError(f"{ref.path}: a column is not numeric ({exc})") from None
+        rec = okid.read_record(ref.path, inputs, channels.outputs, channels.dt)
+    except okid.RecordError as exc:
+        raise RecordError(str(exc)) from None
     start = ref.start
-    times = [i for i, name in enumerate(names) if is_time_name(name)]
-    if len(times) > 1:
-        raise RecordError(f"{ref.path}: two time columns ({', '.join(names[i] for i in times)}): keep one")
-    if times:  # in any position, never a data channel
-        i = times[0]
-        seconds = values[:, i] * time_unit(names[i])
-        dt = _uniform_dt(seconds, ref.path)
-        if start is None and seconds[0] > 1e8:  # absolute time stamps: epoch seconds
-            start = float(seconds[0])
-        values, names = np.delete(values, i, axis=1), names[:i] + names[i + 1:]
-    elif channels.dt is not None:
-        dt = channels.dt
-    else:
-        raise RecordError(f"{ref.path}: no time column (t, time, timestamp, ... with an optional unit) and no --dt given")
-    u, y, inames, onames = _split(values, names, channels)
-    return RecordData(u, y, dt, start, inames, onames)
+    if start is None and rec.start is not None and rec.start > 1e8:  # absolute time stamps: epoch seconds
+        start = float(rec.start)
+    return RecordData(rec.u, rec.y, rec.dt, start, rec.input_names, rec.output_names)
 
 
 def _read_parquet(ref: RecordRef, channels: ChannelSpec) -> RecordData:

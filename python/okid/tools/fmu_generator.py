@@ -199,6 +199,36 @@ class Table:
         return "\n".join(xml) + "\n"
 
 
+def check_value(v, value):
+    """A setting against its variable: a finite number, an integer for the integer kinds, within the
+    variable's [min, max]. The refusal's text, or None."""
+    name = v["name"]
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        return f"{name} = {value!r} is not a finite number"
+    if v["type"] != "real" and value != int(value):
+        return f"{name} = {value!r} is not an integer"
+    low, high = v["min"], v["max"]
+    if v["type"] == "boolean":
+        low, high = 0, 1
+    if (low is not None and value < low) or (high is not None and value > high):
+        shown = lambda x: "" if x is None else (c_double(x) if v["type"] == "real" else "%.0f" % x)  # noqa: E731
+        return f"{name} = {value!r} is outside {shown(low)}..{shown(high)}"
+    return None
+
+
+def check_identifier_config(values):
+    """The okid_config the FMU's binary will run, checked by the C library itself (okid_config_check
+    and its explanation, host_tools/common/config_explain.c): the refusal's text, or None."""
+    from okid import _core
+
+    cfg = _core.config_default(int(values["num_inputs"]), int(values["num_outputs"]))
+    for name in cfg:
+        if name in values:
+            cfg[name] = type(cfg[name])(values[name])
+    status, _, message = _core.explain_config(cfg)
+    return None if status == 0 else message
+
+
 def generate(base, out, settings):
     """Writes the FMU `out` from the prebuilt FMI 2 FMU `base` for settings [(name, value), ...]
     (structural parameters and parameter defaults); returns the modelDescription text."""
@@ -220,6 +250,15 @@ def generate(base, out, settings):
         v, value = known[name], int(t.values[name])
         if not v["min"] <= value <= v["max"]:
             raise SystemExit(f"okid-fmu: {name} = {value} is outside this binary's range {v['min']:.0f}..{v['max']:.0f}")
+    for name, value in settings:  # every value, before anything is written
+        refused = check_value(known[name], value)
+        if refused:
+            raise SystemExit(f"okid-fmu: {refused}")
+    refused = check_identifier_config(t.values)
+    if refused:
+        raise SystemExit(f"okid-fmu: {refused}")
+    if Path(out).exists() and os.path.samefile(out, base):
+        raise SystemExit(f"okid-fmu: the output {out} is the prebuilt FMU it is made from (--base): give another -o")
     sources = re.findall(r'<File name="([^"]+)"/>', base_md)
     text = t.fmi2(sources)
     Path(out).parent.mkdir(parents=True, exist_ok=True)
@@ -256,8 +295,11 @@ def main(argv=None):
     parser.add_argument("-o", "--output", type=Path, required=True, help="the FMU to write")
     table = None
     if base.is_file():
-        with zipfile.ZipFile(base) as z:
-            table = json.loads(z.read("documentation/model_variables.json"))
+        try:
+            with zipfile.ZipFile(base) as z:
+                table = json.loads(z.read("documentation/model_variables.json"))
+        except (OSError, zipfile.BadZipFile, KeyError, ValueError) as exc:
+            parser.error(f"--base {base} is no prebuilt okid identifier FMU ({exc})")
         for v in table["variables"]:  # every parameter of the vocabulary: --field-name
             if v["causality"] == "parameter":
                 kind = float if v["type"] == "real" else int
@@ -276,7 +318,10 @@ def main(argv=None):
     for v in table["variables"]:
         if v["causality"] == "parameter" and getattr(args, v["name"]) is not None:
             settings.append((v["name"], getattr(args, v["name"])))
-    generate(base, args.output, settings)
+    try:
+        generate(base, args.output, settings)
+    except (OSError, zipfile.BadZipFile, KeyError) as exc:  # one line, never a traceback
+        raise SystemExit(f"okid-fmu: {exc}") from None
     print(f"okid-fmu: wrote {args.output} (r = {args.inputs}, m = {args.outputs}, {args.max_modes} modes)")
     return 0
 

@@ -10,8 +10,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* CHUNK: the bytes read at a time, the buffer's size unless a line is longer. */
-enum { MAX_COLUMNS = 4096, MAX_FIELD = 256, CHUNK = 1 << 20 };
+/* CHUNK: the bytes read at a time, the buffer's size unless a line is longer. MAX_NUMBER: a data
+   cell's characters (a number printed with every digit of a double has some 770; more is no
+   number anyone wrote). A line longer than its columns can fill is refused before it is read
+   whole: the header holds MAX_COLUMNS names of MAX_FIELD characters (with a few blanks or quotes
+   each), a row MAX_COLUMNS cells of MAX_NUMBER. */
+enum { MAX_COLUMNS = 4096, MAX_FIELD = 256, MAX_NUMBER = 4096, CHUNK = 1 << 20 };
+#define MAX_HEADER_LINE ((size_t)MAX_COLUMNS * (MAX_FIELD + 8))
+#define MAX_ROW_LINE ((size_t)MAX_COLUMNS * (MAX_NUMBER + 1))
 
 static int fail(char *error, size_t size, const char *format, ...) __attribute__((format(printf, 3, 4)));
 
@@ -102,11 +108,15 @@ static int parse_header(const char *b, const char *e, char sep, csv_table *t, ch
     return 0;
 }
 
+/* 0, -1 not a number, -2 longer than MAX_NUMBER characters. */
 static int parse_number(const char *b, const char *e, double *out)
 {
-    char field[MAX_FIELD + 1];
+    char field[MAX_NUMBER + 1];
     trim(&b, &e);
-    if (b == e || e - b > MAX_FIELD) {
+    if (e - b > MAX_NUMBER) {
+        return -2;
+    }
+    if (b == e) {
         return -1;
     }
     memcpy(field, b, (size_t)(e - b));
@@ -129,7 +139,12 @@ static int parse_row(const csv_table *t, char sep, const char *b, const char *e,
     for (int j = 0; j < n; ++j) {
         const char *q = memchr(p, sep, (size_t)(e - p));
         const char *fe = q ? q : e;
-        if (parse_number(p, fe, &row[j]) != 0) {
+        const int parsed = parse_number(p, fe, &row[j]);
+        if (parsed == -2) {
+            return fail(error, size, "line %zu, column '%s': a cell of more than %d characters", line, t->names[j],
+                        MAX_NUMBER);
+        }
+        if (parsed != 0) {
             return fail(error, size, "line %zu, column '%s': not a number", line, t->names[j]);
         }
         if (!isfinite(row[j])) {
@@ -185,12 +200,21 @@ static int refill(csv_stream *s, char *error, size_t size)
 }
 
 /* The next line that is not blank or a '#' comment, [*b, *e) without its line break, valid until
-   the next call. 1, 0 at the end, -1 with a message. */
-static int next_line(csv_stream *s, const char **b, const char **e, char *error, size_t size)
+   the next call; one longer than limit bytes is refused once that many are read. 1, 0 at the end,
+   -1 with a message. */
+static int next_line(csv_stream *s, size_t limit, const char **b, const char **e, char *error, size_t size)
 {
     for (;;) {
         char *start = s->buf + s->begin;
         char *nl = memchr(start, '\n', s->end - s->begin);
+        if (nl == NULL && s->end - s->begin > limit) {
+            if (s->header.num_columns == 0) {
+                return fail(error, size, "line %zu is longer than %zu bytes, more than a header of %d names of %d "
+                            "characters fills", s->line_number + 1, limit, MAX_COLUMNS, MAX_FIELD);
+            }
+            return fail(error, size, "line %zu is longer than %zu bytes, more than %d cells of %d characters fill",
+                        s->line_number + 1, limit, s->header.num_columns, MAX_NUMBER);
+        }
         if (nl == NULL && !s->at_eof) {
             if (refill(s, error, size) < 0) {
                 return -1;
@@ -229,7 +253,7 @@ int csv_stream_open(csv_stream *s, FILE *in, char *error, size_t error_size)
         return fail(error, error_size, "out of memory");
     }
     const char *b, *e;
-    const int rc = next_line(s, &b, &e, error, error_size);
+    const int rc = next_line(s, MAX_HEADER_LINE, &b, &e, error, error_size);
     if (rc <= 0) {
         csv_stream_close(s);
         return rc < 0 ? -1 : fail(error, error_size, "the file is empty (a header row and data rows are needed)");
@@ -245,7 +269,8 @@ int csv_stream_open(csv_stream *s, FILE *in, char *error, size_t error_size)
 int csv_stream_row(csv_stream *s, double *row, char *error, size_t error_size)
 {
     const char *b, *e;
-    const int rc = next_line(s, &b, &e, error, error_size);
+    const size_t limit = (size_t)s->header.num_columns * (MAX_NUMBER + 1);
+    const int rc = next_line(s, limit < MAX_ROW_LINE ? limit : MAX_ROW_LINE, &b, &e, error, error_size);
     if (rc <= 0) {
         return rc;
     }

@@ -2,7 +2,7 @@
 /* See json_writer.h. */
 #include "json_writer.h"
 
-#include "cli_common.h"
+#include "config_names.h"
 #include "okid_fields.h"
 
 #include <math.h>

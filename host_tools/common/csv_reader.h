@@ -8,7 +8,9 @@
  * and quotes, unique, free of control characters; a UTF-8 byte-order mark before the header is
  * skipped (Excel writes one), a UTF-16 or UTF-32 one is refused; blank lines and lines starting
  * with '#' are skipped; CRLF is accepted; a NUL byte anywhere refuses the file. Every row must
- * have as many fields as the header, every field a finite number.
+ * have as many fields as the header, every field a finite number of at most 4096 characters. A
+ * line longer than its fields can fill (4096 names of 256 characters; a row's cells of 4096) is
+ * refused as soon as that many bytes are read, not held whole.
  */
 #ifndef OKID_CLI_CSV_READER_H
 #define OKID_CLI_CSV_READER_H
