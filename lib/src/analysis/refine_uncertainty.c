@@ -117,7 +117,9 @@ static void sandwich(int np, const okid_real *p, okid_real *s, okid_real *t, oki
             OKID_AT(t, np, i, j) = v;
         }
     }
-    const okid_real w = 1 / (noise_scale * noise_scale);
+    /* the block sums add up to the gradient, zero at the optimum: blocks - 1 degrees of freedom */
+    const int blocks = OKID_REFINE_SCORE_BLOCKS;
+    const okid_real w = (okid_real)blocks / (okid_real)(blocks - 1) / (noise_scale * noise_scale);
     for (int j = 0; j < np; ++j) {
         for (int i = 0; i < np; ++i) {
             okid_real v = 0;
