@@ -18,7 +18,7 @@ from ._errors import (BadOrderError, BadParameterError, BadSizeError, Concurrent
                       NotAvailableError, NotEnoughDataError, NotPersistentlyExcitingError, OkidError)
 from ._identifier import Identifier, Progress, identify
 from ._mode import Mode, StabilityFlag, WarningFlag
-from ._refine import REFINE_DEFAULTS, CramerRaoBound, Refinement, RefinementWarning, crlb
+from ._refine import REFINE_DEFAULTS, CramerRaoBound, Refinement, RefinementWarning, ResidualWarning, crlb
 from ._result import Result, Stabilization, StabilizationOrder
 from . import model
 
@@ -26,7 +26,7 @@ __version__ = _core.VERSION
 
 __all__ = [
     "identify", "Identifier", "Progress", "Result", "Mode", "WarningFlag", "Stabilization", "StabilizationOrder",
-    "StabilityFlag", "model", "DEFAULTS", "OPTION_NAMES", "Refinement", "RefinementWarning", "REFINE_DEFAULTS",
+    "StabilityFlag", "model", "DEFAULTS", "OPTION_NAMES", "Refinement", "RefinementWarning", "ResidualWarning", "REFINE_DEFAULTS",
     "crlb", "CramerRaoBound",
     "OkidError", "ConfigurationError", "BadSizeError", "BadOrderError", "BadParameterError", "NotEnoughDataError",
     "NotPersistentlyExcitingError", "DecompositionError", "NotAvailableError", "NonFiniteSampleError", "DataRangeError",
