@@ -185,6 +185,28 @@ static void test_white_noise_is_quiet(void **state)
     free(y);
 }
 
+/* Noise-free data: the residuals are round-off (correlated, but no noise to test): no warning. */
+static void test_noise_free_fails_no_test(void **state)
+{
+    (void)state;
+    const double dt = 0.05;
+    const size_t count = 1001;
+    okid_real *u, *y;
+    paper_record(dt, count, 5, 0, 0, &u, &y);
+    run rn;
+    memset(&rn, 0, sizeof rn);
+    assert_int_equal(identify_and_refine(&rn, dt, count, u, y), OKID_REFINE_CONVERGED);
+    for (int i = 0; i < M_OUT; ++i) {
+        assert_int_equal(rn.out.output_warnings[i], 0);
+        assert_true(rn.out.fit_percent[i] > 99.99);
+    }
+    assert_int_equal(rn.out.warnings & (OKID_W_RESIDUAL_NOT_WHITE | OKID_W_OUTPUT_NOT_EXPLAINED), 0);
+    assert_int_equal(rn.out.covariance, OKID_REFINE_COVARIANCE_FISHER);
+    free_run(&rn);
+    free(u);
+    free(y);
+}
+
 /* A drift (offset and slow ramp) on output 2: that output, and only the residual tests, say so. */
 static void test_drift_names_the_output(void **state)
 {
@@ -279,6 +301,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_white_noise_is_quiet),
+        cmocka_unit_test(test_noise_free_fails_no_test),
         cmocka_unit_test(test_drift_names_the_output),
         cmocka_unit_test(test_unmeasured_force_sandwich),
     };

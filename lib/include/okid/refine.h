@@ -98,7 +98,8 @@ typedef struct okid_refine_config {
  * degrees of freedom when the residual is white. OKID_REFINE_WHITENESS_BOUND is its 99.9 % quantile
  * (scipy.stats.chi2.ppf(0.999, 20) = 45.315): each output raises a false alarm on 0.1 % of white
  * records (a false alarm only swaps the Fisher stds for the sandwich ones), while an unmeasured
- * force or a drift gives Q in the hundreds to tens of thousands.
+ * force or a drift gives Q in the hundreds to tens of thousands. An output the model reproduces
+ * to round-off (residual RMS below 1000 epsilon of its RMS: noise-free data) fails no test.
  */
 #define OKID_REFINE_LAGS ((int)OKID__REFINE_LAGS)
 #define OKID_REFINE_WHITENESS_BOUND 45.3147
