@@ -362,3 +362,38 @@ def test_residual_tests_under_an_unmeasured_force(tmp_path):
         white = okid.identify(u, y, 0.05, order=4, refine=True, **HORIZONS).refinement
     assert white.std_covariance == "fisher" and np.all(white.whiteness < 45.3147)
     np.testing.assert_allclose(white.whiteness, ljung_box(white, u, y)[0], rtol=1e-8)
+
+
+@pytest.mark.parametrize("factor", [2, 4, 8])
+def test_lift_is_exact_decimation(factor):
+    """okid.model.lift: the lifted arrays are numpy's reshape of the record, the caller's arrays stay
+    as they were, and the lifted noise-free record at K dt gives the paper's exact modes (numpy, from
+    its masses, dampers and springs) to round-off, where decimation=K's filter is biased by ~1e-2."""
+    dt = 0.01
+    a, b, c, d = okid.model.paper_system(dt)
+    rng = np.random.default_rng(factor)
+    u = rng.standard_normal((3001 * factor + factor - 1, 1))
+    y, _ = okid.model.simulate(a, b, c, d, u)
+    u0, y0 = u.copy(), y.copy()
+    ul, yl = okid.model.lift(u, y, factor)
+    n = len(u) // factor
+    np.testing.assert_array_equal(ul, u[:n * factor].reshape(n, factor))
+    np.testing.assert_array_equal(yl, y[:n * factor:factor])
+    np.testing.assert_array_equal(u, u0)
+    np.testing.assert_array_equal(y, y0)
+    res = okid.identify(ul, yl, factor * dt, order=4, observer_order=20, hankel_rows=20, hankel_cols=20)
+    freq, zeta = exact_modes()
+    pairs = [m for m in res.modes if m.is_pair]
+    assert len(pairs) == 2
+    # measured 6e-15 .. 5e-13 (K = 2, 4, 8); 1e-9, the issue's target, leaves BLAS kernels room
+    np.testing.assert_allclose([m.frequency_hz for m in pairs], freq, rtol=1e-9)
+    np.testing.assert_allclose([m.damping_ratio for m in pairs], zeta, rtol=1e-9)
+
+
+def test_lift_refusals():
+    u, y = np.zeros((10, 1)), np.zeros((10, 2))
+    for bad in (0, 65, True, 2.5):
+        with pytest.raises(okid.BadParameterError, match="factor"):
+            okid.model.lift(u, y, bad)
+    with pytest.raises(okid.BadSizeError, match="expected"):
+        okid.model.lift(u, np.zeros((9, 2)), 2)
