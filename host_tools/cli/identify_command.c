@@ -144,18 +144,20 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
             return cli_error(EXIT_DATA, "stabilization failed: %s", okid_status_str(s));
         }
     }
+    if (refined != NULL) warn_residual_tests(refined, cfg->num_outputs, cc->output_names);
     if (o->json) {
-        if (choice != NULL) {
+        if (refined != NULL) { /* the refined model is the result; OKID/ERA's is its "start" */
+            json_result_header(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
+            json_start(stdout, cfg, res);
+            json_refined_result(stdout, &o->refine_cfg, refined, cfg->num_outputs);
+        } else if (choice != NULL) {
             json_result_fields(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
             auto_json(stdout, choice, (double)cfg->dt, am, res, cfg->num_outputs);
         } else {
             json_result(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
         }
         if (stab_ws != NULL) json_stabilization(stdout, &st, o->stabilization, 2, cfg->num_outputs);
-        if (refined != NULL) {
-            json_refinement(stdout, &o->refine_cfg, refined, cfg->num_outputs);
-            if (search->count > 0) json_start_search(stdout, search);
-        }
+        if (refined != NULL && search->count > 0) json_start_search(stdout, search);
         fputs("\n}\n", stdout);
     } else {
         print_header(cfg, res, cc, o->file);
@@ -167,7 +169,7 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
         }
         if (stab_ws != NULL && st.num_orders > 0) print_stabilization(&st);
         if (refined != NULL && search->count > 0) print_start_search(search);
-        if (refined != NULL) print_refinement(refined, cfg->num_outputs);
+        if (refined != NULL) print_refinement(refined, cfg->num_outputs, cc->output_names);
         if (o->timing) printf("\nelapsed from okid_init to the modes: %.6f s\n", elapsed);
     }
     free(stab_ws);

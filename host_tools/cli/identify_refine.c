@@ -136,7 +136,28 @@ void json_start_search(FILE *out, const start_search *search)
     fputs("]}", out);
 }
 
-void print_refinement(const okid_refine_result *rr, int m)
+void warn_residual_tests(const okid_refine_result *rr, int m, const char *const *output_names)
+{
+    for (int i = 0; i < m; ++i) {
+        const unsigned w = rr->output_warnings[i];
+        char name[64];
+        snprintf(name, sizeof name, "%d", i + 1);
+        const char *label = output_names != NULL ? output_names[i] : name;
+        if (w & OKID_W_RESIDUAL_NOT_WHITE) {
+            fprintf(stderr, "okid: warning: output %s: the refined residual is not white (Ljung-Box Q %.4g above %.4g, "
+                    "autocorrelation up to %.3g against the band %.3g): a force nobody measured, a drift or too low "
+                    "an order; the stds are the sandwich ones\n", label, (double)rr->whiteness[i],
+                    OKID_REFINE_WHITENESS_BOUND, (double)rr->max_autocorrelation[i], (double)rr->autocorrelation_band);
+        }
+        if (w & OKID_W_OUTPUT_NOT_EXPLAINED) {
+            fprintf(stderr, "okid: warning: output %s: the refined model explains %.3g %% of it (below %.3g %%): a drift, "
+                    "an offset, a force nobody measured or a sensor the model does not describe\n", label,
+                    (double)rr->fit_percent[i], OKID_REFINE_FIT_LOW);
+        }
+    }
+}
+
+void print_refinement(const okid_refine_result *rr, int m, const char *const *output_names)
 {
     printf("\nrefinement (prediction error, %d parameters): %s after %d passes, %d steps\n", rr->num_parameters,
            okid_refine_state_str(rr->state), rr->passes, rr->iterations);
@@ -147,7 +168,17 @@ void print_refinement(const okid_refine_result *rr, int m)
     for (unsigned bit = 1; bit != 0 && bit <= rr->warnings; bit <<= 1) {
         if (rr->warnings & bit) printf("\nwarning: %s", okid_warning_str(bit));
     }
-    printf("\n mode  frequency [Hz]  +/- 1 std       damping ratio  +/- 1 std\n");
+    printf("\nresidual tests (Ljung-Box Q over %d lags, white below %.4g; largest |autocorrelation|, band %.3g):\n",
+           OKID_REFINE_LAGS, OKID_REFINE_WHITENESS_BOUND, (double)rr->autocorrelation_band);
+    for (int i = 0; i < m; ++i) {
+        printf("  output %-12s  Q %-10.4g  max |r| %-8.3g  fit %6.2f %%  %s\n",
+               output_names != NULL ? output_names[i] : "", (double)rr->whiteness[i],
+               (double)rr->max_autocorrelation[i], (double)rr->fit_percent[i],
+               rr->output_warnings[i] & OKID_W_RESIDUAL_NOT_WHITE ? "NOT white" : "white");
+    }
+    printf("standard deviations from the %s covariance\n",
+           rr->covariance == OKID_REFINE_COVARIANCE_SANDWICH ? "sandwich (residual not white)" : "Fisher");
+    printf(" mode  frequency [Hz]  +/- 1 std       damping ratio  +/- 1 std\n");
     for (int i = 0; i < rr->num_modes; ++i) {
         printf("%5d  %14.8f  %-14.3g  %13.8f  %.3g%s\n", i + 1, (double)rr->modes[i].frequency_hz,
                (double)rr->mode_std[i].frequency_hz, (double)rr->modes[i].damping_ratio,

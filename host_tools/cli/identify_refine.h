@@ -39,6 +39,8 @@ void identify_choose_start(const identify_options *o, okid_config *cfg, size_t n
 /* The table's and the JSON's parts: the starts tried, and the refined modes with their std. */
 void print_start_search(const start_search *search);
 void json_start_search(FILE *out, const start_search *search);
-void print_refinement(const okid_refine_result *rr, int m);
+void print_refinement(const okid_refine_result *rr, int m, const char *const *output_names);
+/* One line on stderr per failed residual test, naming the output (output_names may be NULL). */
+void warn_residual_tests(const okid_refine_result *rr, int m, const char *const *output_names);
 
 #endif

@@ -33,9 +33,26 @@ void json_result(FILE *out, const okid_config *cfg, const okid_result *res, cons
 /* ',\n  "modes": [...]': the model's modes, json_result's last member. */
 void json_modes(FILE *out, const okid_result *res, int m);
 
-/* json_result without its last member, "modes" (okid identify's physical modes replace it). */
+/* json_result without its last member, "modes" (okid identify's physical modes replace it):
+   json_result_header() then json_result_model(). */
 void json_result_fields(FILE *out, const okid_config *cfg, const okid_result *res, const char *const *input_names,
                         const char *const *output_names, double elapsed);
+
+/* json_result() in parts: "{" and the run's settings and sizes; then okid_result's model members
+   (diagnostics, warnings, singular values, A..D, markov), each after ",\n"; then json_modes(). */
+void json_result_header(FILE *out, const okid_config *cfg, const okid_result *res, const char *const *input_names,
+                        const char *const *output_names, double elapsed);
+void json_result_model(FILE *out, const okid_result *res);
+
+/* ',\n  "start": {...}': the model a refinement started from (json_result_model's members and its modes). */
+void json_start(FILE *out, const okid_config *cfg, const okid_result *res);
+
+/*
+ * The refined result as the result (okid identify --refine --json, docs/refinement.md): its
+ * warnings, "std_covariance", A..D, initial_state and modes with their standard deviations as
+ * top-level members, then json_refinement(). After json_result_header() and json_start().
+ */
+void json_refined_result(FILE *out, const okid_refine_config *cfg, const okid_refine_result *res, int m);
 
 /* ',\n  "stabilization": {...}': the diagram data (keys documented in docs/quality.md). */
 void json_stabilization(FILE *out, const okid_stabilization *st, int max_order, int step, int m);

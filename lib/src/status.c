@@ -36,6 +36,8 @@ const char *okid_warning_str(unsigned warning_bit)
     case OKID_W_OBSERVER_ORDER_ABOVE_MINIMUM: return "(near) noise-free data with observer order p above the minimum ceil(n/m): observer Markov parameters not unique";
     case OKID_W_HANKEL_SPAN_SHORT: return "the Hankel span (alpha+beta)*dt is shorter than the slowest identified period";
     case OKID_W_REALIZATION_ILL_CONDITIONED: return "the realization is ill conditioned (sigma_1/sigma_n of the Hankel above 1/sqrt(eps))";
+    case OKID_W_RESIDUAL_NOT_WHITE: return "a refined output's residual is not white (an unmeasured force, a drift or too low an order): its stds are the sandwich ones";
+    case OKID_W_OUTPUT_NOT_EXPLAINED: return "the refined model explains less than half of an output (fit below 50 %: a drift, an offset, an unmodelled sensor)";
     default: return "unknown warning";
     }
 }

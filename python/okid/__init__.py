@@ -19,16 +19,16 @@ from ._errors import (BadOrderError, BadParameterError, BadSizeError, Concurrent
 from ._identifier import Identifier, Progress, identify
 from ._mode import Mode, Pole, SelectedMode, StabilityFlag, WarningFlag
 from ._record import Record, read_record
-from ._refine import REFINE_DEFAULTS, CramerRaoBound, Refinement, RefinementWarning, crlb
+from ._refine import REFINE_DEFAULTS, CramerRaoBound, Refinement, RefinementWarning, ResidualWarning, crlb
 from ._result import Result, Stabilization, StabilizationOrder
 from . import model
 
 __version__ = _core.VERSION
 
 __all__ = [
-    "identify", "Identifier", "Progress", "Result", "Mode", "SelectedMode", "Pole", "WarningFlag", "Stabilization", "StabilizationOrder",
-    "StabilityFlag", "model", "DEFAULTS", "OPTION_NAMES", "Refinement", "RefinementWarning", "REFINE_DEFAULTS",
-    "crlb", "CramerRaoBound", "read_record", "Record", "RecordError",
+    "identify", "Identifier", "Progress", "Result", "Mode", "SelectedMode", "Pole", "WarningFlag", "Stabilization",
+    "StabilizationOrder", "StabilityFlag", "model", "DEFAULTS", "OPTION_NAMES", "Refinement", "RefinementWarning",
+    "ResidualWarning", "REFINE_DEFAULTS", "crlb", "CramerRaoBound", "read_record", "Record", "RecordError",
     "OkidError", "ConfigurationError", "BadSizeError", "BadOrderError", "BadParameterError", "NotEnoughDataError",
     "NotPersistentlyExcitingError", "DecompositionError", "NotAvailableError", "NonFiniteSampleError", "DataRangeError",
     "ConcurrentUseError", "InternalError", "NonFiniteSampleWarning",

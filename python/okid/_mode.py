@@ -23,6 +23,8 @@ class WarningFlag(enum.IntFlag):
     OBSERVER_ORDER_ABOVE_MINIMUM = 1 << 6
     HANKEL_SPAN_SHORT = 1 << 7
     REALIZATION_ILL_CONDITIONED = 1 << 8
+    RESIDUAL_NOT_WHITE = 1 << 9
+    OUTPUT_NOT_EXPLAINED = 1 << 10
 
     def describe(self) -> Tuple[str, ...]:
         """The library's sentence for each bit set."""

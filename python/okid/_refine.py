@@ -15,7 +15,7 @@ from . import model as _model_mod
 from ._config import SENSING, real_array, real_number
 from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DATA_RANGE, E_RANK_DEFICIENT, OK, BadParameterError, BadSizeError,
                       check)
-from ._mode import Mode, ModeArrays, modes_from_dicts
+from ._mode import Mode, ModeArrays, WarningFlag, modes_from_dicts
 
 _MAX_PASSES, _STEP_TOLERANCE = _core.refine_config_default()
 #: okid_refine_config_default()'s values (docs/cli.md: --max-passes, --step-tolerance).
@@ -65,6 +65,12 @@ class Refinement(_ModeArrays):
     initial_state: np.ndarray       #: (n,) estimated x(0)
     residual_rms_start: np.ndarray  #: (m,) residual RMS of each output with the starting model [output units]
     residual_rms: np.ndarray        #: (m,) the same with the refined model
+    whiteness: np.ndarray           #: (m,) Ljung-Box Q of each output's residual over 20 lags (white below 45.3)
+    max_autocorrelation: np.ndarray #: (m,) largest |normalised autocorrelation| of each residual, lags 1..20
+    fit_percent: np.ndarray         #: (m,) 100 (1 - |e| / |y - mean y|) of each output [%]
+    output_warnings: Tuple[WarningFlag, ...]  #: (m,) RESIDUAL_NOT_WHITE / OUTPUT_NOT_EXPLAINED of each output
+    autocorrelation_band: float     #: 1.96 / sqrt(N), the 95 % band of each autocorrelation of a white residual
+    std_covariance: str             #: "fisher", or "sandwich" when a residual is not white
     modes: Tuple[Mode, ...]         #: okid.Mode with frequency_std, damping_std, ... set; sorted by frequency
 
     @property
@@ -77,6 +83,7 @@ def _refinement(core) -> Refinement:
     f = core.fields()
     f.pop("std_status")  # okid.crlb's refusal (std_reason); a refinement's missing stds are -1
     modes = modes_from_dicts(f.pop("modes"))
+    f["output_warnings"] = tuple(WarningFlag(w) for w in f["output_warnings"])
     return Refinement(**f, modes=modes)
 
 
@@ -133,8 +140,25 @@ def run(model, dt: float, sensing: str, u: Any, y: Any, max_passes: int, step_to
     return core, _refinement(core)
 
 
+class ResidualWarning(RuntimeWarning):
+    """A refined output's residual failed a test (Refinement.output_warnings): not white (a force
+    nobody measured, a drift, too low an order: the stds are then the sandwich ones) or less than
+    half of the output explained."""
+
+
 def warn_if_stopped(refined: Refinement, stacklevel: int) -> None:
-    """The RefinementWarning of a refinement that did not converge (the CLI's stderr line)."""
+    """The RefinementWarning of a refinement that did not converge and the ResidualWarning of
+    each failed residual test (the CLI's stderr lines)."""
+    for i, w in enumerate(refined.output_warnings):
+        if w & WarningFlag.RESIDUAL_NOT_WHITE:
+            warnings.warn(f"output {i + 1}: the refined residual is not white (Ljung-Box Q {refined.whiteness[i]:.4g} "
+                          f"above 45.31, autocorrelation up to {refined.max_autocorrelation[i]:.3g} against the band "
+                          f"{refined.autocorrelation_band:.3g}): a force nobody measured, a drift or too low an order; "
+                          f"the stds are the sandwich ones", ResidualWarning, stacklevel=stacklevel + 1)
+        if w & WarningFlag.OUTPUT_NOT_EXPLAINED:
+            warnings.warn(f"output {i + 1}: the refined model explains {refined.fit_percent[i]:.3g} % of it (below "
+                          f"50 %): a drift, an offset, a force nobody measured or a sensor the model does not "
+                          f"describe", ResidualWarning, stacklevel=stacklevel + 1)
     if not refined.converged:
         tail = ": the modes are OKID/ERA's" if refined.state == "diverged" else ": the modes are the best found"
         warnings.warn(f"the refinement did not converge ({refined.message} after {refined.passes} passes){tail}",

@@ -95,6 +95,9 @@ class Result(ModeArrays):
     #: ``modes`` holds the physical modes (okid.SelectedMode); else None
     poles: Optional[Tuple[Any, ...]] = None
     _auto_json: Optional[str] = field(repr=False, default=None)
+    #: after a refinement: the OKID/ERA result it started from (modes, warnings and model as
+    #: identified; this result's modes and warnings are the refined ones, JSON "start"), else None
+    start: Optional["Result"] = field(repr=False, default=None)
 
     @classmethod
     def _from_core(cls, core, config: Mapping[str, Any], identifier, generation: int) -> "Result":
@@ -108,10 +111,12 @@ class Result(ModeArrays):
         """The object ``okid identify --json`` prints for the same data and options, written by the
         CLI's own JSON writer (without the CLI-only "inputs", "outputs" and "elapsed_seconds"), with
         the "refinement" object of ``--refine`` when this result was refined."""
-        text = self._core.to_json()
         if self._refine_core is not None:
-            # json_result()'s members, then json_refinement()'s, as okid identify --refine writes them
-            text = text[:text.rindex("}")].rstrip() + self._refine_core.to_json() + "\n}\n"
+            # the run's members, OKID/ERA's model as "start", then the refined result's, as okid
+            # identify --refine writes them
+            text = self.start._core.to_json_refined_start() + self._refine_core.to_json() + "\n}\n"
+        else:
+            text = self._core.to_json()
         out = json.loads(text)
         if self._auto_json is not None:  # the CLI's members after the model: "chosen", "modes", "poles"
             out.pop("modes")
@@ -144,7 +149,10 @@ class Result(ModeArrays):
         core, refined = _run_refinement((self.A, self.B, self.C, self.D), self.dt, self.config["sensing"], u, y,
                                         passes, tol)
         warn_if_stopped(refined, stacklevel + 1)
-        return replace(self, refinement=refined, _refine_core=core)
+        start = self.start if self.start is not None else self
+        # the refined modes and their warnings are the result; OKID/ERA's stay in start
+        return replace(start, modes=refined.modes, warnings=WarningFlag(refined.warnings), refinement=refined,
+                       start=start, _refine_core=core)
 
     def to_frame(self):
         """The modes as a pandas DataFrame, one row per mode (needs pandas)."""

@@ -9,7 +9,7 @@ from typing import Optional, Tuple
 import numpy as np
 
 from . import _core
-from ._errors import E_BAD_SIZE, BadSizeError, check
+from ._errors import E_BAD_PARAMETER, E_BAD_SIZE, BadParameterError, BadSizeError, check
 
 __all__ = ["chain_model", "state_space", "discretize_zoh", "simulate", "paper_system"]
 
@@ -84,6 +84,28 @@ def simulate(a, b, c, d, u, x0: Optional[np.ndarray] = None) -> Tuple[np.ndarray
     status, yx = _core.simulate(a, b, c, d, u, x)
     check(status, "simulate (finite inputs)")
     return yx
+
+
+def lift(u, y, factor: int) -> Tuple[np.ndarray, np.ndarray]:
+    """Exact decimation by lifting (okid_lift, docs/refinement.md): K = factor consecutive samples
+    of u (N, r) and y (N, m), time along axis 0, become one sample with inputs [u(iK), ...,
+    u(iK+K-1)] (K r channels) and outputs y(iK). Returns (u_lifted (N // K, K r), y_lifted
+    (N // K, m)), new arrays; the last N % K samples are dropped. Identify the result with dt = K
+    times the record's [s]: with a zero-order hold it is the same n-state system at K dt, so its
+    modes are exact on noise-free data (the filter of decimation=K is biased). factor: 1..64;
+    modes must lie below the decimated Nyquist frequency 1 / (2 K dt)."""
+    if isinstance(factor, bool) or not hasattr(factor, "__index__") or not 1 <= factor.__index__() <= 64:
+        raise BadParameterError(f"factor = {factor!r}: an integer in 1..64", E_BAD_PARAMETER)
+    ua = np.ascontiguousarray(u, dtype=np.float64)
+    ya = np.ascontiguousarray(y, dtype=np.float64)
+    ua = ua.reshape(-1, 1) if ua.ndim == 1 else ua
+    ya = ya.reshape(-1, 1) if ya.ndim == 1 else ya
+    if ua.ndim != 2 or ya.ndim != 2 or ua.shape[0] != ya.shape[0] or not (1 <= ua.shape[1] <= 64 and 1 <= ya.shape[1] <= 64):
+        raise BadSizeError(f"u has shape {np.shape(u)} and y {np.shape(y)}: expected (N, r) and (N, m), r and m "
+                           f"in 1..64, time along axis 0", E_BAD_SIZE)
+    status, lifted = _core.lift(ua, ya, int(factor.__index__()))
+    check(status, f"lift(factor={factor})")
+    return lifted
 
 
 def paper_system(dt: float = 0.01, sensing: str = "acceleration"):

@@ -133,6 +133,16 @@ struct ResultCore {
         });
     }
 
+    // okid identify --refine --json's opening (the run's settings and sizes) and "start" (this
+    // model): the refined result's members follow (RefineCore::to_json).
+    nb::str to_json_refined_start() const
+    {
+        return write_to_string([this](FILE *out) {
+            json_result_header(out, &cfg, &res, nullptr, nullptr, -1);
+            json_start(out, &cfg, &res);
+        });
+    }
+
     // Everything but the JSON, for okid.Result.
     nb::dict fields() const
     {
@@ -283,6 +293,8 @@ void bind_identifier(nb::module_ &m)
 
     nb::class_<ResultCore>(m, "ResultCore")
         .def("to_json", &ResultCore::to_json, "The CLI's `okid identify --json` object for this result.")
+        .def("to_json_refined_start", &ResultCore::to_json_refined_start,
+             "okid identify --refine --json's opening members and \"start\" (this result).")
         .def("fields", &ResultCore::fields);
 
     nb::class_<StabilizationCore>(m, "StabilizationCore")

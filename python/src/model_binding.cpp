@@ -70,6 +70,22 @@ void bind_model(nb::module_ &m)
         return nb::make_tuple(s, nb::make_tuple(owned_array(std::move(y), {count, (size_t)mo}),
                                                 owned_array(std::move(x), {nn})));
     });
+    // okid_lift over the whole record: (status, (u_lifted (N / K, K r), y_lifted (N / K, m))).
+    m.def("lift", [](CBlock u, CBlock y, int factor) {
+        const int r = (int)u.shape(1), mo = (int)y.shape(1);
+        const size_t count = u.shape(0), lifted_count = factor > 0 ? count / (size_t)factor : 0;
+        if (y.shape(0) != count) return nb::make_tuple((int)OKID_E_BAD_SIZE, nb::none());
+        std::vector<double> ul(lifted_count * (size_t)(factor > 0 ? factor : 1) * (size_t)r + 1),
+            yl(lifted_count * (size_t)mo + 1);
+        size_t lifted = 0;
+        const int s = okid_lift(r, mo, factor, count, u.data(), (size_t)r, y.data(), (size_t)mo, ul.data(), yl.data(),
+                                &lifted);
+        if (s != OKID_OK) return nb::make_tuple(s, nb::none());
+        ul.resize(lifted * (size_t)factor * (size_t)r);
+        yl.resize(lifted * (size_t)mo);
+        return nb::make_tuple(s, nb::make_tuple(owned_array(std::move(ul), {lifted, (size_t)factor * (size_t)r}),
+                                                owned_array(std::move(yl), {lifted, (size_t)mo})));
+    });
 }
 
 }  // namespace okid_py

@@ -49,10 +49,11 @@ struct RefineCore {
     okid_refine_result out{};
     int m = 0;
 
-    // ',\n  "refinement": {...}' exactly as okid identify --refine --json writes it.
+    // The refined result's top-level members and ',\n  "refinement": {...}' exactly as okid
+    // identify --refine --json writes them after "start".
     nb::str to_json() const
     {
-        return write_to_string([this](FILE *f) { json_refinement(f, &cfg, &out, m); });
+        return write_to_string([this](FILE *f) { json_refined_result(f, &cfg, &out, m); });
     }
 
     nb::dict fields() const
@@ -78,6 +79,14 @@ struct RefineCore {
         f["initial_state"] = vector_array(out.initial_state, out.order);
         f["residual_rms_start"] = vector_array(out.residual_rms_start, m);
         f["residual_rms"] = vector_array(out.residual_rms, m);
+        f["whiteness"] = vector_array(out.whiteness, m);
+        f["max_autocorrelation"] = vector_array(out.max_autocorrelation, m);
+        f["fit_percent"] = vector_array(out.fit_percent, m);
+        nb::list output_warnings;
+        for (int i = 0; i < m; ++i) output_warnings.append(out.output_warnings[i]);
+        f["output_warnings"] = output_warnings;
+        f["autocorrelation_band"] = (double)out.autocorrelation_band;
+        f["std_covariance"] = out.covariance == OKID_REFINE_COVARIANCE_SANDWICH ? "sandwich" : "fisher";
         nb::list modes;
         for (int i = 0; i < out.num_modes; ++i) {
             const okid_mode_std &sd = out.mode_std[i];

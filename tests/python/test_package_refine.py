@@ -65,7 +65,8 @@ def test_refined_modes_are_within_their_std_of_the_exact_ones(record):
     ref = res.refinement
     assert ref.state == "converged" and ref.converged and ref.samples == 2001 and ref.num_parameters == 18
     assert (ref.max_passes, ref.step_tolerance) == (30, 1e-6)
-    assert res.modes[0].frequency_std is None  # OKID/ERA's own modes carry no std
+    assert res.start.modes[0].frequency_std is None  # OKID/ERA's own modes carry no std
+    assert res.modes == ref.modes  # the refined modes are the result's
     freq, zeta = exact_modes()
     pairs = [m for m in ref.modes if m.is_pair]
     assert len(pairs) == 2
@@ -264,3 +265,138 @@ def test_error_bars_are_calibrated_over_200_records():
         records += 1
     coverage = inside / records
     assert np.all((coverage >= 0.90) & (coverage <= 0.98)), coverage
+
+
+def paper_two_forces(tmp_path, dt, samples, seed, unmeasured, noise):
+    """okid simulate's paper record (unit white force on mass 1) plus, scaled to `unmeasured` x its
+    force's RMS, the response to an unmeasured white force on mass 2 (the chain is linear), then
+    white output noise of noise x each output's RMS: (path of the CSV with the measured force, u, y)."""
+    def sim(s, dof):
+        path = tmp_path / f"sim{s}_{dof}.csv"
+        proc = cli("simulate", "--samples", samples, "--dt", dt, "--noise", 0, "--seed", s, "--force-dof", dof,
+                   "--output", path)
+        assert proc.returncode == 0, proc.stderr
+        return np.loadtxt(path, delimiter=",", skiprows=1)
+    a = sim(seed, 1)
+    y = a[:, 2:].copy()
+    if unmeasured > 0:
+        b = sim(seed + 5000, 2)
+        y += unmeasured * np.sqrt(np.mean(a[:, 1] ** 2) / np.mean(b[:, 1] ** 2)) * b[:, 2:]
+    y += noise * np.sqrt(np.mean(y ** 2, axis=0)) * np.random.default_rng(seed).standard_normal(y.shape)
+    path = tmp_path / "record.csv"
+    np.savetxt(path, np.column_stack([a[:, :2], y]), delimiter=",", header="t,force,acc1,acc2", comments="",
+               fmt="%.17g")
+    return path, np.ascontiguousarray(a[:, 1:2]), np.ascontiguousarray(y)
+
+
+def ljung_box(ref, u, y, lags=20):
+    """Ljung-Box Q, largest |autocorrelation| and fit [%] of each output's residual, from the refined
+    model (A, B, C, D, x0) run over the record here in numpy (refine.h's definitions)."""
+    x = ref.initial_state.copy()
+    e = np.empty_like(y)
+    for k in range(len(y)):
+        e[k] = y[k] - ref.C @ x - ref.D @ u[k]
+        x = ref.A @ x + ref.B @ u[k]
+    n = len(y)
+    q, big, fit = [], [], []
+    for i in range(y.shape[1]):
+        ss = e[:, i] @ e[:, i]
+        r = np.array([e[l:, i] @ e[:-l, i] / ss for l in range(1, lags + 1)])
+        q.append(n * (n + 2) * np.sum(r ** 2 / (n - np.arange(1, lags + 1))))
+        big.append(np.max(np.abs(r)))
+        fit.append(100 * (1 - np.sqrt(ss / np.sum((y[:, i] - y[:, i].mean()) ** 2))))
+    return np.array(q), np.array(big), np.array(fit)
+
+
+def test_refined_result_is_the_result_in_cli_json_and_python(tmp_path):
+    """The JSON trap: with --refine the top-level modes and warnings are the refined ones, OKID/ERA's
+    under "start" with its own warnings (a Hankel span of 0.8 s against a 2 s period: the start's
+    HANKEL_SPAN_SHORT, which says nothing about the refined model); Python the same. (At 20 x 20
+    the refinement of this start stops at max_passes and its residual tests fire.)"""
+    path = tmp_path / "short_span.csv"
+    proc = cli("simulate", "--samples", 3001, "--dt", 0.01, "--noise", 0.02, "--seed", 11, "--output", path)
+    assert proc.returncode == 0, proc.stderr
+    u, y = columns(path.read_text().splitlines()[0].split(","), np.loadtxt(path, delimiter=",", skiprows=1))
+    opts = ("--observer-order", 40, "--hankel-rows", 40, "--hankel-cols", 40)
+    proc = cli("identify", "--order", 4, "--refine", "--json", *opts, path)
+    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    theirs = json.loads(proc.stdout)
+    plain = json.loads(cli("identify", "--order", 4, "--json", *opts, path).stdout)
+    assert theirs["start"]["modes"] == plain["modes"] and theirs["start"]["warnings"] == plain["warnings"]
+    assert any("Hankel span" in w for w in plain["warnings"])
+    assert not any("Hankel span" in w for w in theirs["warnings"])
+    assert theirs["modes"] == theirs["refinement"]["modes"] and "frequency_std" in theirs["modes"][0]
+    assert theirs["A"] == theirs["refinement"]["A"] and theirs["std_covariance"] == "fisher"
+    res = okid.identify(u, y, 0.01, order=4, refine=True, observer_order=40, hankel_rows=40, hankel_cols=40)
+    assert okid.WarningFlag.HANKEL_SPAN_SHORT in res.start.warnings
+    assert okid.WarningFlag.HANKEL_SPAN_SHORT not in res.warnings
+    assert res.modes == res.refinement.modes and res.modes[0].frequency_std > 0
+    assert res.start.modes[0].frequency_std is None
+    ours = res.to_dict()
+    assert list(ours) == [k for k in theirs if k not in CLI_ONLY]
+    assert_close(ours, {k: v for k, v in theirs.items() if k not in CLI_ONLY})
+
+
+def test_residual_tests_under_an_unmeasured_force(tmp_path):
+    """An unmeasured white force of 30 % on mass 2: the residual tests equal numpy's from the refined
+    model, output 1's residual is not white (the warning names it), the stds are the sandwich ones
+    and larger than white-noise theory says; on white noise the same tests stay quiet."""
+    path, u, y = paper_two_forces(tmp_path, 0.05, 2001, 21, 0.3, 0.02)
+    with pytest.warns(okid.ResidualWarning, match="output 1: the refined residual is not white"):
+        res = okid.identify(u, y, 0.05, order=4, refine=True, **HORIZONS)
+    ref = res.refinement
+    q, big, fit = ljung_box(ref, u, y)
+    # same recursion in another order: round-off of 2001-sample sums, far below these tolerances
+    np.testing.assert_allclose(ref.whiteness, q, rtol=1e-8)
+    np.testing.assert_allclose(ref.max_autocorrelation, big, rtol=1e-8)
+    np.testing.assert_allclose(ref.fit_percent, fit, rtol=1e-8)
+    assert ref.whiteness[0] > 45.3147 and okid.WarningFlag.RESIDUAL_NOT_WHITE in ref.output_warnings[0]
+    assert okid.WarningFlag.RESIDUAL_NOT_WHITE in res.warnings and ref.std_covariance == "sandwich"
+    assert abs(ref.autocorrelation_band - 1.96 / np.sqrt(2001)) < 1e-12
+    proc = cli("identify", "--order", 4, "--refine", "--json", "--observer-order", 20, "--hankel-rows", 50,
+               "--hankel-cols", 50, path)
+    assert proc.returncode == 0 and "output acc1: the refined residual is not white" in proc.stderr
+    tests = json.loads(proc.stdout)["refinement"]["residual_tests"]
+    assert tests["outputs"][0]["white"] is False and tests["lags"] == 20
+    # white noise: quiet, Fisher stds
+    _, u, y = paper_two_forces(tmp_path, 0.05, 2001, 22, 0, 0.05)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", okid.ResidualWarning)
+        white = okid.identify(u, y, 0.05, order=4, refine=True, **HORIZONS).refinement
+    assert white.std_covariance == "fisher" and np.all(white.whiteness < 45.3147)
+    np.testing.assert_allclose(white.whiteness, ljung_box(white, u, y)[0], rtol=1e-8)
+
+
+@pytest.mark.parametrize("factor", [2, 4, 8])
+def test_lift_is_exact_decimation(factor):
+    """okid.model.lift: the lifted arrays are numpy's reshape of the record, the caller's arrays stay
+    as they were, and the lifted noise-free record at K dt gives the paper's exact modes (numpy, from
+    its masses, dampers and springs) to round-off, where decimation=K's filter is biased by ~1e-2."""
+    dt = 0.01
+    a, b, c, d = okid.model.paper_system(dt)
+    rng = np.random.default_rng(factor)
+    u = rng.standard_normal((3001 * factor + factor - 1, 1))
+    y, _ = okid.model.simulate(a, b, c, d, u)
+    u0, y0 = u.copy(), y.copy()
+    ul, yl = okid.model.lift(u, y, factor)
+    n = len(u) // factor
+    np.testing.assert_array_equal(ul, u[:n * factor].reshape(n, factor))
+    np.testing.assert_array_equal(yl, y[:n * factor:factor])
+    np.testing.assert_array_equal(u, u0)
+    np.testing.assert_array_equal(y, y0)
+    res = okid.identify(ul, yl, factor * dt, order=4, observer_order=20, hankel_rows=20, hankel_cols=20)
+    freq, zeta = exact_modes()
+    pairs = [m for m in res.modes if m.is_pair]
+    assert len(pairs) == 2
+    # measured 6e-15 .. 5e-13 (K = 2, 4, 8); 1e-9, the issue's target, leaves BLAS kernels room
+    np.testing.assert_allclose([m.frequency_hz for m in pairs], freq, rtol=1e-9)
+    np.testing.assert_allclose([m.damping_ratio for m in pairs], zeta, rtol=1e-9)
+
+
+def test_lift_refusals():
+    u, y = np.zeros((10, 1)), np.zeros((10, 2))
+    for bad in (0, 65, True, 2.5):
+        with pytest.raises(okid.BadParameterError, match="factor"):
+            okid.model.lift(u, y, bad)
+    with pytest.raises(okid.BadSizeError, match="expected"):
+        okid.model.lift(u, np.zeros((9, 2)), 2)

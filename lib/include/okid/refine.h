@@ -91,7 +91,39 @@ typedef struct okid_refine_config {
 #define OKID_REFINE_STEP_TOLERANCE 1e-6
 #endif
 
-/** Standard deviations of one mode, from the inverse of the final Fisher information. */
+/**
+ * The residual tests of every refined result (docs/refinement.md): the normalised autocorrelation
+ * r_l = sum_k e(k) e(k-l) / sum_k e(k)^2 of each output's residual at lags 1..OKID_REFINE_LAGS and
+ * its Ljung-Box statistic Q = N (N + 2) sum_l r_l^2 / (N - l), chi-square with OKID_REFINE_LAGS
+ * degrees of freedom when the residual is white. OKID_REFINE_WHITENESS_BOUND is its 99.9 % quantile
+ * (scipy.stats.chi2.ppf(0.999, 20) = 45.315): each output raises a false alarm on 0.1 % of white
+ * records (a false alarm only swaps the Fisher stds for the sandwich ones), while an unmeasured
+ * force or a drift gives Q in the hundreds to tens of thousands. An output the model reproduces
+ * to round-off (residual RMS below 1000 epsilon of its RMS: noise-free data) fails no test.
+ */
+#define OKID_REFINE_LAGS ((int)OKID__REFINE_LAGS)
+#define OKID_REFINE_WHITENESS_BOUND 45.3147
+/** Below this fit [%] (100 (1 - |e| / |y - mean y|)) an output is OKID_W_OUTPUT_NOT_EXPLAINED. */
+#define OKID_REFINE_FIT_LOW 50.0
+/**
+ * The sandwich covariance sums the score over this many consecutive blocks of the record (batch
+ * means of the score: valid when the residual's correlation is shorter than N / blocks samples).
+ */
+#define OKID_REFINE_SCORE_BLOCKS 20
+
+/** Which covariance the standard deviations of a refined result come from. */
+typedef enum okid_refine_covariance {
+    /** The inverse Fisher information: exact when every output's residual is white. */
+    OKID_REFINE_COVARIANCE_FISHER = 0,
+    /**
+     * The sandwich H^-1 S H^-1 (H the Fisher information, S the covariance of the score estimated
+     * from its sums over OKID_REFINE_SCORE_BLOCKS blocks of the record): used when an output's
+     * residual is not white (OKID_W_RESIDUAL_NOT_WHITE), where the Fisher-based stds are too small.
+     */
+    OKID_REFINE_COVARIANCE_SANDWICH = 1
+} okid_refine_covariance;
+
+/** Standard deviations of one mode, from the covariance okid_refine_result::covariance names. */
 typedef struct okid_mode_std {
     okid_complex eigenvalue;   /**< std of Re and of Im of the discrete eigenvalue */
     okid_complex pole;         /**< std of Re and of Im of the continuous pole [1/s] */
@@ -124,7 +156,20 @@ typedef struct okid_refine_result {
     okid_real cost;
     okid_real dt;
     uint64_t samples;           /**< samples per pass */
-    unsigned warnings;          /**< okid_warning bits of the refined modes */
+    /** okid_warning bits of the refined modes and of the residual tests (not the start model's) */
+    unsigned warnings;
+    /** m values: the residual tests' okid_warning bits of each output (OKID_W_RESIDUAL_NOT_WHITE, ...) */
+    const unsigned *output_warnings;
+    /** m values: each output's Ljung-Box statistic Q (-1 when diverged) */
+    const okid_real *whiteness;
+    /** m values: each output's largest |r_l|, l = 1..OKID_REFINE_LAGS (-1 when diverged) */
+    const okid_real *max_autocorrelation;
+    /** 1.96 / sqrt(N): the 95 % band of each r_l for a white residual */
+    okid_real autocorrelation_band;
+    /** m values: each output's fit in percent, 100 (1 - |e| / |y - mean y|) (-1 when diverged) */
+    const okid_real *fit_percent;
+    /** the covariance mode_std comes from */
+    okid_refine_covariance covariance;
     /**
      * OKID_OK: every value of mode_std is a standard deviation. Otherwise the ones that cannot be
      * computed are -1 and this says why: OKID_E_RANK_DEFICIENT (the Fisher information is

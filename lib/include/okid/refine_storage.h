@@ -39,6 +39,17 @@ struct okid_refiner {
     okid_real *x_, *sens_, *jrow_, *nrm_[2], *grad_, *grad_best_, *step_, *diag_;
     okid_real *ss_, *yy_, *weight_, *rms_start_, *rms_, *e_, *wj_; /* e_, wj_: one sample's residual, weighted row */
     okid_real *a_full_;
+    /* residual tests: past residuals (ring of OKID_REFINE_LAGS per output, lag_pos_ the newest),
+       lagged products of this pass and of the accepted one, sum of y, the tests' figures */
+    okid_real *lag_ring_, *acf_, *acf_best_, *ysum_, *whiteness_, *max_acf_, *fit_;
+    unsigned *out_warn_, test_warnings_;
+    int lag_pos_;
+    okid_refine_covariance covariance_;
+    /* sandwich: the score's block sums (grad_ at the block's start) and their outer products of
+       this pass and of the accepted one (score_[best_]); score_ok_[b]: that buffer was summed */
+    okid_real *grad_mark_, *score_[2], *score_sum_;
+    int score_ok_[2];
+    uint64_t block_len_;
     okid_mode *modes_;
     okid_mode_std *mode_std_;
     okid_complex *shapes_, *shape_std_;

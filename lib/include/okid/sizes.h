@@ -175,6 +175,9 @@
 /* The same in 64 bits (at most 512 x 129 + 64 x 64 = 70144, but its square does not fit 32 bits). */
 #define OKID__REFINE_PARAMETERS64(n, r, m) (OKID__Z(n) * (OKID__Z(r) + OKID__Z(m) + 1u) + OKID__Z(m) * OKID__Z(r))
 
+/* Lags of the refinement's residual whiteness test (OKID_REFINE_LAGS). */
+#define OKID__REFINE_LAGS 20u
+
 /* Reals of each of the two normal-matrix buffers (internal; the eigenvalue scratch shares them). */
 #define OKID__REFINE_SCRATCH(n, np)                                                                  \
     OKID__MAX(2u * OKID__Z(n) * OKID__Z(n) + 2u * OKID__Z(n) + OKID__Z(OKID__LWORK_GEEV(n)), OKID__Z(np) * OKID__Z(np))
@@ -189,7 +192,11 @@
      + OKID__RB(OKID__Z(m) * OKID__REFINE_PARAMETERS64(n, r, m)) + 3u * OKID__RB(OKID__REFINE_PARAMETERS64(n, r, m))    \
      + 7u * OKID__RB(m) + OKID__RB(OKID__Z(n) * OKID__Z(n)) + OKID__ALIGN16(sizeof(okid_mode) * OKID__Z(n))             \
      + OKID__ALIGN16(sizeof(okid_mode_std) * OKID__Z(n)) + OKID__ALIGN16(sizeof(okid_complex) * OKID__Z(n) * 3u * OKID__Z(m)) \
-     + OKID__ALIGN16(sizeof(okid_complex) * OKID__Z(n) * OKID__Z(m)))
+     + OKID__ALIGN16(sizeof(okid_complex) * OKID__Z(n) * OKID__Z(m))                                    \
+     + 3u * OKID__RB(OKID__Z(m) * OKID__REFINE_LAGS) + 4u * OKID__RB(m) + OKID__ALIGN16(sizeof(unsigned) * OKID__Z(m)) \
+     + OKID__RB(OKID__Z(m) * OKID__REFINE_PARAMETERS64(n, r, m))                                               \
+     + 2u * OKID__RB(OKID__REFINE_PARAMETERS64(n, r, m) * OKID__REFINE_PARAMETERS64(n, r, m))                  \
+     + OKID__RB(OKID__REFINE_PARAMETERS64(n, r, m)))
 
 /* ---- Stabilization diagram (okid/stabilization.h) ---- */
 

@@ -96,7 +96,19 @@ enum okid_warning {
      */
     OKID_W_HANKEL_SPAN_SHORT = 1u << 7,
     /** The realization condition sigma_1 / sigma_n of H(0) exceeds 1 / sqrt(machine epsilon). */
-    OKID_W_REALIZATION_ILL_CONDITIONED = 1u << 8
+    OKID_W_REALIZATION_ILL_CONDITIONED = 1u << 8,
+    /**
+     * Refinement (okid_refine_result): an output's residual is not white (its Ljung-Box statistic
+     * over OKID_REFINE_LAGS lags exceeds OKID_REFINE_WHITENESS_BOUND): a force nobody measured, a
+     * drift, or too low an order. The standard deviations are then the sandwich ones.
+     * okid_refine_result::output_warnings says which output.
+     */
+    OKID_W_RESIDUAL_NOT_WHITE = 1u << 9,
+    /**
+     * Refinement: the model explains less than half of an output (fit below OKID_REFINE_FIT_LOW
+     * percent): a drift, an offset, a sensor the model does not describe.
+     */
+    OKID_W_OUTPUT_NOT_EXPLAINED = 1u << 10
 };
 
 /** A short, static, human-readable description of a status (never NULL, also for unknown codes). */

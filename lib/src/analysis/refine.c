@@ -79,6 +79,19 @@ static size_t layout(okid_refiner *rf, void *base, int n, int r, int m)
     rf->mode_std_ = (okid_mode_std *)okid_carve_bytes(&c, sizeof(okid_mode_std) * nn);
     rf->shapes_ = (okid_complex *)okid_carve_bytes(&c, sizeof(okid_complex) * nn * 3u * mm);
     rf->shape_std_ = (okid_complex *)okid_carve_bytes(&c, sizeof(okid_complex) * nn * mm);
+    const size_t lags = (size_t)OKID_REFINE_LAGS;
+    rf->lag_ring_ = okid_carve_reals(&c, mm * lags);
+    rf->acf_ = okid_carve_reals(&c, mm * lags);
+    rf->acf_best_ = okid_carve_reals(&c, mm * lags);
+    rf->ysum_ = okid_carve_reals(&c, mm);
+    rf->whiteness_ = okid_carve_reals(&c, mm);
+    rf->max_acf_ = okid_carve_reals(&c, mm);
+    rf->fit_ = okid_carve_reals(&c, mm);
+    rf->out_warn_ = (unsigned *)okid_carve_bytes(&c, sizeof(unsigned) * mm);
+    rf->grad_mark_ = okid_carve_reals(&c, mm * np);
+    rf->score_[0] = okid_carve_reals(&c, np * np);
+    rf->score_[1] = okid_carve_reals(&c, np * np);
+    rf->score_sum_ = okid_carve_reals(&c, np);
     return c.used;
 }
 
@@ -165,11 +178,16 @@ okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, co
     rf->mu_ = OKID_REFINE_MU_START;
     rf->cost_best_ = 0;
     rf->samples_ = rf->pass_samples_ = 0;
-    rf->warnings_ = 0;
+    rf->warnings_ = rf->test_warnings_ = 0;
     rf->num_modes_ = 0;
+    rf->covariance_ = OKID_REFINE_COVARIANCE_FISHER;
+    rf->score_ok_[0] = rf->score_ok_[1] = 0;
+    rf->block_len_ = 0;
     for (int i = 0; i < m; ++i) {
         rf->weight_[i] = 1;
         rf->rms_start_[i] = rf->rms_[i] = 0;
+        rf->whiteness_[i] = rf->max_acf_[i] = rf->fit_[i] = -1;
+        rf->out_warn_[i] = 0;
     }
     rf->magic_ = OKID_REFINE_MAGIC;
     return OKID_OK;
@@ -266,6 +284,7 @@ okid_status okid_refine_begin_pass(okid_refiner *rf)
     }
     rf->pass_samples_ = 0;
     rf->samples_used_ = 0;
+    okid_refine_tests_begin_pass(rf);
     rf->in_pass_ = 1;
     return OKID_OK;
 }
@@ -422,11 +441,15 @@ okid_status okid_refine_push_block(okid_refiner *rf, size_t count, const okid_re
                 rf->ss_[i] += e[i] * e[i];
                 rf->yy_[i] += yk[i] * yk[i];
             }
+            okid_refine_tests_sample(rf, e, yk);
             if (jacobian_pass(rf)) {
                 output_jacobian(rf, uk);
                 accumulate(rf, e);
             }
             ++rf->samples_used_;
+            if (rf->score_ok_[1 - rf->best_] && rf->samples_used_ % rf->block_len_ == 0) {
+                okid_refine_tests_close_block(rf);
+            }
         }
         advance(rf, uk);
         ++rf->pass_samples_;
@@ -440,12 +463,14 @@ static void finish(okid_refiner *rf, okid_refine_state state)
     rf->state_ = state;
     rf->finished_ = 1;
     okid_refine_apply(rf, rf->theta_best_);
+    okid_refine_tests_finish(rf, state == OKID_REFINE_DIVERGED);
     /* a failure here leaves no modes (num_modes 0) but the model stands */
     const okid_status st = okid_refine_modes_and_std(rf, state != OKID_REFINE_DIVERGED);
     if (st != OKID_OK) {
         rf->num_modes_ = 0;
         rf->std_status_ = st;
     }
+    rf->warnings_ |= rf->test_warnings_;
 }
 
 /* Propose theta_ = theta_best_ + the damped step; 0 when the damping ran out. */
@@ -503,6 +528,9 @@ okid_status okid_refine_end_pass(okid_refiner *rf, okid_refine_state *state)
     if (rf->samples_used_ * (uint64_t)m <= (uint64_t)np) {
         return OKID_E_NOT_ENOUGH_DATA;
     }
+    if (rf->score_ok_[1 - rf->best_] && rf->samples_used_ % rf->block_len_ != 0) {
+        okid_refine_tests_close_block(rf); /* the last, shorter block */
+    }
     const okid_real used = (okid_real)rf->samples_used_;
     okid_real cost = 0;
     for (int i = 0; i < m; ++i) {
@@ -525,6 +553,7 @@ okid_status okid_refine_end_pass(okid_refiner *rf, okid_refine_state *state)
         if (!finite) {
             finish(rf, OKID_REFINE_DIVERGED);
         } else {
+            okid_refine_tests_accept(rf);
             for (int i = 0; i < m; ++i) {
                 rf->weight_[i] = used / rf->ss_[i];
                 rf->rms_start_[i] = rf->rms_[i] = okid_sqrt(rf->ss_[i] / used);
@@ -539,6 +568,7 @@ okid_status okid_refine_end_pass(okid_refiner *rf, okid_refine_state *state)
     if (finite && (first_jacobian || cost < rf->cost_best_)) {
         rf->best_ = 1 - rf->best_;
         rf->cost_best_ = cost;
+        okid_refine_tests_accept(rf);
         for (int p = 0; p < np; ++p) {
             rf->theta_best_[p] = rf->theta_[p];
             okid_real g = 0;
@@ -616,5 +646,11 @@ okid_status okid_refine_get_result(const okid_refiner *rf, okid_refine_result *r
     result->samples = rf->samples_;
     result->warnings = rf->warnings_;
     result->std_status = rf->std_status_;
+    result->output_warnings = rf->out_warn_;
+    result->whiteness = rf->whiteness_;
+    result->max_autocorrelation = rf->max_acf_;
+    result->fit_percent = rf->fit_;
+    result->autocorrelation_band = rf->samples_used_ > 0 ? OKID_R(1.96) / okid_sqrt((okid_real)rf->samples_used_) : -1;
+    result->covariance = rf->covariance_;
     return OKID_OK;
 }

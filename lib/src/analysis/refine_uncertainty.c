@@ -95,6 +95,42 @@ static void covariance(int np, const okid_real *f, const okid_real *d, okid_real
     }
 }
 
+/*
+ * The sandwich P S P (P = H^-1 full, S the score's block covariance, upper triangle) into s; t is
+ * np x np scratch. The weights of H and S are relative to noise_scale_, which cancels in P S P:
+ * divided by its square here so that the common scaling by noise_scale_ below leaves it right.
+ */
+static void sandwich(int np, const okid_real *p, okid_real *s, okid_real *t, okid_real noise_scale)
+{
+    for (int j = 0; j < np; ++j) {
+        for (int i = j + 1; i < np; ++i) {
+            OKID_AT(s, np, i, j) = OKID_AT(s, np, j, i);
+        }
+    }
+    /* plain loops, not the BLAS: the same sums in the same order on every backend and target */
+    for (int j = 0; j < np; ++j) {
+        for (int i = 0; i < np; ++i) {
+            okid_real v = 0;
+            for (int k = 0; k < np; ++k) {
+                v += OKID_AT(p, np, i, k) * OKID_AT(s, np, k, j);
+            }
+            OKID_AT(t, np, i, j) = v;
+        }
+    }
+    /* the block sums add up to the gradient, zero at the optimum: blocks - 1 degrees of freedom */
+    const int blocks = OKID_REFINE_SCORE_BLOCKS;
+    const okid_real w = (okid_real)blocks / (okid_real)(blocks - 1) / (noise_scale * noise_scale);
+    for (int j = 0; j < np; ++j) {
+        for (int i = 0; i < np; ++i) {
+            okid_real v = 0;
+            for (int k = 0; k < np; ++k) {
+                v += OKID_AT(t, np, i, k) * OKID_AT(p, np, k, j);
+            }
+            OKID_AT(s, np, i, j) = v * w;
+        }
+    }
+}
+
 /* The block whose eigenvalue is the mode's. */
 static int block_of(const okid_refiner *rf, const okid_mode *mode)
 {
@@ -217,7 +253,14 @@ okid_status okid_refine_modes_and_std(okid_refiner *rf, int with_covariance)
         }
         if (with_covariance) {
             covariance(np, spare, rf->diag_, p);
+            if (rf->covariance_ == OKID_REFINE_COVARIANCE_SANDWICH) {
+                sandwich(np, p, rf->score_[rf->best_], rf->score_[1 - rf->best_], rf->noise_scale_);
+                p = rf->score_[rf->best_];
+            }
         }
+    }
+    if (!with_covariance) {
+        rf->covariance_ = OKID_REFINE_COVARIANCE_FISHER; /* no stds at all: nothing was sandwiched */
     }
     /* the block-diagonal A and its modes */
     okid_zero_matrix(n, n, rf->a_full_, n);
