@@ -104,7 +104,7 @@ static const fmu_variable_group GROUPS[] = {
           "n: model order; 0 = automatic (largest gap of the Hankel singular values)"),
     PARAM("hankel_rows", FMU_INTEGER, hankel_rows, 1, OKID_MAX_HORIZON, NULL, NULL, "alpha: Hankel block rows"),
     PARAM("hankel_cols", FMU_INTEGER, hankel_cols, 1, OKID_MAX_HORIZON, NULL, NULL, "beta: Hankel block columns"),
-    PARAM("block_rows", FMU_INTEGER, block_rows, 0, 4096, NULL, NULL, "regressor rows folded per QR update; 0 = 32"),
+    PARAM("block_rows", FMU_INTEGER, block_rows, 0, 4096, NULL, NULL, "regressor rows folded per QR update; 0 = automatic"),
     PARAM("dt", FMU_REAL, dt, 2.2250738585072014e-308, (double)INFINITY, NULL, "s",
           "sample interval = the communication step size (fixed: the FMU samples once per step)"),
     PARAM("forgetting_factor", FMU_REAL, forgetting_factor, 2.2250738585072014e-308, 1, NULL, NULL,

@@ -54,7 +54,7 @@ static const cli_option identify_table[] = {
      "Hankel block rows alpha"},
     {"hankel-cols", NULL, CLI_INT, CONFIG(hankel_cols), 1, OKID_MAX_HORIZON, 0, NULL, "hankel_cols", "B", NULL, NULL,
      "Hankel block columns beta"},
-    {"block-rows", NULL, CLI_INT, CONFIG(block_rows), 0, MAX_BLOCK_ROWS, 0, NULL, "block_rows", "R", "0 = 32", NULL,
+    {"block-rows", NULL, CLI_INT, CONFIG(block_rows), 0, MAX_BLOCK_ROWS, 0, NULL, "block_rows", "R", "0 = automatic (256 rows, fewer for wide regressors)", NULL,
      "regressor rows folded into the QR factor at a time (speed, not results)"},
     {"forgetting-factor", "forgetting", CLI_REAL, CONFIG(forgetting_factor), 0, 1, CLI_MIN_OPEN, NULL,
      "forgetting_factor", "L", NULL, NULL,

@@ -132,7 +132,7 @@ def _explain(cfg: Dict[str, Any], status: int) -> Exception:
         (E_BAD_SIZE, "hankel_cols", 1 <= beta <= _core.MAX_HORIZON, f"1..{_core.MAX_HORIZON}"),
         (E_BAD_SIZE, "decimation", 0 <= cfg["decimation"] <= _core.MAX_DECIMATION,
          f"1..{_core.MAX_DECIMATION} (0 reads as 1)"),
-        (E_BAD_SIZE, "block_rows", cfg["block_rows"] >= 0, "0 (= 32) or more"),
+        (E_BAD_SIZE, "block_rows", cfg["block_rows"] >= 0, "0 (= automatic) or more"),
         (E_BAD_ORDER, "order", 0 <= cfg["order"] <= min(alpha * m, beta * columns, m * p, _core.MAX_ORDER),
          f"0 (automatic) or 1..min(hankel_rows m, hankel_cols columns, m observer_order) = "
          f"{min(alpha * m, beta * columns, m * p, _core.MAX_ORDER)} here"),

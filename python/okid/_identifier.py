@@ -200,7 +200,7 @@ def identify(u: Any, y: Any, dt: float, *,
     order: model order n (states); 0 picks the largest gap of the Hankel singular values
     hankel_rows, hankel_cols: alpha, beta block rows/columns of the ERA Hankel matrix (1..1000);
     None is the default (20), or chosen from the data like observer_order
-    block_rows: regressor rows folded per update (0 = 32)
+    block_rows: regressor rows folded per update (0 = automatic: 256, fewer for wide regressors)
     forgetting_factor: lambda in (0, 1] (0 reads as 1): a row k samples old weighs lambda^k
     rank_tolerance: relative tolerance of the rank-revealing least squares (0 = 1e-10)
     sensing: what y measures: "acceleration", "velocity" or "displacement" (sets the mode shapes' c)

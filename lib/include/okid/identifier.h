@@ -101,7 +101,12 @@ typedef struct okid_config {
     int order;
     int hankel_rows;         /**< alpha: block rows of H(0) and H(1), 1..OKID_MAX_HORIZON */
     int hankel_cols;         /**< beta: block columns of H(0) and H(1), 1..OKID_MAX_HORIZON */
-    int block_rows;          /**< regressor rows folded into the QR factor per update; 0 = 32 */
+    /**
+     * Regressor rows folded into the QR factor per update, 0..4096. 0 = automatic: with the LAPACK
+     * backend 256 rows (128 or 64 when a block of 256 x w reals would not fit 2 MiB, w = q + m),
+     * with the Eigen backend 32. The workspace holds two blocks (2 x block_rows x w reals).
+     */
+    int block_rows;
     okid_real dt;            /**< sample interval [s], finite and > 0 */
     /**
      * Exponential forgetting factor lambda in (0, 1]: a row folded k samples ago weighs

@@ -123,7 +123,8 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims, okid_conf
         dims->hankel_rows + dims->hankel_cols <= dims->w && 2 * dims->hankel_cols + dims->svd_size <= dims->w;
     dims->era_ldh = dims->era_in_r ? dims->w + 1 : dims->hankel_rows;
     dims->era_ldvt = dims->era_in_r ? dims->w + 1 : dims->svd_size;
-    dims->block_rows = cfg->block_rows > 0 ? cfg->block_rows : 32;
+    /* 0: from w and the cache (OKID__AUTO_BLOCK_ROWS says how; the macros use the same rule) */
+    dims->block_rows = cfg->block_rows > 0 ? cfg->block_rows : (int)OKID__AUTO_BLOCK_ROWS(dims->w);
     /* Inner block of the blocked QR update (xTPQRT's NB): a narrow panel keeps the level-2 part
        small and hands the rest to level-3 BLAS; 8 up to w = 128, 16 above, was fastest with both
        the reference BLAS and OpenBLAS (2.2x at r = 1, m = 2, p = 20; docs/benchmarks.md). */
