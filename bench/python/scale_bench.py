@@ -5,15 +5,17 @@
 
 Cases, on the same data for every method (okid's simulator, okid.model, 2 % output noise of each
 channel's RMS, white force):
-- "5-DOF, 10 acc.": a 5-mass chain (okid.fleet.synth.chain), 1 force on mass 1, two accelerometers
+- "5-DOF, 10 acc.": a 5-mass chain (record() below), 1 force on mass 1, two accelerometers
   on every mass (10 channels, independent noise), 100 000 samples at 0.01 s, p = 20, n = 10,
   20 x 20 Hankel (SRIM: horizon 20);
-- "24-ch. fleet, p = 4" and "p = 20": the fleet's sizing record (docs/fleet.md): a 24-mass chain,
-  1 force, 24 accelerometers, 10 minutes at 100 Hz, n = 48, 20 x 80 Hankel (SRIM: horizon 20).
+- "24-ch. fleet, p = 4" and "p = 20": the shape of the fleet's sizing record (docs/fleet.md): a
+  lightly damped 24-mass chain, 1 force, 24 accelerometers, 10 minutes at 100 Hz, n = 48, 20 x 80
+  Hankel (SRIM: horizon 20).
 Prints one row per case and method: the median CPU time (time.process_time, the whole call: regressor
 rows, fold, solve, ERA, modes) and the largest relative error of the frequencies and damping ratios
 of the exact modes (each matched to the nearest identified frequency). okid runs with its defaults
-(block_rows 0: the block size from w and the cache) and with block_rows 32 (the old default).
+(block_rows 0: the block size from w and the cache), with block_rows 32 (the old default) and with
+the correlation-form estimator.
 No number is asserted: figures go to docs/benchmarks.md by hand, with the command.
 """
 import os
@@ -32,15 +34,19 @@ import numpy as np  # noqa: E402
 
 import okid  # noqa: E402
 from okid import model  # noqa: E402
-from okid.fleet.synth import chain  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_compare import mdof_srim, numpy_okid_era  # noqa: E402
 
 
 def record(masses_count, sensors_per_mass, samples, seed):
-    """u (N, 1), y (N, masses_count * sensors_per_mass) and the exact (frequency [Hz], damping) pairs."""
-    masses, dampers, springs = chain(masses_count)
+    """u (N, 1), y (N, masses_count * sensors_per_mass) and the exact (frequency [Hz], damping) pairs.
+    A lightly damped chain between two walls: 1 kg masses, 4000 N/m springs, dampers 5e-4 s times
+    the springs (stiffness-proportional: 0.8-3 % damping for 5 masses, 5.2-19 Hz; 0.2-3 % for 24,
+    1.3-20 Hz), sampled at 100 Hz."""
+    masses = np.ones(masses_count)
+    springs = np.full(masses_count + 1, 4000.0)
+    dampers = 5e-4 * springs
     m_, r_, k_ = model.chain_model(masses, dampers, springs)
     b2 = np.zeros((masses_count, 1))
     b2[0, 0] = 1
@@ -70,9 +76,11 @@ def largest_error(found, exact_f, exact_z):
     return worst
 
 
-def okid_modes(u, y, p, n, h, block_rows):
+def okid_modes(u, y, p, n, h, block_rows, estimator="least_squares"):
     res = okid.identify(u, y, 0.01, observer_order=p, order=n, hankel_rows=h[0], hankel_cols=h[1],
-                        block_rows=block_rows)
+                        block_rows=block_rows, estimator=estimator)
+    if res.warnings & okid.WarningFlag.CORRELATION_FALLBACK:
+        print(f"(p = {p}: the correlation form fell back to the QR fold)", file=sys.stderr)
     pairs = [md for md in res.modes if md.is_pair]
     return [md.frequency_hz for md in pairs], [md.damping_ratio for md in pairs]
 
@@ -102,6 +110,7 @@ def main(argv=None):
         u, y, exact_f, exact_z = record(masses, per_mass, samples, seed=1)
         methods = [("okid.identify (defaults: block_rows 0)", lambda: okid_modes(u, y, p, n, h, 0)),
                    ("okid.identify, block_rows 32 (the old default)", lambda: okid_modes(u, y, p, n, h, 32)),
+                   ('okid.identify, estimator="correlation"', lambda: okid_modes(u, y, p, n, h, 0, "correlation")),
                    ("mdof SRIM (horizon 20)", lambda: mdof_srim(u, y, 0.01, 20, n)),
                    (f"numpy OKID/ERA (p = {p})", lambda: numpy_okid_era(u, y, 0.01, p, max(h), n))]
         for label, call in methods:

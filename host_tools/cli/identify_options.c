@@ -77,7 +77,9 @@ static const cli_option identify_table[] = {
      "of rows, so the units of the channels do not matter"},
     {"estimator", NULL, CLI_ENUM, CONFIG(estimator), 0, 0, 0, cli_estimator_names, "estimator", "KIND", NULL, NULL,
      "instrumental removes the bias of output noise with delayed inputs\n"
-     "as instruments (old spelling of the value: least-squares)"},
+     "as instruments; correlation accumulates Phi'Phi (half the flops of\n"
+     "the QR fold) and falls back to least_squares when its Cholesky\n"
+     "guard refuses (old spelling of least_squares: least-squares)"},
     {"instrument-lags", NULL, CLI_INT, CONFIG(instrument_lags), 0, OKID_MAX_INSTRUMENT_LAGS, 0, NULL, "instrument_lags",
      "L", "0 = ceil(q/r) + 2p; r (L + 1) >= q and L >= p", NULL, "instrument lags of --estimator instrumental"},
     /* the refinement: okid_refine_config's fields (docs/refinement.md) */

@@ -36,6 +36,7 @@ const char *okid_warning_str(unsigned warning_bit)
     case OKID_W_OBSERVER_ORDER_ABOVE_MINIMUM: return "(near) noise-free data with observer order p above the minimum ceil(n/m): observer Markov parameters not unique";
     case OKID_W_HANKEL_SPAN_SHORT: return "the Hankel span (alpha+beta)*dt is shorter than the slowest identified period";
     case OKID_W_REALIZATION_ILL_CONDITIONED: return "the realization is ill conditioned (sigma_1/sigma_n of the Hankel above 1/sqrt(eps))";
+    case OKID_W_CORRELATION_FALLBACK: return "the correlation estimator's Cholesky guard refused: identified again with the QR fold";
     default: return "unknown warning";
     }
 }

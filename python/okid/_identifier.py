@@ -13,7 +13,9 @@ import numpy as np
 from . import _config, _core
 from ._config import DEFAULTS
 from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_AVAILABLE, E_NOT_ENOUGH_DATA, OK,
-                      BadParameterError, BadSizeError, NonFiniteSampleWarning, OkidError, check, error_for)
+                      BadParameterError, BadSizeError, DecompositionError, NonFiniteSampleWarning, OkidError, check,
+                      error_for)
+from ._mode import WarningFlag
 from ._refine import REFINE_DEFAULTS, check_settings
 from ._result import Result
 from ._start_search import choose_start
@@ -208,7 +210,9 @@ def identify(u: Any, y: Any, dt: float, *,
     zero_initial_state: 1 when the record starts at rest (uses its first samples with zero history)
     decimation: K, anti-alias filter and every K-th sample (1..64); the model's dt is K dt
     scaling: "none" or "auto" (each channel divided by its RMS over the first block)
-    estimator: "least_squares" or "instrumental" (removes the bias of output noise)
+    estimator: "least_squares", "instrumental" (removes the bias of output noise) or "correlation"
+    (least squares from Phi'Phi by Cholesky: half the flops; when its guard refuses, identified
+    again with least_squares, Result.config says so and Result.warnings has CORRELATION_FALLBACK)
     instrument_lags: L of the instrumental estimator (0 = automatic)
 
     refine: also run the prediction-error (maximum-likelihood) refinement of the OKID/ERA model
@@ -274,7 +278,18 @@ def identify(u: Any, y: Any, dt: float, *,
                       NonFiniteSampleWarning, stacklevel=2)
     elif status != OK:
         raise error_for(status, "push")
-    result = identifier.identify()
+    try:
+        result = identifier.identify()
+    except DecompositionError:
+        if options["estimator"] != "correlation":
+            raise
+        # the correlation form's guard refused (okid_estimator in okid/identifier.h): the record is
+        # at hand, so identify it again with the QR fold and say so (as the CLI does)
+        options = dict(options, estimator="least_squares")
+        identifier = Identifier(r, m, dt, **options)
+        identifier._core.push_block(ub, yb)
+        result = identifier.identify()
+        result = replace(result, warnings=result.warnings | WarningFlag.CORRELATION_FALLBACK)
     if not refine:
         return result
     return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2), start_search=search)

@@ -23,6 +23,7 @@ class WarningFlag(enum.IntFlag):
     OBSERVER_ORDER_ABOVE_MINIMUM = 1 << 6
     HANKEL_SPAN_SHORT = 1 << 7
     REALIZATION_ILL_CONDITIONED = 1 << 8
+    CORRELATION_FALLBACK = 1 << 9  #: set by okid.identify() and the CLI only (estimator="correlation")
 
     def describe(self) -> Tuple[str, ...]:
         """The library's sentence for each bit set."""

@@ -156,7 +156,7 @@
 #define OKID__IV_LAGS(r, m, p, lags) \
     ((lags) > 0 ? OKID__Z(lags) : (OKID__Q(r, m, p) + OKID__Z(r) - 1u) / OKID__Z(r) + 2u * OKID__Z(p))
 #define OKID__IV_BYTES(r, m, p, block_rows, estimator, lags)                                                  \
-    ((estimator) ? OKID__RB(OKID__Z(r) * OKID__IV_LAGS(r, m, p, lags))                                        \
+    ((estimator) == 1 ? OKID__RB(OKID__Z(r) * OKID__IV_LAGS(r, m, p, lags))                                        \
                        + OKID__RB(OKID__NB(r, m, p, block_rows) * OKID__Z(r) * (OKID__IV_LAGS(r, m, p, lags) + 1u))    \
                        + OKID__RB(OKID__Z(r) * (OKID__IV_LAGS(r, m, p, lags) + 1u) * OKID__W(r, m, p))        \
                        + (OKID__NB(r, m, p, block_rows) > 1u                                                            \
@@ -164,6 +164,11 @@
                                     + OKID__RB(OKID__NB(r, m, p, block_rows) * OKID__W(r, m, p))                        \
                               : 0u)                                                                            \
                  : 0u)
+
+/* The correlation form factors a copy of [Phi Y]'[Phi Y] at identify: the copy of R that
+   block_rows > 1 has anyway, else w x w more. */
+#define OKID__CORRELATION_BYTES(r, m, p, block_rows, estimator) \
+    ((estimator) == 2 && OKID__NB(r, m, p, block_rows) <= 1u ? OKID__RB(OKID__W(r, m, p) * OKID__W(r, m, p)) : 0u)
 
 /* OKID_WORKSPACE_BYTES before the saturation. */
 #define OKID__WORKSPACE_BYTES64(r, m, p, alpha, beta, order, block_rows, combined)                         \
@@ -178,7 +183,7 @@
                                         estimator, lags)                                                        \
     (OKID__WORKSPACE_BYTES64(r, m, p, alpha, beta, order, block_rows, combined)                     \
                + OKID__DEC_BYTES(r, m, decimation) + OKID__SCALE_BYTES(r, m, scaling)                           \
-               + OKID__IV_BYTES(r, m, p, block_rows, estimator, lags))
+               + OKID__IV_BYTES(r, m, p, block_rows, estimator, lags) + OKID__CORRELATION_BYTES(r, m, p, block_rows, estimator))
 
 /* ---- Modal analysis (okid/modal.h) ---- */
 

@@ -96,7 +96,13 @@ enum okid_warning {
      */
     OKID_W_HANKEL_SPAN_SHORT = 1u << 7,
     /** The realization condition sigma_1 / sigma_n of H(0) exceeds 1 / sqrt(machine epsilon). */
-    OKID_W_REALIZATION_ILL_CONDITIONED = 1u << 8
+    OKID_W_REALIZATION_ILL_CONDITIONED = 1u << 8,
+    /**
+     * Set by the tools that hold the whole record (CLI, okid.identify()), never by okid_identify():
+     * the correlation estimator's guard refused (OKID_ESTIMATOR_CORRELATION), and the record was
+     * identified again with the QR fold (least squares), whose result this is (SLICOT IWARN = 2).
+     */
+    OKID_W_CORRELATION_FALLBACK = 1u << 9
 };
 
 /** A short, static, human-readable description of a status (never NULL, also for unknown codes). */

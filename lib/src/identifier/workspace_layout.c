@@ -62,7 +62,7 @@ static okid_status check_fields(const okid_config *cfg, okid_config_issue *issue
         {"realization", (int)cfg->realization, 0, 1, OKID_E_BAD_PARAMETER},
         {"zero_initial_state", cfg->zero_initial_state, 0, 1, OKID_E_BAD_PARAMETER},
         {"scaling", (int)cfg->scaling, 0, 1, OKID_E_BAD_PARAMETER},
-        {"estimator", (int)cfg->estimator, 0, 1, OKID_E_BAD_PARAMETER},
+        {"estimator", (int)cfg->estimator, 0, 2, OKID_E_BAD_PARAMETER},
         {"decimation", cfg->decimation, 0, OKID_MAX_DECIMATION, OKID_E_BAD_SIZE},
         {"instrument_lags", cfg->instrument_lags, 0, OKID_MAX_INSTRUMENT_LAGS, OKID_E_BAD_SIZE},
     };
@@ -132,6 +132,7 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims, okid_conf
     dims->decimation = cfg->decimation > 1 ? cfg->decimation : 1;
     dims->instrument_lags = 0;
     dims->nz = 0;
+    dims->correlation = cfg->estimator == OKID_ESTIMATOR_CORRELATION;
     if (cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL) {
         /* the same rule as OKID__IV_LAGS; at least q instruments, and at least the p lags of the window */
         const long long lags = cfg->instrument_lags > 0 ? cfg->instrument_lags : (dims->q + r - 1) / r + 2LL * p;
@@ -234,7 +235,7 @@ uint64_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsign
 
     /* identify's copy of R (OKID__IDENTIFY_FOLD_BYTES) and of the instrument rows (OKID__IV_BYTES) */
     v->factor = v->iv_pending = v->iv_chunk = NULL;
-    if (d->block_rows > 1) {
+    if (d->block_rows > 1 || d->correlation) {
         v->factor = okid_carve_reals(&c, w * w);
         if (d->nz > 0) {
             v->iv_pending = okid_carve_reals(&c, (uint64_t)d->block_rows * (uint64_t)d->nz);
