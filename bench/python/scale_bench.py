@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """okid on large records against numpy OKID/ERA and mdof SRIM (issue 29), one BLAS thread, CPU time.
 
-    .venv/bin/python bench/python/scale_bench.py [--repeats 3] [--quick]
+    .venv/bin/python bench/python/scale_bench.py [--repeats 3] [--quick] [--results bench/scale_results.json]
 
 Cases, on the same data for every method (okid's simulator, okid.model, 2 % output noise of each
 channel's RMS, white force):
@@ -16,7 +16,8 @@ rows, fold, solve, ERA, modes) and the largest relative error of the frequencies
 of the exact modes (each matched to the nearest identified frequency). okid runs with its defaults
 (block_rows 0: the block size from w and the cache), with block_rows 32 (the old default) and with
 the correlation-form estimator.
-No number is asserted: figures go to docs/benchmarks.md by hand, with the command.
+No number is asserted. --results keeps the table (key "markdown"), which bench_compare.py copies into
+docs/benchmarks.md ("Large records"), as it does bench/stream_results.json.
 """
 import os
 
@@ -25,6 +26,8 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_var] = "1"
 
 import argparse  # noqa: E402
+import json  # noqa: E402
+import platform  # noqa: E402
 import statistics  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
@@ -99,13 +102,14 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3, help="calls per method (median CPU time)")
     parser.add_argument("--quick", action="store_true", help="a tenth of the samples (a smoke run)")
+    parser.add_argument("--results", default=None, help="write the table here (JSON, key markdown)")
     a = parser.parse_args(argv)
     scale = 10 if a.quick else 1
     cases = [("5-DOF, 10 acc., 100 000 samples", 5, 2, 100_000 // scale, 20, 10, (20, 20)),
              ("24-ch. fleet record, p = 4", 24, 1, 60_000 // scale, 4, 48, (20, 80)),
              ("24-ch. fleet record, p = 20", 24, 1, 60_000 // scale, 20, 48, (20, 80))]
-    print("| case | method | CPU time [s] | largest relative error |")
-    print("|---|---|---|---|")
+    lines = ["| case | method | CPU time [s] | largest relative error |", "|---|---|---|---|"]
+    print("\n".join(lines))
     for name, masses, per_mass, samples, p, n, h in cases:
         u, y, exact_f, exact_z = record(masses, per_mass, samples, seed=1)
         methods = [("okid.identify (defaults: block_rows 0)", lambda: okid_modes(u, y, p, n, h, 0)),
@@ -116,10 +120,18 @@ def main(argv=None):
         for label, call in methods:
             try:
                 seconds, found = timed(call, a.repeats)
-                print(f"| {name} | {label} | {seconds:.3f} | {largest_error(found, exact_f, exact_z):.2g} |",
-                      flush=True)
+                lines.append(f"| {name} | {label} | {seconds:.3f} | {largest_error(found, exact_f, exact_z):.2g} |")
             except Exception as exc:  # a peer that fails on a case is reported, not fatal
-                print(f"| {name} | {label} | failed: {type(exc).__name__}: {exc} | |", flush=True)
+                lines.append(f"| {name} | {label} | failed: {type(exc).__name__}: {exc} | |")
+            print(lines[-1], flush=True)
+    if a.results:
+        header = ["## Large records (issue 29)", "",
+                  f"`.venv/bin/python bench/python/scale_bench.py` on {platform.processor() or platform.machine()}, "
+                  f"{os.cpu_count()} cores, one BLAS thread, median CPU time of {a.repeats} calls "
+                  "(the whole identification; the script's docstring describes the cases).", ""]
+        with open(a.results, "w") as f:
+            json.dump({"markdown": header + lines + [""]}, f, indent=1)
+            f.write("\n")
     return 0
 
 
