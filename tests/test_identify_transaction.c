@@ -126,7 +126,7 @@ static void test_failed_identify_changes_nothing_later(void **state)
     free(y);
 }
 
-/* Identify with rows pending in a partly filled block (the default 32 rows per fold), then go on:
+/* Identify with rows pending in a partly filled block (the default block_rows, 256 rows per fold), then go on:
    the final result is the one of a run that did not stop, bit for bit, for every option that
    touches the fold (scaling fixed by the first fold, instruments, forgetting, combined). */
 static void test_identify_midway_bit_for_bit(void **state)
