@@ -126,7 +126,7 @@ static void test_failed_identify_changes_nothing_later(void **state)
     free(y);
 }
 
-/* Identify with rows pending in a partly filled block (the default 32 rows per fold), then go on:
+/* Identify with rows pending in a partly filled block (the default block_rows, 256 rows per fold), then go on:
    the final result is the one of a run that did not stop, bit for bit, for every option that
    touches the fold (scaling fixed by the first fold, instruments, forgetting, combined). */
 static void test_identify_midway_bit_for_bit(void **state)
@@ -137,7 +137,7 @@ static void test_identify_midway_bit_for_bit(void **state)
     for (int variant = 0; variant < 5; ++variant) {
         okid_config cfg;
         test_config(&REF_PAPER, &cfg);
-        cfg.block_rows = 0; /* 32 */
+        cfg.block_rows = 0; /* automatic: 256 rows (32 with the Eigen backend) */
         if (variant == 1) cfg.scaling = OKID_SCALING_AUTO;
         if (variant == 2) cfg.estimator = OKID_ESTIMATOR_INSTRUMENTAL;
         if (variant == 3) cfg.forgetting_factor = (okid_real)0.999;
@@ -160,7 +160,7 @@ static void test_identify_midway_bit_for_bit(void **state)
             okid_progress progress;
             assert_int_equal(okid_get_progress(&id, &progress), OKID_OK);
             if (s < 2) {
-                assert_true(progress.rows % 32 != 0); /* rows pending */
+                assert_true(progress.rows % 32 != 0); /* rows pending (in blocks of 256 or 32) */
             }
             const okid_status st = okid_identify(&id, &res);
             assert_true(st == OKID_OK || (s == 0 && st == OKID_E_NOT_ENOUGH_DATA) || variant == 2);

@@ -735,6 +735,9 @@ def markdown(rows, cbench, results, quick, crlb_lines=()):
     stream = Path("bench/stream_results.json")  # scripts/bench_stream.py: the CLI on a 1 GB CSV, kept here
     if stream.exists():
         lines += json.loads(stream.read_text())["markdown"]
+    scale = Path("bench/scale_results.json")  # bench/python/scale_bench.py: large records, kept here
+    if scale.exists():
+        lines += json.loads(scale.read_text())["markdown"]
     lines += ["## Machine-readable", "", "```json", json.dumps(results, indent=2), "```", ""]
     return "\n".join(lines)
 

@@ -73,12 +73,12 @@ enum { G_NUM_INPUTS, G_NUM_OUTPUTS, G_MAX_MODES, G_NUM_SINGULAR_VALUES };
 static const char *const SENSING_ITEMS[] = {"displacement", "velocity", "acceleration"};
 static const char *const REALIZATION_ITEMS[] = {"system", "combined"};
 static const char *const SCALING_ITEMS[] = {"none", "auto"};
-static const char *const ESTIMATOR_ITEMS[] = {"least_squares", "instrumental"};
+static const char *const ESTIMATOR_ITEMS[] = {"least_squares", "instrumental", "correlation"};
 static const char *const STATUS_ITEMS[] = {"collecting", "identified", "failed"};
 static const fmu_enum_type SENSING = {"okid_sensing", 3, SENSING_ITEMS};
 static const fmu_enum_type REALIZATION = {"okid_realization", 2, REALIZATION_ITEMS};
 static const fmu_enum_type SCALING = {"okid_scaling", 2, SCALING_ITEMS};
-static const fmu_enum_type ESTIMATOR = {"okid_estimator", 2, ESTIMATOR_ITEMS};
+static const fmu_enum_type ESTIMATOR = {"okid_estimator", 3, ESTIMATOR_ITEMS};
 static const fmu_enum_type STATUS = {"okid_fmu_status", 3, STATUS_ITEMS};
 
 #define OFF(field) offsetof(identifier_data, field)
@@ -104,7 +104,7 @@ static const fmu_variable_group GROUPS[] = {
           "n: model order; 0 = automatic (largest gap of the Hankel singular values)"),
     PARAM("hankel_rows", FMU_INTEGER, hankel_rows, 1, OKID_MAX_HORIZON, NULL, NULL, "alpha: Hankel block rows"),
     PARAM("hankel_cols", FMU_INTEGER, hankel_cols, 1, OKID_MAX_HORIZON, NULL, NULL, "beta: Hankel block columns"),
-    PARAM("block_rows", FMU_INTEGER, block_rows, 0, 4096, NULL, NULL, "regressor rows folded per QR update; 0 = 32"),
+    PARAM("block_rows", FMU_INTEGER, block_rows, 0, 4096, NULL, NULL, "regressor rows folded per QR update; 0 = automatic"),
     PARAM("dt", FMU_REAL, dt, 2.2250738585072014e-308, (double)INFINITY, NULL, "s",
           "sample interval = the communication step size (fixed: the FMU samples once per step)"),
     PARAM("forgetting_factor", FMU_REAL, forgetting_factor, 2.2250738585072014e-308, 1, NULL, NULL,
@@ -121,8 +121,9 @@ static const fmu_variable_group GROUPS[] = {
           "K: anti-alias filter and keep every K-th sample; p, alpha, beta count kept samples; no y_hat when K > 1"),
     PARAM("scaling", FMU_ENUM, scaling, 0, 1, &SCALING, NULL,
           "per-channel scaling: 0 none, 1 auto (each channel divided by its RMS)"),
-    PARAM("estimator", FMU_ENUM, estimator, 0, 1, &ESTIMATOR, NULL,
-          "0 least_squares, 1 instrumental (instrumental variables: no output-noise bias)"),
+    PARAM("estimator", FMU_ENUM, estimator, 0, 2, &ESTIMATOR, NULL,
+          "0 least_squares, 1 instrumental (instrumental variables: no output-noise bias), 2 correlation "
+          "(Phi'Phi and Cholesky: faster; identification fails when its guard refuses)"),
     PARAM("instrument_lags", FMU_INTEGER, instrument_lags, 0, OKID_MAX_INSTRUMENT_LAGS, NULL, NULL,
           "L of the instrumental estimator; 0 = automatic"),
     PARAM("identify_every", FMU_INTEGER, identify_every, 1, INT_MAX, NULL, NULL, "re-identify every N samples"),

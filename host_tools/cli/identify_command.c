@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* okid identify: read a CSV recording, choose the input and output columns, identify, print. */
 #include <ctype.h>
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -41,7 +42,9 @@ static void print_header(const okid_config *cfg, const okid_result *res, const c
            cfg->realization == OKID_REALIZATION_COMBINED ? "combined" : "system", cli_name_of(cli_sensing_names, (int)cfg->sensing));
     printf("decimation %d (model dt = %g s), scaling %s, %s estimator\n", res->decimation, (double)res->dt,
            cfg->scaling == OKID_SCALING_AUTO ? "auto" : "none",
-           cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL ? "instrumental-variable" : "least-squares");
+           cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL   ? "instrumental-variable"
+           : cfg->estimator == OKID_ESTIMATOR_CORRELATION ? "correlation-form least-squares"
+                                                          : "least-squares");
     printf("order n = %d, regressor rank %d of %d (an n-state system gives %d), input rank %d\n", res->order,
            res->regressor_rank, res->regressor_columns, res->regressor_rank_expected, res->input_rank);
     printf("condition numbers: least squares %.3g, input %.3g, realization %.3g\n", (double)res->lsq_condition,
@@ -384,12 +387,21 @@ static int identify_auto(const identify_options *o, okid_config *cfg, record_rea
         rc = cli_error(EXIT_DATA, "%s", shortfall);
     }
     auto_modes *am = NULL;
+    /* the correlation form's guard may refuse (okid/identifier.h): then the QR fold, said in the warnings */
+    int fallback = 0;
     if (rc == 0 && cfg->order == 0) {
         if ((am = malloc(sizeof *am)) == NULL) {
             rc = cli_error(EXIT_DATA, "out of memory");
-        } else if ((st = auto_modes_find(&choice, cfg, n, u, y, am)) != OKID_OK) {
+        } else if ((st = auto_modes_find(&choice, cfg, n, u, y, am)) == OKID_E_DECOMPOSITION_FAILED &&
+                   cfg->estimator == OKID_ESTIMATOR_CORRELATION) {
+            auto_modes_free(am);
+            cfg->estimator = OKID_ESTIMATOR_LEAST_SQUARES;
+            fallback = 1;
+            st = auto_modes_find(&choice, cfg, n, u, y, am);
+        }
+        if (rc == 0 && st != OKID_OK) {
             rc = identify_failure(cfg, &am->runs[0].id, st, cc, scan);
-        } else {
+        } else if (rc == 0) {
             /* the model: the order whose poles hold the physical modes, else the library's own choice */
             cfg->order = am->num_modes > 0 ? am->order : am->runs[0].result.order;
         }
@@ -405,6 +417,14 @@ static int identify_auto(const identify_options *o, okid_config *cfg, record_rea
         st = okid_init(&id, cfg, ws, bytes, NULL);
         if (st == OKID_OK) st = okid_push_block(&id, n, u, (size_t)cols->r, y, (size_t)cols->m, NULL);
         if (st == OKID_OK) st = okid_identify(&id, &res);
+        if (st == OKID_E_DECOMPOSITION_FAILED && cfg->estimator == OKID_ESTIMATOR_CORRELATION) {
+            cfg->estimator = OKID_ESTIMATOR_LEAST_SQUARES;
+            fallback = 1;
+            st = okid_init(&id, cfg, ws, bytes, NULL);
+            if (st == OKID_OK) st = okid_push_block(&id, n, u, (size_t)cols->r, y, (size_t)cols->m, NULL);
+            if (st == OKID_OK) st = okid_identify(&id, &res);
+        }
+        if (fallback) res.warnings |= OKID_W_CORRELATION_FALLBACK;
         timespec_get(&t1, TIME_UTC);
         const double elapsed = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
         okid_config shown = *cfg; /* "config": the order as given (0: chosen, "chosen" says how) */
@@ -500,6 +520,19 @@ static int run(identify_options *o, record_reader *reader, const char *label)
     double elapsed = -1;
     st = o->timing ? identify_timed(o, &cfg, reader, &cols, scan.samples, ws, bytes, &id, &res, &elapsed, &rc)
                    : identify_streamed(&cfg, reader, &cols, ws, bytes, &id, &res, &rc);
+    if (rc == 0 && st == OKID_E_DECOMPOSITION_FAILED && cfg.estimator == OKID_ESTIMATOR_CORRELATION) {
+        /* the correlation form's guard refused (okid/identifier.h): the whole record is at hand, so
+           identify it again with the QR fold, which needs no more memory, and say so (SLICOT IWARN = 2) */
+        cfg.estimator = OKID_ESTIMATOR_LEAST_SQUARES; /* and the JSON's config says what gave the result */
+        if (fseek(reader->samples, 0, SEEK_SET) != 0) {
+            rc = cli_error(EXIT_DATA, "cannot read the temporary file of samples again: %s", strerror(errno));
+        } else {
+            elapsed = -1;
+            st = o->timing ? identify_timed(o, &cfg, reader, &cols, scan.samples, ws, bytes, &id, &res, &elapsed, &rc)
+                           : identify_streamed(&cfg, reader, &cols, ws, bytes, &id, &res, &rc);
+            res.warnings |= OKID_W_CORRELATION_FALLBACK;
+        }
+    }
     if (rc == 0) {
         rc = st == OKID_OK ? report(o, &cfg, &id, &res, cc, elapsed, NULL, NULL, NULL, NULL)
                            : identify_failure(&cfg, &id, st, cc, &scan);

@@ -55,7 +55,7 @@ static const cli_option identify_table[] = {
      "Hankel block rows alpha"},
     {"hankel-cols", NULL, CLI_INT, CONFIG(hankel_cols), 1, OKID_MAX_HORIZON, 0, NULL, "hankel_cols", "B", NULL, NULL,
      "Hankel block columns beta"},
-    {"block-rows", NULL, CLI_INT, CONFIG(block_rows), 0, MAX_BLOCK_ROWS, 0, NULL, "block_rows", "R", "0 = 32", NULL,
+    {"block-rows", NULL, CLI_INT, CONFIG(block_rows), 0, MAX_BLOCK_ROWS, 0, NULL, "block_rows", "R", "0 = automatic (256 rows, fewer for wide regressors)", NULL,
      "regressor rows folded into the QR factor at a time (speed, not results)"},
     {"forgetting-factor", "forgetting", CLI_REAL, CONFIG(forgetting_factor), 0, 1, CLI_MIN_OPEN, NULL,
      "forgetting_factor", "L", NULL, NULL,
@@ -78,7 +78,9 @@ static const cli_option identify_table[] = {
      "of rows, so the units of the channels do not matter"},
     {"estimator", NULL, CLI_ENUM, CONFIG(estimator), 0, 0, 0, cli_estimator_names, "estimator", "KIND", NULL, NULL,
      "instrumental removes the bias of output noise with delayed inputs\n"
-     "as instruments (old spelling of the value: least-squares)"},
+     "as instruments; correlation accumulates Phi'Phi (half the flops of\n"
+     "the QR fold) and falls back to least_squares when its Cholesky\n"
+     "guard refuses (old spelling of least_squares: least-squares)"},
     {"instrument-lags", NULL, CLI_INT, CONFIG(instrument_lags), 0, OKID_MAX_INSTRUMENT_LAGS, 0, NULL, "instrument_lags",
      "L", "0 = ceil(q/r) + 2p; r (L + 1) >= q and L >= p", NULL, "instrument lags of --estimator instrumental"},
     /* the refinement: okid_refine_config's fields (docs/refinement.md) */

@@ -32,6 +32,7 @@ const cli_name cli_scaling_names[] = {{"none", OKID_SCALING_NONE, 0}, {"auto", O
 /* "least-squares": the old spelling, accepted for one release (docs/cli.md) */
 const cli_name cli_estimator_names[] = {{"least_squares", OKID_ESTIMATOR_LEAST_SQUARES, 0},
                                         {"instrumental", OKID_ESTIMATOR_INSTRUMENTAL, 0},
+                                        {"correlation", OKID_ESTIMATOR_CORRELATION, 0},
                                         {"least-squares", OKID_ESTIMATOR_LEAST_SQUARES, 1},
                                         {NULL, 0, 0}};
 

@@ -152,7 +152,9 @@ static void json_old_setting_keys(FILE *out, const okid_config *cfg)
     json_number(out, (double)cfg->dt);
     fprintf(out, ",\n  \"scale\": \"%s\",\n  \"estimator\": \"%s\",\n",
             cli_name_of(cli_scaling_names, (int)cfg->scaling),
-            cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL ? "instrumental" : "least-squares");
+            cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL   ? "instrumental"
+            : cfg->estimator == OKID_ESTIMATOR_CORRELATION ? "correlation"
+                                                           : "least-squares");
 }
 
 void json_result_fields(FILE *out, const okid_config *cfg, const okid_result *res, const char *const *input_names,

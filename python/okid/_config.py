@@ -16,7 +16,7 @@ from ._errors import (_CLASSES, E_BAD_ORDER, E_BAD_PARAMETER, E_BAD_SIZE, BadOrd
 SENSING = {"displacement": 0, "velocity": 1, "acceleration": 2}
 REALIZATION = {"system": 0, "combined": 1}
 SCALING = {"none": 0, "auto": 1}
-ESTIMATOR = {"least_squares": 0, "instrumental": 1}
+ESTIMATOR = {"least_squares": 0, "instrumental": 1, "correlation": 2}
 ENUMS = {"sensing": SENSING, "realization": REALIZATION, "scaling": SCALING, "estimator": ESTIMATOR}
 
 #: okid_config's fields in the struct's order with their kinds ("int", "real", "enum", "flag"): the

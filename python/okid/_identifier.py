@@ -14,9 +14,10 @@ import numpy as np
 
 from . import _config, _core
 from ._config import DEFAULTS
-from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_AVAILABLE, E_NOT_ENOUGH_DATA, OK,
-                      BadParameterError, BadSizeError, NonFiniteSampleWarning, NotEnoughDataError, OkidError, check,
-                      error_for)
+from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DECOMPOSITION_FAILED, E_NONFINITE_SAMPLE, E_NOT_AVAILABLE,
+                      E_NOT_ENOUGH_DATA, OK, BadParameterError, BadSizeError, DecompositionError, NonFiniteSampleWarning, NotEnoughDataError,
+                      OkidError, check, error_for)
+from ._mode import WarningFlag
 from ._refine import REFINE_DEFAULTS, check_settings
 from ._mode import Mode, Pole, SelectedMode
 from ._result import Result
@@ -207,7 +208,7 @@ def identify(u: Any, y: Any, dt: float, *,
     model with its verdict (okid.Pole), ``chosen`` each choice and its reason, as okid identify does
     hankel_rows, hankel_cols: alpha, beta block rows/columns of the ERA Hankel matrix (1..1000);
     None: chosen from the data, three slowest periods (checked at two and four)
-    block_rows: regressor rows folded per update (0 = 32)
+    block_rows: regressor rows folded per update (0 = automatic: 256, fewer for wide regressors)
     forgetting_factor: lambda in (0, 1] (0 reads as 1): a row k samples old weighs lambda^k
     rank_tolerance: relative tolerance of the rank-revealing least squares (0 = 1e-10)
     sensing: what y measures: "acceleration", "velocity" or "displacement" (sets the mode shapes' c)
@@ -216,7 +217,9 @@ def identify(u: Any, y: Any, dt: float, *,
     decimation: K, anti-alias filter and every K-th sample (1..64); the model's dt is K dt; None:
     chosen from the data (the filter's -3 dB point above 95 % of the outputs' energy; 1 with refine)
     scaling: "none" or "auto" (each channel divided by its RMS over the first block)
-    estimator: "least_squares" or "instrumental" (removes the bias of output noise)
+    estimator: "least_squares", "instrumental" (removes the bias of output noise) or "correlation"
+    (least squares from Phi'Phi by Cholesky: half the flops; when its guard refuses, identified
+    again with least_squares, Result.config says so and Result.warnings has CORRELATION_FALLBACK)
     instrument_lags: L of the instrumental estimator (0 = automatic)
 
     refine: also run the prediction-error (maximum-likelihood) refinement of the OKID/ERA model
@@ -287,10 +290,15 @@ def identify(u: Any, y: Any, dt: float, *,
                 return result, None
         options, search = choose_start(trial, options)
         identifier = Identifier(r, m, dt, **options)
-    auto = None
+    auto, fallback = None, False
     if not refine and (given != _core.AUTO_GIVEN_ALL or options["order"] == 0) and \
             np.isfinite(ub).all() and np.isfinite(yb).all():
         status, settings, auto_json, selected, verdicts = _core.auto_identify(identifier._config, given, ub, yb)
+        if status == E_DECOMPOSITION_FAILED and options["estimator"] == "correlation":
+            # the correlation form's guard refused: the QR fold, as below and as the CLI does
+            options["estimator"], fallback = "least_squares", True
+            identifier = Identifier(r, m, dt, **options)
+            status, settings, auto_json, selected, verdicts = _core.auto_identify(identifier._config, given, ub, yb)
         if status == E_NOT_ENOUGH_DATA:
             p, k = settings["observer_order"], settings["decimation"]
             raise error_for(status, f"{-(-ub.shape[0] // k) - p} regressor rows from {ub.shape[0]} samples, "
@@ -307,7 +315,20 @@ def identify(u: Any, y: Any, dt: float, *,
                       NonFiniteSampleWarning, stacklevel=2)
     elif status != OK:
         raise error_for(status, "push")
-    result = identifier.identify()
+    try:
+        result = identifier.identify()
+    except DecompositionError:
+        if options["estimator"] != "correlation":
+            raise
+        # the correlation form's guard refused (okid_estimator in okid/identifier.h): the record is
+        # at hand, so identify it again with the QR fold and say so (as the CLI does)
+        options = dict(options, estimator="least_squares")
+        identifier = Identifier(r, m, dt, **options)
+        identifier._core.push_block(ub, yb)
+        result = identifier.identify()
+        result = replace(result, warnings=result.warnings | WarningFlag.CORRELATION_FALLBACK)
+    if fallback:
+        result = replace(result, warnings=result.warnings | WarningFlag.CORRELATION_FALLBACK)
     if auto is not None:
         return _with_choices(result, *auto)
     if not refine:

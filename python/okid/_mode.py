@@ -25,6 +25,7 @@ class WarningFlag(enum.IntFlag):
     REALIZATION_ILL_CONDITIONED = 1 << 8
     RESIDUAL_NOT_WHITE = 1 << 9
     OUTPUT_NOT_EXPLAINED = 1 << 10
+    CORRELATION_FALLBACK = 1 << 11  #: set by okid.identify() and the CLI only (estimator="correlation")
 
     def describe(self) -> Tuple[str, ...]:
         """The library's sentence for each bit set."""

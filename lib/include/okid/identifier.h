@@ -83,7 +83,19 @@ typedef enum okid_estimator {
      * the price is more variance. Fixed memory: Z'[Phi y] (r (L+1) x (q+m)) and a ring of L inputs.
      * The ranks and condition numbers of okid_result then describe Z'Phi, not Phi.
      */
-    OKID_ESTIMATOR_INSTRUMENTAL = 1
+    OKID_ESTIMATOR_INSTRUMENTAL = 1,
+    /**
+     * Least squares in correlation form (SLICOT IB01AD's ALG = 'C'): push accumulates
+     * [Phi Y]'[Phi Y] by xSYRK (w^2 N flops against 2 w^2 N for the QR fold), identify takes its
+     * Cholesky factor and solves as least squares does. Forming Phi'Phi squares the regressor's
+     * condition: when the Cholesky fails or the column-equilibrated factor has numerical rank
+     * below q at the reciprocal condition sqrt(machine epsilon), okid_identify() returns
+     * OKID_E_DECOMPOSITION_FAILED and changes nothing (the data is gone: identify the record
+     * again with least squares; the CLI and okid.identify() do so and set
+     * OKID_W_CORRELATION_FALLBACK). Noise-free data with p above the minimum always trips this
+     * guard. Same memory as least squares, plus w x w reals with block_rows 1.
+     */
+    OKID_ESTIMATOR_CORRELATION = 2
 } okid_estimator;
 
 /** Configuration of an identifier. okid_config_default() fills every field with a usable value. */
@@ -101,7 +113,12 @@ typedef struct okid_config {
     int order;
     int hankel_rows;         /**< alpha: block rows of H(0) and H(1), 1..OKID_MAX_HORIZON */
     int hankel_cols;         /**< beta: block columns of H(0) and H(1), 1..OKID_MAX_HORIZON */
-    int block_rows;          /**< regressor rows folded into the QR factor per update; 0 = 32 */
+    /**
+     * Regressor rows folded into the QR factor per update, 0..4096. 0 = automatic: with the LAPACK
+     * backend 256 rows (128 or 64 when a block of 256 x w reals would not fit 2 MiB, w = q + m),
+     * with the Eigen backend 32. The workspace holds two blocks (2 x block_rows x w reals).
+     */
+    int block_rows;
     okid_real dt;            /**< sample interval [s], finite and > 0 */
     /**
      * Exponential forgetting factor lambda in (0, 1]: a row folded k samples ago weighs

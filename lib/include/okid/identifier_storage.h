@@ -36,7 +36,8 @@ typedef struct okid_views_ {
     okid_real *ring, *block, *r;
     okid_result_views_ result[2];
     /* scratch shared by the phases of okid_push() and okid_identify() */
-    okid_real *factor;  /* identify's copy of R with the pending rows folded in (block_rows > 1), else NULL */
+    okid_real *factor;  /* identify's copy of R with the pending rows folded in (block_rows > 1; with the
+                           correlation form always: its Cholesky factor), else NULL */
     okid_real *pending; /* those rows, scaled and weighted (block_rows > 1) */
     okid_real *iv_pending, *iv_chunk; /* the instrument rows likewise, and a block of rows of M (instruments) */
     okid_real *fold_t, *fold_work;
@@ -61,6 +62,7 @@ typedef struct okid_dims_ {
     int era_in_r;             /* the Hankel matrix and V' in R's unused triangle (OKID__ERA_IN_R) */
     int era_ldh, era_ldvt;    /* their leading dimensions: w + 1 there, else hankel_rows and svd_size */
     int decimation, instrument_lags, nz; /* K; L and nz = r (L + 1) (0 for least squares) */
+    int correlation;          /* OKID_ESTIMATOR_CORRELATION: r holds [Phi Y]'[Phi Y], not its factor */
 } okid_dims_;
 
 /* The identifier (typedef in okid/identifier.h): every member is private. */

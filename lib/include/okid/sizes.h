@@ -70,12 +70,31 @@
 #define OKID__K(r, m, alpha, beta, combined) OKID__MIN(OKID__HR(m, alpha), OKID__HC(r, m, beta, combined))
 #define OKID__N(r, m, p, alpha, beta, order, combined) \
     ((order) > 0 ? OKID__Z(order) : OKID__MIN(OKID__K(r, m, alpha, beta, combined), OKID__Z(m) * OKID__Z(p)))
-#define OKID__NB(block_rows) ((block_rows) > 0 ? OKID__Z(block_rows) : 32u)
+/*
+ * Regressor rows per fold when block_rows is 0. LAPACK backend: the largest of 256, 128, 64 whose
+ * block of rows (rows x w reals) fits OKID__FOLD_CACHE_BYTES, a core's L2 (2 MiB on the AMD EPYC
+ * of docs/benchmarks.md; half or a quarter of it elsewhere only costs a few percent): xTPQRT then
+ * streams the block from the cache, and 256 rows were at least 90 % of the fastest block size
+ * measured for w = 61, 231 and 521 (docs/design.md, "Fold block size"). The block and identify's
+ * copy of the pending rows take 2 x rows x w reals. Eigen backend: 32, as before (its fold is
+ * unblocked and the firmware's memory budget counts every row).
+ */
+#define OKID__FOLD_CACHE_BYTES 2097152u
+#if OKID_LINALG_EIGEN
+#define OKID__AUTO_BLOCK_ROWS(w) (0u * OKID__Z(w) + 32u)
+#else
+#define OKID__AUTO_BLOCK_ROWS(w)                                                          \
+    (256u * sizeof(okid_real) * OKID__Z(w) <= OKID__FOLD_CACHE_BYTES   ? 256u              \
+     : 128u * sizeof(okid_real) * OKID__Z(w) <= OKID__FOLD_CACHE_BYTES ? 128u              \
+                                                                       : 64u)
+#endif
+#define OKID__NB(r, m, p, block_rows) \
+    ((block_rows) > 0 ? OKID__Z(block_rows) : OKID__AUTO_BLOCK_ROWS(OKID__W(r, m, p)))
 #define OKID__NBT(r, m, p, block_rows) \
-    OKID__MIN(OKID__MIN(OKID__NB(block_rows), OKID__W(r, m, p)), OKID__W(r, m, p) <= 128u ? 8u : 16u)
+    OKID__MIN(OKID__MIN(OKID__NB(r, m, p, block_rows), OKID__W(r, m, p)), OKID__W(r, m, p) <= 128u ? 8u : 16u)
 
 #define OKID__PERSISTENT_BYTES(r, m, p, block_rows)                                                \
-    (OKID__RB(OKID__Z(p) * (OKID__Z(r) + OKID__Z(m))) + OKID__RB(OKID__NB(block_rows) * OKID__W(r, m, p)) \
+    (OKID__RB(OKID__Z(p) * (OKID__Z(r) + OKID__Z(m))) + OKID__RB(OKID__NB(r, m, p, block_rows) * OKID__W(r, m, p)) \
      + OKID__RB(OKID__W(r, m, p) * OKID__W(r, m, p)))
 
 #define OKID__ONE_RESULT_BYTES(r, m, p, alpha, beta, n, k, combined)                               \
@@ -93,7 +112,7 @@
 /* The folds: push's tiles, and identify's copy of the pending rows (block_rows > 1). */
 #define OKID__PHASE_FOLD_BYTES(r, m, p, block_rows)                                                 \
     (2u * OKID__RB(OKID__NBT(r, m, p, block_rows) * OKID__W(r, m, p))                                 \
-     + (OKID__NB(block_rows) > 1u ? OKID__RB(OKID__NB(block_rows) * OKID__W(r, m, p)) : 0u))
+     + (OKID__NB(r, m, p, block_rows) > 1u ? OKID__RB(OKID__NB(r, m, p, block_rows) * OKID__W(r, m, p)) : 0u))
 /* Work of the core's rank-revealing solve on a triangle (triangular_lstsq.h), in reals. */
 #define OKID__LWORK_TRIANGULAR_LSTSQ(n) (4u * OKID__Z(n))
 /* The rank-revealing solves (least squares, the diagnostics' noise-free test) run in R's unused
@@ -122,7 +141,7 @@
 /* With block_rows > 1, identify folds the pending rows into a copy of R (w x w), which its later
    phases use as they would use R: the accumulation stays as it was, bit for bit. */
 #define OKID__IDENTIFY_FOLD_BYTES(r, m, p, block_rows) \
-    (OKID__NB(block_rows) > 1u ? OKID__RB(OKID__W(r, m, p) * OKID__W(r, m, p)) : 0u)
+    (OKID__NB(r, m, p, block_rows) > 1u ? OKID__RB(OKID__W(r, m, p) * OKID__W(r, m, p)) : 0u)
 #define OKID__SCRATCH_BYTES(r, m, p, alpha, beta, n, k, block_rows, combined)                        \
     (OKID__IDENTIFY_FOLD_BYTES(r, m, p, block_rows)                                                  \
      + OKID__MAX(OKID__MAX(OKID__PHASE_FOLD_BYTES(r, m, p, block_rows), OKID__PHASE_SOLVE_BYTES(r, m, p)),   \
@@ -137,14 +156,19 @@
 #define OKID__IV_LAGS(r, m, p, lags) \
     ((lags) > 0 ? OKID__Z(lags) : (OKID__Q(r, m, p) + OKID__Z(r) - 1u) / OKID__Z(r) + 2u * OKID__Z(p))
 #define OKID__IV_BYTES(r, m, p, block_rows, estimator, lags)                                                  \
-    ((estimator) ? OKID__RB(OKID__Z(r) * OKID__IV_LAGS(r, m, p, lags))                                        \
-                       + OKID__RB(OKID__NB(block_rows) * OKID__Z(r) * (OKID__IV_LAGS(r, m, p, lags) + 1u))    \
+    ((estimator) == 1 ? OKID__RB(OKID__Z(r) * OKID__IV_LAGS(r, m, p, lags))                                        \
+                       + OKID__RB(OKID__NB(r, m, p, block_rows) * OKID__Z(r) * (OKID__IV_LAGS(r, m, p, lags) + 1u))    \
                        + OKID__RB(OKID__Z(r) * (OKID__IV_LAGS(r, m, p, lags) + 1u) * OKID__W(r, m, p))        \
-                       + (OKID__NB(block_rows) > 1u                                                            \
-                              ? OKID__RB(OKID__NB(block_rows) * OKID__Z(r) * (OKID__IV_LAGS(r, m, p, lags) + 1u)) \
-                                    + OKID__RB(OKID__NB(block_rows) * OKID__W(r, m, p))                        \
+                       + (OKID__NB(r, m, p, block_rows) > 1u                                                            \
+                              ? OKID__RB(OKID__NB(r, m, p, block_rows) * OKID__Z(r) * (OKID__IV_LAGS(r, m, p, lags) + 1u)) \
+                                    + OKID__RB(OKID__NB(r, m, p, block_rows) * OKID__W(r, m, p))                        \
                               : 0u)                                                                            \
                  : 0u)
+
+/* The correlation form factors a copy of [Phi Y]'[Phi Y] at identify: the copy of R that
+   block_rows > 1 has anyway, else w x w more. */
+#define OKID__CORRELATION_BYTES(r, m, p, block_rows, estimator) \
+    ((estimator) == 2 && OKID__NB(r, m, p, block_rows) <= 1u ? OKID__RB(OKID__W(r, m, p) * OKID__W(r, m, p)) : 0u)
 
 /* OKID_WORKSPACE_BYTES before the saturation. */
 #define OKID__WORKSPACE_BYTES64(r, m, p, alpha, beta, order, block_rows, combined)                         \
@@ -159,7 +183,7 @@
                                         estimator, lags)                                                        \
     (OKID__WORKSPACE_BYTES64(r, m, p, alpha, beta, order, block_rows, combined)                     \
                + OKID__DEC_BYTES(r, m, decimation) + OKID__SCALE_BYTES(r, m, scaling)                           \
-               + OKID__IV_BYTES(r, m, p, block_rows, estimator, lags))
+               + OKID__IV_BYTES(r, m, p, block_rows, estimator, lags) + OKID__CORRELATION_BYTES(r, m, p, block_rows, estimator))
 
 /* ---- Modal analysis (okid/modal.h) ---- */
 

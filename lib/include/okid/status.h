@@ -108,7 +108,13 @@ enum okid_warning {
      * Refinement: the model explains less than half of an output (fit below OKID_REFINE_FIT_LOW
      * percent): a drift, an offset, a sensor the model does not describe.
      */
-    OKID_W_OUTPUT_NOT_EXPLAINED = 1u << 10
+    OKID_W_OUTPUT_NOT_EXPLAINED = 1u << 10,
+    /**
+     * Set by the tools that hold the whole record (CLI, okid.identify()), never by okid_identify():
+     * the correlation estimator's guard refused (OKID_ESTIMATOR_CORRELATION), and the record was
+     * identified again with the QR fold (least squares), whose result this is (SLICOT IWARN = 2).
+     */
+    OKID_W_CORRELATION_FALLBACK = 1u << 11
 };
 
 /** A short, static, human-readable description of a status (never NULL, also for unknown codes). */

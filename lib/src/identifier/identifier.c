@@ -235,6 +235,8 @@ static okid_status fold_pending(okid_identifier *id)
         }
         okid_iv_cross_product(0, d->nz, d->w, rows, v->iv_block, ld, v->block, ld, decay, v->iv_m, d->nz, v->iv_m,
                               d->nz);
+    } else if (d->correlation) {
+        st = okid_lsq_accumulate(d->w, v->r, d->w, rows, v->block, ld, id->forgetting_);
     } else {
         st = okid_lsq_fold(d->w, v->r, d->w, rows, v->block, ld, id->forgetting_, d->block_tile, v->fold_t,
                            v->fold_work);
@@ -395,6 +397,13 @@ static okid_status identify_factor(const okid_identifier *id, const okid_real *s
         *factor = v->r; /* not kept between calls with instruments: M is the accumulation */
         return okid_iv_factor(nz, w, v->iv_m, nz, rows, z, ld, phi, ld, decay, v->r, w,
                               rows > 0 ? v->iv_chunk : v->block, ld, d->block_tile, v->fold_t, v->fold_work);
+    }
+    if (d->correlation) { /* C and the pending rows' C into the copy, then its Cholesky factor */
+        okid_copy_matrix(w, w, v->r, w, v->factor, w);
+        *factor = v->factor;
+        const okid_lsq_scratch lsq = {v->lsq_scale, v->lsq_column, v->lsq_perm, v->lsq_work};
+        const okid_status st = okid_lsq_accumulate(w, v->factor, w, rows, phi, ld, id->forgetting_);
+        return st != OKID_OK ? st : okid_lsq_correlation_factor(d->q, d->m, v->factor, w, &lsq);
     }
     if (rows == 0) {
         *factor = v->r;

@@ -62,7 +62,7 @@ static okid_status check_fields(const okid_config *cfg, okid_config_issue *issue
         {"realization", (int)cfg->realization, 0, 1, OKID_E_BAD_PARAMETER},
         {"zero_initial_state", cfg->zero_initial_state, 0, 1, OKID_E_BAD_PARAMETER},
         {"scaling", (int)cfg->scaling, 0, 1, OKID_E_BAD_PARAMETER},
-        {"estimator", (int)cfg->estimator, 0, 1, OKID_E_BAD_PARAMETER},
+        {"estimator", (int)cfg->estimator, 0, 2, OKID_E_BAD_PARAMETER},
         {"decimation", cfg->decimation, 0, OKID_MAX_DECIMATION, OKID_E_BAD_SIZE},
         {"instrument_lags", cfg->instrument_lags, 0, OKID_MAX_INSTRUMENT_LAGS, OKID_E_BAD_SIZE},
     };
@@ -123,7 +123,8 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims, okid_conf
         dims->hankel_rows + dims->hankel_cols <= dims->w && 2 * dims->hankel_cols + dims->svd_size <= dims->w;
     dims->era_ldh = dims->era_in_r ? dims->w + 1 : dims->hankel_rows;
     dims->era_ldvt = dims->era_in_r ? dims->w + 1 : dims->svd_size;
-    dims->block_rows = cfg->block_rows > 0 ? cfg->block_rows : 32;
+    /* 0: from w and the cache (OKID__AUTO_BLOCK_ROWS says how; the macros use the same rule) */
+    dims->block_rows = cfg->block_rows > 0 ? cfg->block_rows : (int)OKID__AUTO_BLOCK_ROWS(dims->w);
     /* Inner block of the blocked QR update (xTPQRT's NB): a narrow panel keeps the level-2 part
        small and hands the rest to level-3 BLAS; 8 up to w = 128, 16 above, was fastest with both
        the reference BLAS and OpenBLAS (2.2x at r = 1, m = 2, p = 20; docs/benchmarks.md). */
@@ -131,6 +132,7 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims, okid_conf
     dims->decimation = cfg->decimation > 1 ? cfg->decimation : 1;
     dims->instrument_lags = 0;
     dims->nz = 0;
+    dims->correlation = cfg->estimator == OKID_ESTIMATOR_CORRELATION;
     if (cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL) {
         /* the same rule as OKID__IV_LAGS; at least q instruments, and at least the p lags of the window */
         const long long lags = cfg->instrument_lags > 0 ? cfg->instrument_lags : (dims->q + r - 1) / r + 2LL * p;
@@ -233,7 +235,7 @@ uint64_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsign
 
     /* identify's copy of R (OKID__IDENTIFY_FOLD_BYTES) and of the instrument rows (OKID__IV_BYTES) */
     v->factor = v->iv_pending = v->iv_chunk = NULL;
-    if (d->block_rows > 1) {
+    if (d->block_rows > 1 || d->correlation) {
         v->factor = okid_carve_reals(&c, w * w);
         if (d->nz > 0) {
             v->iv_pending = okid_carve_reals(&c, (uint64_t)d->block_rows * (uint64_t)d->nz);

@@ -24,6 +24,21 @@ okid_status okid_la_fold_rows(int n, okid_real *r, int ldr, int nrows, okid_real
                               okid_real *t, okid_real *work);
 
 /*
+ * Correlation form: c (n x n, upper triangle only) += rows' rows for the nrows x n rows (leading
+ * dimension ldb; xSYRK). rows is only read; c's strict lower triangle is not touched.
+ */
+okid_status okid_la_accumulate_rows(int n, okid_real *c, int ldc, int nrows, const okid_real *rows, int ldb);
+
+/*
+ * Cholesky factor of the leading q x q block of the symmetric c (n >= q columns, upper triangle,
+ * leading dimension ldc), and the block beside it: on return c(0:q, 0:q) is R11 (upper, R11' R11
+ * = C11) and c(0:q, q:n) is R12 = R11^-T C12, so that R11' R12 = C12: the [R11 R12] a QR fold of
+ * the same rows gives, up to signs of rows. OKID_E_DECOMPOSITION_FAILED when C11 is not
+ * numerically positive definite (c is then partly overwritten).
+ */
+okid_status okid_la_cholesky_rows(int q, int n, okid_real *c, int ldc);
+
+/*
  * Rank-revealing least squares on an n x n matrix a (overwritten): b (n x nrhs) becomes the
  * minimum-norm solution of min |a x - b| in which columns whose reciprocal condition falls below
  * rcond count as dependent (complete orthogonal factorisation with column pivoting). *rank is

@@ -233,6 +233,41 @@ extern "C" okid_status okid_la_fold_rows(int n, okid_real *r, int ldr, int nrows
     return OKID_OK;
 }
 
+extern "C" okid_status okid_la_accumulate_rows(int n, okid_real *c, int ldc, int nrows, const okid_real *rows,
+                                               int ldb)
+{
+    if (n < 0 || nrows < 0 || ldc < (n > 1 ? n : 1) || ldb < (nrows > 1 ? nrows : 1)) {
+        return OKID_E_BACKEND_ARGUMENT;
+    }
+    MatrixMap cm = map(c, n, n, ldc);
+    const MatrixMap b = map(const_cast<okid_real *>(rows), nrows, n, ldb);
+    for (int j = 0; j < n; ++j) { /* the upper triangle, column by column (xSYRK's 'U', 'T') */
+        for (int i = 0; i <= j; ++i) {
+            cm(i, j) += b.col(i).dot(b.col(j));
+        }
+    }
+    return OKID_OK;
+}
+
+extern "C" okid_status okid_la_cholesky_rows(int q, int n, okid_real *c, int ldc)
+{
+    if (q < 0 || n < q || ldc < (n > 1 ? n : 1)) {
+        return OKID_E_BACKEND_ARGUMENT;
+    }
+    MatrixMap cm = map(c, n, n, ldc);
+    for (int j = 0; j < q; ++j) { /* xPOTF2's upper loop: row j of R from the rows above it */
+        const Real d = cm(j, j) - cm.col(j).head(j).squaredNorm();
+        if (!(d > 0)) {
+            return OKID_E_DECOMPOSITION_FAILED;
+        }
+        cm(j, j) = std::sqrt(d);
+        for (int k = j + 1; k < n; ++k) { /* R11 and R12 alike: R(j, k) = (C(j, k) - R(0:j, j)' R(0:j, k)) / R(j, j) */
+            cm(j, k) = (cm(j, k) - cm.col(j).head(j).dot(cm.col(k).head(j))) / cm(j, j);
+        }
+    }
+    return OKID_OK;
+}
+
 extern "C" okid_status okid_la_lstsq_rank(int n, int nrhs, okid_real *a, int lda, okid_real *b, int ldb,
                                           okid_real rcond, int *rank, int *jpvt, okid_real *work)
 {

@@ -27,6 +27,19 @@ _Static_assert(sizeof(lapack_int) == sizeof(int), "okid passes int arrays as lap
 #define LA(name) LA_EXPAND(OKID_LAPACKE_PREFIX, d, name)
 #endif
 
+/* The one BLAS routine called directly (Fortran interface, hidden string lengths last), with the
+   LAPACKE's prefix: the scipy-openblas32 build renames every symbol alike. */
+#define BLAS_NAME(prefix, type, name) prefix##type##name##_
+#define BLAS_EXPAND(prefix, type, name) BLAS_NAME(prefix, type, name)
+#if OKID_REAL_IS_FLOAT
+#define BLAS(name) BLAS_EXPAND(OKID_LAPACKE_PREFIX, s, name)
+#else
+#define BLAS(name) BLAS_EXPAND(OKID_LAPACKE_PREFIX, d, name)
+#endif
+void BLAS(syrk)(const char *uplo, const char *trans, const int *n, const int *k, const okid_real *alpha,
+                const okid_real *a, const int *lda, const okid_real *beta, okid_real *c, const int *ldc,
+                size_t uplo_len, size_t trans_len);
+
 static okid_status from_info(lapack_int info)
 {
     if (info == 0) {
@@ -46,6 +59,28 @@ okid_status okid_la_fold_rows(int n, okid_real *r, int ldr, int nrows, okid_real
         return OKID_OK;
     }
     return from_info(LA(tpqrt)(LAPACK_COL_MAJOR, nrows, n, 0, nbt, r, ldr, rows, ldb, t, nbt, work));
+}
+
+okid_status okid_la_accumulate_rows(int n, okid_real *c, int ldc, int nrows, const okid_real *rows, int ldb)
+{
+    if (n < 0 || nrows < 0 || ldc < (n > 1 ? n : 1) || ldb < (nrows > 1 ? nrows : 1)) {
+        return OKID_E_BACKEND_ARGUMENT;
+    }
+    if (n == 0 || nrows == 0) {
+        return OKID_OK;
+    }
+    const okid_real one = 1;
+    BLAS(syrk)("U", "T", &n, &nrows, &one, rows, &ldb, &one, c, &ldc, 1, 1);
+    return OKID_OK;
+}
+
+okid_status okid_la_cholesky_rows(int q, int n, okid_real *c, int ldc)
+{
+    okid_status st = from_info(LA(potrf)(LAPACK_COL_MAJOR, 'U', q, c, ldc));
+    if (st == OKID_OK && n > q) {
+        st = from_info(LA(trtrs)(LAPACK_COL_MAJOR, 'U', 'T', 'N', q, n - q, c, ldc, c + (size_t)q * (size_t)ldc, ldc));
+    }
+    return st;
 }
 
 okid_status okid_la_lstsq_rank(int n, int nrhs, okid_real *a, int lda, okid_real *b, int ldb, okid_real rcond,

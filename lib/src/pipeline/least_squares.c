@@ -44,6 +44,42 @@ okid_status okid_lsq_fold(int w, okid_real *r, int ldr, int nrows, okid_real *ro
     return okid_la_fold_rows(w, r, ldr, nrows, rows, ldrows, nbt, t, work);
 }
 
+okid_status okid_lsq_accumulate(int w, okid_real *c, int ldc, int nrows, okid_real *rows, int ldrows,
+                                okid_real lambda)
+{
+    if (nrows == 0) {
+        return OKID_OK;
+    }
+    if (lambda < 1) {
+        const okid_real root = okid_lsq_decay(nrows, lambda), cscale = root * root; /* lambda^nrows */
+        for (int j = 0; j < w; ++j) {
+            for (int i = 0; i <= j; ++i) {
+                OKID_AT(c, ldc, i, j) *= cscale;
+            }
+        }
+        okid_lsq_weigh_rows(nrows, w, rows, ldrows, lambda);
+    }
+    return okid_la_accumulate_rows(w, c, ldc, nrows, rows, ldrows);
+}
+
+okid_status okid_lsq_correlation_factor(int q, int m, okid_real *c, int ldc, const okid_lsq_scratch *scratch)
+{
+    const int w = q + m;
+    okid_status st = okid_la_cholesky_rows(q, w, c, ldc);
+    if (st != OKID_OK) {
+        return OKID_E_DECOMPOSITION_FAILED;
+    }
+    for (int j = q; j < w; ++j) {
+        for (int i = q; i <= j; ++i) {
+            OKID_AT(c, ldc, i, j) = 0;
+        }
+    }
+    okid_lsq_column_norms(c, ldc, q, scratch->scale);
+    okid_real *s = okid_lsq_equilibrated_copy(c, ldc, q, scratch->scale);
+    const int rank = okid_triangular_lstsq(q, 0, s, ldc, NULL, q, okid_sqrt(OKID_EPSILON), scratch->perm, scratch->work);
+    return rank < q ? OKID_E_DECOMPOSITION_FAILED : OKID_OK;
+}
+
 void okid_lsq_column_norms(const okid_real *r, int ldr, int n, okid_real *scale)
 {
     for (int j = 0; j < n; ++j) {

@@ -34,6 +34,24 @@ okid_status okid_lsq_fold(int w, okid_real *r, int ldr, int nrows, okid_real *ro
                           int nbt, okid_real *t, okid_real *work);
 
 /*
+ * Correlation form (OKID_ESTIMATOR_CORRELATION): c (w x w, upper triangle) = lambda^nrows c +
+ * the weighted rows' rows, the square of what okid_lsq_fold() folds (rows is overwritten).
+ */
+okid_status okid_lsq_accumulate(int w, okid_real *c, int ldc, int nrows, okid_real *rows, int ldrows,
+                                okid_real lambda);
+
+/*
+ * The factor okid_lsq_solve() needs, from the correlation matrix c (q + m columns, upper
+ * triangle, overwritten): [R11 R12] by Cholesky (okid_la_cholesky_rows), R22 zero (no solve
+ * reads it). The guard, after SLICOT IB01MD's ALG = 'C': OKID_E_DECOMPOSITION_FAILED when C11 is
+ * not positive definite or the column-equilibrated R11 has numerical rank below q at the
+ * reciprocal condition sqrt(eps): forming C squared the regressor's condition, so columns that
+ * independent are lost in C's rounding (and a rank decision at the rank tolerance would rest on
+ * noise); the QR fold of the same rows is then needed. scratch: that of okid_lsq_solve().
+ */
+okid_status okid_lsq_correlation_factor(int q, int m, okid_real *c, int ldc, const okid_lsq_scratch *scratch);
+
+/*
  * Solve R11 X = R12 rank-revealingly: r is the factor (q + m columns, leading dimension ldr > q;
  * its strict lower triangle is the scratch of the solves, the upper triangle is only read); x
  * (q x m, leading dimension ldx, internal column order of sample_buffer.h) gets
