@@ -19,15 +19,15 @@ from ._errors import (BadOrderError, BadParameterError, BadSizeError, Concurrent
 from ._identifier import Identifier, Progress, identify
 from ._mode import Mode, StabilityFlag, WarningFlag
 from ._refine import REFINE_DEFAULTS, CramerRaoBound, Refinement, RefinementWarning, crlb
-from ._result import Result, Stabilization, StabilizationOrder
-from . import model
+from ._result import FORMAT, FORMAT_VERSION, Result, Stabilization, StabilizationOrder, load
+from . import model, plot
 
 __version__ = _core.VERSION
 
 __all__ = [
     "identify", "Identifier", "Progress", "Result", "Mode", "WarningFlag", "Stabilization", "StabilizationOrder",
-    "StabilityFlag", "model", "DEFAULTS", "OPTION_NAMES", "Refinement", "RefinementWarning", "REFINE_DEFAULTS",
-    "crlb", "CramerRaoBound",
+    "StabilityFlag", "model", "plot", "DEFAULTS", "OPTION_NAMES", "Refinement", "RefinementWarning", "REFINE_DEFAULTS",
+    "crlb", "CramerRaoBound", "load", "FORMAT", "FORMAT_VERSION",
     "OkidError", "ConfigurationError", "BadSizeError", "BadOrderError", "BadParameterError", "NotEnoughDataError",
     "NotPersistentlyExcitingError", "DecompositionError", "NotAvailableError", "NonFiniteSampleError", "DataRangeError",
     "ConcurrentUseError", "InternalError", "NonFiniteSampleWarning",

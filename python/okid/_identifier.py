@@ -6,15 +6,15 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, replace
-from typing import Any, Optional
+from typing import Any, Dict, Optional
 
 import numpy as np
 
 from . import _config, _core
-from ._config import DEFAULTS
+from ._config import DEFAULTS, Estimator, Realization, Scaling, Sensing
 from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_AVAILABLE, E_NOT_ENOUGH_DATA, OK,
                       BadParameterError, BadSizeError, NonFiniteSampleWarning, OkidError, check, error_for)
-from ._refine import REFINE_DEFAULTS, check_settings
+from ._refine import REFINE_DEFAULTS, ProgressCallback, check_settings
 from ._result import Result
 from ._start_search import choose_start
 
@@ -34,8 +34,9 @@ def _block(values: Any, channels: int, name: str) -> np.ndarray:
     if a.ndim == 1 and channels == 1:
         a = a.reshape(-1, 1)
     if a.ndim != 2 or a.shape[1] != channels:
+        hint = " (pass {name}.T)" if a.ndim == 2 and a.shape[0] == channels else ""
         raise BadSizeError(f"{name} has shape {np.shape(values)}: expected (samples, {channels}) with time along "
-                           f"axis 0{' or (samples,)' if channels == 1 else ''}", E_BAD_SIZE)
+                           f"axis 0{' or (samples,)' if channels == 1 else ''}{hint.format(name=name)}", E_BAD_SIZE)
     return np.ascontiguousarray(a)
 
 
@@ -73,7 +74,7 @@ class Identifier:
         self.__copy__()
 
     @property
-    def config(self) -> dict:
+    def config(self) -> Dict[str, Any]:
         """The okid_config in use: keyword names, enumerations by name."""
         out = dict(self._config)
         for name, values in _config.ENUMS.items():
@@ -85,12 +86,16 @@ class Identifier:
             raise ValueError("this Identifier is closed")
         return self._core
 
-    def push(self, u: Any, y: Any) -> int:
+    def push(self, u: Any, y: Any, *, progress: Optional[ProgressCallback] = None) -> int:
         """Push one sample (u: r values, y: m values) or a block (u: (count, r), y: (count, m)).
 
         A 2-D y is a block, anything else one sample. Samples holding NaN or Inf are rejected (a
         NonFiniteSampleWarning says how many), the regressor window restarts after them and
         everything learned before is kept. Returns the number of samples accepted.
+
+        A block is folded in chunks of 16384 samples: Ctrl-C raises KeyboardInterrupt between two
+        (the samples of the chunks done stay pushed: ``progress.samples`` counts them, and the
+        identifier stays usable), and progress(done, count), when given, is called after each.
         """
         core = self._live()
         if np.ndim(y) == 2:
@@ -98,7 +103,7 @@ class Identifier:
             yb = _block(y, self.num_outputs, "y")
             if ub.shape[0] != yb.shape[0]:
                 raise BadSizeError(f"u has {ub.shape[0]} samples and y {yb.shape[0]}: push equal counts", E_BAD_SIZE)
-            status, accepted = core.push_block(ub, yb)
+            status, accepted = core.push_block(ub, yb, progress)
             count = ub.shape[0]
         else:
             status = core.push(_sample(u, self.num_inputs, "u"), _sample(y, self.num_outputs, "y"))
@@ -123,14 +128,15 @@ class Identifier:
         return self._last
 
     def refine(self, u: Any, y: Any, *, max_passes: int = REFINE_DEFAULTS["max_passes"],
-               step_tolerance: float = REFINE_DEFAULTS["step_tolerance"]) -> Result:
+               step_tolerance: float = REFINE_DEFAULTS["step_tolerance"],
+               progress: Optional[ProgressCallback] = None) -> Result:
         """The last identify()'s result refined over the record (u, y) the caller gives: the
         samples that model describes, (N, r) and (N, m) at dt (the identifier keeps no record).
         See :meth:`okid.Result.refine`; a refinement that stops without converging warns
         (okid.RefinementWarning)."""
         if self._last is None:
             raise error_for(E_NOT_AVAILABLE, "refine() before identify(): nothing to refine")
-        return self._last._refine(u, y, max_passes, step_tolerance, stacklevel=2)
+        return self._last._refine(u, y, max_passes, step_tolerance, stacklevel=2, progress=progress)
 
     def predict(self, u: Any) -> np.ndarray:
         """One-step-ahead prediction of y(k) (m values) from u(k) and the last observer_order samples,
@@ -179,16 +185,17 @@ def identify(u: Any, y: Any, dt: float, *,
              block_rows: int = DEFAULTS["block_rows"],
              forgetting_factor: float = DEFAULTS["forgetting_factor"],
              rank_tolerance: float = DEFAULTS["rank_tolerance"],
-             sensing: str = DEFAULTS["sensing"],
-             realization: str = DEFAULTS["realization"],
+             sensing: Sensing = DEFAULTS["sensing"],
+             realization: Realization = DEFAULTS["realization"],
              zero_initial_state: int = DEFAULTS["zero_initial_state"],
              decimation: int = DEFAULTS["decimation"],
-             scaling: str = DEFAULTS["scaling"],
-             estimator: str = DEFAULTS["estimator"],
+             scaling: Scaling = DEFAULTS["scaling"],
+             estimator: Estimator = DEFAULTS["estimator"],
              instrument_lags: int = DEFAULTS["instrument_lags"],
              refine: bool = False,
              max_passes: int = REFINE_DEFAULTS["max_passes"],
-             step_tolerance: float = REFINE_DEFAULTS["step_tolerance"]) -> Result:
+             step_tolerance: float = REFINE_DEFAULTS["step_tolerance"],
+             progress: Optional[ProgressCallback] = None) -> Result:
     """Identify a state-space model and its modes from one record (OKID/ERA).
 
     u: forces, (N, r) or (N,) for one input; y: responses, (N, m) or (N,); time along axis 0.
@@ -223,6 +230,14 @@ def identify(u: Any, y: Any, dt: float, *,
     step_tolerance: with refine, converged when the Gauss-Newton decrement (about the squared step
     in standard deviations) falls below it (> 0, default 1e-6)
 
+    progress: called as progress(done, total) after each chunk of 16384 samples, first of the push
+    (samples folded of N), then of the refinement (samples fed of N x max_passes). Ctrl-C raises
+    KeyboardInterrupt within one chunk (some 10-30 ms), during the push and the refinement alike.
+
+    Numbers are numbers: a count (observer_order, order, ..., max_passes) is an int or a float
+    with an integral value (4.0 reads as 4), a real setting (dt, ...) an int or a float; bool,
+    complex and str are refused with a TypeError, a fraction for a count with a ConfigurationError.
+
     Returns an immutable :class:`okid.Result`. Raises a :class:`okid.ConfigurationError` (a
     ValueError) naming a setting out of range, :class:`okid.NotEnoughDataError`,
     :class:`okid.NotPersistentlyExcitingError` for a force that does not excite the system.
@@ -248,6 +263,10 @@ def identify(u: Any, y: Any, dt: float, *,
     m = 1 if ya.ndim == 1 else (ya.shape[1] if ya.ndim == 2 else -1)
     if r < 0 or m < 0:
         raise BadSizeError(f"u has shape {ua.shape} and y {ya.shape}: expected (samples, channels) or (samples,)", E_BAD_SIZE)
+    for name, a in (("u", ua), ("y", ya)):
+        hint = _config.channels_first_hint(a.shape, name)
+        if hint:
+            raise BadSizeError(hint, E_BAD_SIZE)
     identifier = Identifier(r, m, dt, **options)
     ub, yb = _block(ua, r, "u"), _block(ya, m, "y")
     if ub.shape[0] != yb.shape[0]:
@@ -268,7 +287,7 @@ def identify(u: Any, y: Any, dt: float, *,
                 return result, None
         options, search = choose_start(trial, options)
         identifier = Identifier(r, m, dt, **options)
-    status, accepted = identifier._core.push_block(ub, yb)
+    status, accepted = identifier._core.push_block(ub, yb, progress)
     if status == E_NONFINITE_SAMPLE:
         warnings.warn(f"{ub.shape[0] - accepted} of {ub.shape[0]} samples held NaN or Inf and were rejected",
                       NonFiniteSampleWarning, stacklevel=2)
@@ -277,4 +296,5 @@ def identify(u: Any, y: Any, dt: float, *,
     result = identifier.identify()
     if not refine:
         return result
-    return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2), start_search=search)
+    return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2, progress=progress),
+                   start_search=search)

@@ -11,6 +11,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
+#include <algorithm>
 #include <complex>
 #include <cstddef>
 #include <cstdlib>
@@ -76,6 +77,35 @@ template <class Writer> nb::str write_to_string(Writer &&write)
     nb::str s(text, size);
     std::free(text);
     return s;
+}
+
+// Rows a long call hands to the library between two looks at Python: some 10-30 ms of folding or
+// refining (docs/python.md, "Long calls"), short enough for Ctrl-C, long enough to cost nothing.
+constexpr size_t CHUNK_ROWS = 16384;
+
+// feed(first, count) over rows [0, total) in chunks of CHUNK_ROWS with the GIL released. Between
+// chunks, with the GIL held, a pending signal raises (KeyboardInterrupt for Ctrl-C: nb::python_error)
+// and progress(offset + done, grand_total) is called when progress is not None. feed returns an
+// okid_status; OKID_E_NONFINITE_SAMPLE (rows rejected, the rest taken) does not stop the feed, any
+// other failure does. Returns the first failure, else the last non-OK status, else OKID_OK.
+template <class Feed>
+int feed_in_chunks(size_t total, const nb::object &progress, size_t offset, size_t grand_total, Feed &&feed)
+{
+    int status = OKID_OK;
+    for (size_t done = 0; done < total;) {
+        const size_t count = std::min(CHUNK_ROWS, total - done);
+        int s;
+        {
+            nb::gil_scoped_release release;
+            s = feed(done, count);
+        }
+        if (s != OKID_OK) status = s;
+        if (s != OKID_OK && s != OKID_E_NONFINITE_SAMPLE) return s;
+        done += count;
+        if (PyErr_CheckSignals() != 0) throw nb::python_error();
+        if (!progress.is_none()) progress(offset + done, grand_total);
+    }
+    return status;
 }
 
 void bind_identifier(nb::module_ &m);

@@ -530,13 +530,14 @@ def test_to_frame_and_stabilization():
 # top of the file or inside a function alike), so the graph has no cycle and no arrow back up.
 PACKAGE_LAYERS = {
     "_core": 0,
-    "_errors": 1,
+    "_errors": 1, "_document": 1,
     "_config": 2, "model": 2, "_mode": 2,
-    "_refine": 3,
-    "_result": 4, "_start_search": 4,
-    "_identifier": 5,
-    "__init__": 6,
-    "tools": 7, "fleet": 7,  # the user tools, on top of the package
+    "_statespace": 3,
+    "_refine": 4,
+    "_result": 5, "_start_search": 5,
+    "_identifier": 6, "plot": 6,
+    "__init__": 7,
+    "tools": 8, "fleet": 8,  # the user tools, on top of the package
 }
 
 
