@@ -493,3 +493,21 @@ def test_literal_types_for_the_string_options():
     assert typing.get_args(hints["realization"]) == ("system", "combined")
     assert typing.get_args(hints["scaling"]) == ("none", "auto")
     assert typing.get_args(hints["estimator"]) == ("least_squares", "instrumental")
+
+
+@pytest.mark.parametrize("script, blocked, extra, args", [
+    ("stabilization", "matplotlib", "tools", ["--help"]),
+    ("fleet", "pyarrow", "fleet", ["synth", "--assets", "1", "--records", "1", "--out", "out"]),  # issue 30's case
+])
+def test_console_scripts_without_their_extra_say_which_to_install(script, blocked, extra, args, tmp_path):
+    """The console scripts are installed with okid, their extras are not: one line naming the extra
+    (the package made unimportable as a missing one is: ModuleNotFoundError, at import or later)."""
+    code = (f"import sys; sys.modules[{blocked!r}] = None; sys.argv = ['okid-{script}', *{args!r}]\n"
+            f"from okid.tools.entry_points import {script}; sys.exit({script}())")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path,
+                         env={**os.environ, "MPLBACKEND": "Agg"})
+    assert run.returncode == 1 and run.stdout == ""
+    assert run.stderr == f'okid-{script}: needs {blocked}, which okid installs with its extra: pip install "okid[{extra}]"\n'
+    scripts = Path(sys.executable).parent
+    if (scripts / f"okid-{script}").exists():  # the installed script goes through the wrapper
+        assert f"okid.tools.entry_points import {script}" in (scripts / f"okid-{script}").read_text()
