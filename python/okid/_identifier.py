@@ -66,12 +66,12 @@ class Identifier:
         self._last: Optional[Result] = None
         check(self._core.init(self._config), "okid_init")
 
-    def __copy__(self):
+    def __copy__(self) -> "Identifier":
         raise TypeError("an okid.Identifier cannot be copied: the copy would share its C core (the pushed "
                         "samples); create another Identifier and push the same samples into it")
 
-    def __deepcopy__(self, memo):
-        self.__copy__()
+    def __deepcopy__(self, memo: Dict[int, Any]) -> "Identifier":
+        return self.__copy__()
 
     @property
     def config(self) -> Dict[str, Any]:
@@ -169,7 +169,7 @@ class Identifier:
     def __enter__(self) -> "Identifier":
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: Any) -> None:
         self.close()
 
     def __repr__(self) -> str:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
-from typing import Any, Callable, Optional, Tuple
+from typing import Any, Callable, Dict, Optional, Tuple
 
 import numpy as np
 
@@ -25,7 +25,7 @@ ProgressCallback = Callable[[int, int], Any]
 
 _MAX_PASSES, _STEP_TOLERANCE = _core.refine_config_default()
 #: okid_refine_config_default()'s values (docs/cli.md: --max-passes, --step-tolerance).
-REFINE_DEFAULTS = {"max_passes": _MAX_PASSES, "step_tolerance": _STEP_TOLERANCE}
+REFINE_DEFAULTS: Dict[str, Any] = {"max_passes": _MAX_PASSES, "step_tolerance": _STEP_TOLERANCE}
 
 
 class RefinementWarning(RuntimeWarning):

@@ -41,7 +41,7 @@ class StabilizationOrder:
 class Stabilization:
     """Stabilization diagram data: the modes of orders step, 2 step, ..., max_order from one SVD."""
 
-    def __init__(self, core, max_order: int, step: int):
+    def __init__(self, core: Any, max_order: int, step: int):
         self._core = core
         self.max_order = max_order
         self.step = step
@@ -216,7 +216,7 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
         warn_if_stopped(refined, stacklevel + 1)
         return replace(self, refinement=refined, _refine_core=core)
 
-    def to_frame(self):
+    def to_frame(self) -> Any:
         """The modes as a pandas DataFrame, one row per mode (needs pandas)."""
         try:
             import pandas as pd

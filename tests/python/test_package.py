@@ -109,8 +109,9 @@ def test_keywords_are_the_okid_config_fields():
     keyword_only = [n for n, p in params.items() if p.kind is p.KEYWORD_ONLY]
     assert [f for f in fields if f not in ("num_inputs", "num_outputs", "dt")] == keyword_only[:len(fields) - 3]
     assert list(params)[:3] == ["u", "y", "dt"]
-    # the okid_config fields, then okid_refine_config's behind refine (docs/cli.md)
-    assert keyword_only == list(okid.OPTION_NAMES) + ["refine", "max_passes", "step_tolerance"]
+    # the okid_config fields, then okid_refine_config's behind refine (docs/cli.md), then the
+    # progress callback of a long call (no setting)
+    assert keyword_only == list(okid.OPTION_NAMES) + ["refine", "max_passes", "step_tolerance", "progress"]
     text = header_with(r"typedef struct okid_refine_config\s*\{")
     body = re.search(r"typedef struct okid_refine_config\s*\{(.*?)\}\s*okid_refine_config;", text, re.S).group(1)
     assert re.findall(r"(\w+)\s*;", re.sub(r"/\*.*?\*/", "", body, flags=re.S)) == ["max_passes", "step_tolerance"]
