@@ -6,7 +6,7 @@ A dataclass is read from a JSON object by its fields' type hints: an object's me
 field's name (or, failing that, of its "config" member), converted by the hint. The CLI's JSON
 (``okid identify --json``) uses the fields' names, numbers in %.17g (exact for doubles), non-finite
 numbers as null, complex numbers as [re, im]; an array annotated ComplexArray is a list of
-[re, im]. docs/python.md, "Saving and loading", describes the file format.
+[re, im]. docs/python.md, "Results that travel", describes the file format.
 """
 from __future__ import annotations
 

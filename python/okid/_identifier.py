@@ -93,7 +93,8 @@ class Identifier:
         NonFiniteSampleWarning says how many), the regressor window restarts after them and
         everything learned before is kept. Returns the number of samples accepted.
 
-        A block is folded in chunks of 16384 samples: Ctrl-C raises KeyboardInterrupt between two
+        A block is folded in chunks (some 10-50 ms of work: 16384 samples for the paper's case, fewer
+        for a wider regressor): Ctrl-C raises KeyboardInterrupt between two
         (the samples of the chunks done stay pushed: ``progress.samples`` counts them, and the
         identifier stays usable), and progress(done, count), when given, is called after each.
         """
@@ -230,9 +231,10 @@ def identify(u: Any, y: Any, dt: float, *,
     step_tolerance: with refine, converged when the Gauss-Newton decrement (about the squared step
     in standard deviations) falls below it (> 0, default 1e-6)
 
-    progress: called as progress(done, total) after each chunk of 16384 samples, first of the push
+    progress: called as progress(done, total) after each chunk (some 10-50 ms of work: 16384
+    samples for the paper's case, fewer for larger problems), first of the push
     (samples folded of N), then of the refinement (samples fed of N x max_passes). Ctrl-C raises
-    KeyboardInterrupt within one chunk (some 10-30 ms), during the push and the refinement alike.
+    KeyboardInterrupt within one chunk, during the push and the refinement alike.
 
     Numbers are numbers: a count (observer_order, order, ..., max_passes) is an int or a float
     with an integral value (4.0 reads as 4), a real setting (dt, ...) an int or a float; bool,

@@ -20,7 +20,8 @@ from ._mode import Mode, ModeArrays, modes_from_dicts
 from ._statespace import StateSpaceModel
 
 #: progress(done, total) of a long call: samples fed so far and the most it can take (for a
-#: refinement samples x max_passes: it usually converges sooner), called every 16384 samples.
+#: refinement samples x max_passes: it usually converges sooner), called after each chunk of
+#: some 10-50 ms of work (16384 samples for the paper's case, fewer for larger models).
 ProgressCallback = Callable[[int, int], Any]
 
 _MAX_PASSES, _STEP_TOLERANCE = _core.refine_config_default()
@@ -132,7 +133,7 @@ def _model(a, b, c, d) -> Tuple[np.ndarray, ...]:
 def run(model, dt: float, sensing: str, u: Any, y: Any, max_passes: int, step_tolerance: float,
         noise_std: Optional[np.ndarray] = None, what: str = "refine", progress: Optional[ProgressCallback] = None):
     """okid_refine_* over the record: (RefineCore, Refinement). Ctrl-C raises KeyboardInterrupt
-    within one chunk of 16384 samples; progress(done, total) follows the samples fed."""
+    within one chunk; progress(done, total) follows the samples fed."""
     a, b, c, d = _model(*model)
     ua, ya = _record(u, y, b.shape[1], c.shape[0])
     status, core = _core.refine(a, b, c, d, float(dt), SENSING[sensing], ua, ya, max_passes, step_tolerance,

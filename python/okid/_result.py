@@ -25,7 +25,7 @@ from ._statespace import StateSpaceModel
 
 #: Result.save()'s file: "format" and "format_version" first, then the members of ``okid identify
 #: --json`` (Result.to_dict()), then under "python" what the CLI's JSON does not carry
-#: (docs/python.md, "Saving and loading"). A reader refuses a version above its own.
+#: (docs/python.md, "Results that travel"). A reader refuses a version above its own.
 FORMAT = "okid.Result"
 FORMAT_VERSION = 1
 
@@ -160,7 +160,7 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
 
     def save(self, path: Union[str, "os.PathLike[str]"]) -> None:
         """Write this result to path as JSON (the format FORMAT, version FORMAT_VERSION:
-        docs/python.md, "Saving and loading"); okid.load(path) gives it back equal. An existing
+        docs/python.md, "Results that travel"); okid.load(path) gives it back equal. An existing
         file is refused (FileExistsError): the caller removes it."""
         document = self.to_dict()
         extra = _document.missing(self, document)
@@ -201,6 +201,10 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
         step in standard deviations) falls below it (> 0). Returns a new Result whose
         ``refinement`` holds the refined model and its modes with their standard deviations; a
         refinement that stops without converging gives an okid.RefinementWarning.
+
+        The record goes in chunks (some 10-50 ms of work each): Ctrl-C raises KeyboardInterrupt
+        between two, and progress(done, total), when given, is called after each with the samples
+        fed and samples x max_passes.
         """
         if self.decimation > 1:
             raise BadParameterError(f"refine() of a result with decimation = {self.decimation}: the refinement needs "

@@ -301,8 +301,11 @@ void bind_identifier(nb::module_ &m)
                 if (!guard.acquired()) return nb::make_tuple(STATUS_BUSY, (size_t)0);
                 size_t accepted = 0;
                 const size_t r = u.shape(1), mo = y.shape(1);
-                // in chunks: Ctrl-C raises between two (the rows pushed so far stay pushed)
-                const int s = feed_in_chunks(u.shape(0), progress, 0, u.shape(0), [&](size_t first, size_t count) {
+                // in chunks: Ctrl-C raises between two (the rows pushed so far stay pushed); a row's
+                // fold costs about w^2 multiply-adds, w = r + (r + m) p + m the factor's width
+                const double w = (double)(r + (r + mo) * (size_t)self.cfg.observer_order + mo);
+                const int s = feed_in_chunks(u.shape(0), chunk_rows(w * w), progress, 0, u.shape(0),
+                                             [&](size_t first, size_t count) {
                     size_t taken = 0;
                     const int st = okid_push_block(&self.id, count, u.data() + first * r, r, y.data() + first * mo,
                                                    mo, &taken);
@@ -312,7 +315,7 @@ void bind_identifier(nb::module_ &m)
                 return nb::make_tuple(s, accepted);
             },
             nb::arg("u"), nb::arg("y"), nb::arg("progress").none() = nb::none(),
-            "okid_push_block on a (count, r) and a (count, m) C-contiguous block, no copy, in chunks of CHUNK_ROWS "
+            "okid_push_block on a (count, r) and a (count, m) C-contiguous block, no copy, in chunks of chunk_rows() "
             "rows with signals checked and progress(done, count) called between them: (status, accepted).")
         .def("push",
              [](IdentifierCore &self, CVector u, CVector y) {

@@ -142,10 +142,13 @@ void bind_refine(nb::module_ &m)
             // the caller's (count, r) and (count, m) arrays are the record: fed once per pass in chunks,
             // Ctrl-C raising between two; progress sees samples fed over samples x max_passes
             const size_t count = u.shape(0), ru = u.shape(1), my = y.shape(1);
+            // a sample's sensitivities and Gauss-Newton sums cost about P^2 m multiply-adds, P the parameters
+            const double params = (double)n * (double)(r + mo + 1) + (double)mo * (double)r;
+            const size_t chunk = chunk_rows(params * params * (double)mo);
             for (int pass = 0; s == OKID_OK && state == OKID_REFINE_NEED_PASS; ++pass) {
                 s = okid_refine_begin_pass(&core->rf);
                 if (s == OKID_OK)
-                    s = feed_in_chunks(count, progress, (size_t)pass * count, (size_t)max_passes * count,
+                    s = feed_in_chunks(count, chunk, progress, (size_t)pass * count, (size_t)max_passes * count,
                                        [&](size_t first, size_t rows) {
                                            return (int)okid_refine_push_block(&core->rf, rows, u.data() + first * ru,
                                                                               ru, y.data() + first * my, my);

@@ -409,9 +409,11 @@ def test_ctrl_c_stops_a_long_call_within_a_second(what):
     """A real SIGINT while the C core runs (GIL released): KeyboardInterrupt between two chunks.
     Without the checks it takes effect only when the call returns (43 s of refine in issue 30).
     The bound of 1 s is some 30 chunks of margin on a shared machine; the call itself would run
-    for minutes (max_passes=1000 over 10^6 samples, or 10^8 samples pushed)."""
+    for minutes (max_passes=1000 over 10^6 samples, or 10^8 samples pushed). One OpenBLAS thread:
+    its worker threads spin on a loaded 2-core machine and stretch one library call (a chunk of the
+    p = 60 fold, 9 ms alone) to seconds of wall time, which no check between calls can shorten."""
     child = subprocess.Popen([sys.executable, "-c", _CHILD, what], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                             text=True)
+                             text=True, env={**os.environ, "OPENBLAS_NUM_THREADS": "1"})
     try:
         assert child.stdout.readline().strip() == "ready"
         time.sleep(1.0)  # well inside the call
