@@ -34,9 +34,9 @@ def _block(values: Any, channels: int, name: str) -> np.ndarray:
     if a.ndim == 1 and channels == 1:
         a = a.reshape(-1, 1)
     if a.ndim != 2 or a.shape[1] != channels:
-        hint = " (pass {name}.T)" if a.ndim == 2 and a.shape[0] == channels else ""
+        hint = f" (pass {name}.T)" if a.ndim == 2 and a.shape[0] == channels else ""
         raise BadSizeError(f"{name} has shape {np.shape(values)}: expected (samples, {channels}) with time along "
-                           f"axis 0{' or (samples,)' if channels == 1 else ''}{hint.format(name=name)}", E_BAD_SIZE)
+                           f"axis 0{' or (samples,)' if channels == 1 else ''}{hint}", E_BAD_SIZE)
     return np.ascontiguousarray(a)
 
 

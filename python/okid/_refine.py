@@ -12,7 +12,7 @@ import numpy as np
 
 from . import _core
 from . import model as _model_mod
-from ._config import SENSING, integer, real_array, real_number
+from ._config import SENSING, Sensing, integer, real_array, real_number
 from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DATA_RANGE, E_RANK_DEFICIENT, OK, BadParameterError, BadSizeError,
                       check)
 from ._document import Travelling
@@ -172,7 +172,7 @@ _STD_REASONS = {
 
 
 def crlb(u: Any, dt: float, *, model: Optional[Tuple[Any, Any, Any, Any]] = None, noise: Optional[float] = None,
-         noise_std: Any = None, sensing: str = "acceleration") -> CramerRaoBound:
+         noise_std: Any = None, sensing: Sensing = "acceleration") -> CramerRaoBound:
     """The Cramér–Rao lower bound of the natural frequencies and damping ratios of a model driven by
     the force record u, with white Gaussian output noise.
 
