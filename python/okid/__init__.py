@@ -20,15 +20,16 @@ from ._identifier import Identifier, Progress, identify
 from ._mode import Mode, Pole, SelectedMode, StabilityFlag, WarningFlag
 from ._record import Record, read_record
 from ._refine import REFINE_DEFAULTS, CramerRaoBound, Refinement, RefinementWarning, ResidualWarning, crlb
-from ._result import Result, Stabilization, StabilizationOrder
-from . import model
+from ._result import FORMAT, FORMAT_VERSION, Result, Stabilization, StabilizationOrder, load
+from . import model, plot
 
 __version__ = _core.VERSION
 
 __all__ = [
     "identify", "Identifier", "Progress", "Result", "Mode", "SelectedMode", "Pole", "WarningFlag", "Stabilization",
-    "StabilizationOrder", "StabilityFlag", "model", "DEFAULTS", "OPTION_NAMES", "Refinement", "RefinementWarning",
-    "ResidualWarning", "REFINE_DEFAULTS", "crlb", "CramerRaoBound", "read_record", "Record", "RecordError",
+    "StabilizationOrder", "StabilityFlag", "model", "plot", "DEFAULTS", "OPTION_NAMES", "Refinement",
+    "RefinementWarning", "ResidualWarning", "REFINE_DEFAULTS", "crlb", "CramerRaoBound", "read_record", "Record",
+    "RecordError", "load", "FORMAT", "FORMAT_VERSION",
     "OkidError", "ConfigurationError", "BadSizeError", "BadOrderError", "BadParameterError", "NotEnoughDataError",
     "NotPersistentlyExcitingError", "DecompositionError", "NotAvailableError", "NonFiniteSampleError", "DataRangeError",
     "ConcurrentUseError", "InternalError", "NonFiniteSampleWarning",

@@ -5,13 +5,19 @@ messages that name the setting and its valid range."""
 from __future__ import annotations
 
 import math
-from typing import Any, Dict
+from typing import Any, Dict, Literal
 
 import numpy as np
 
 from . import _core
 from ._errors import (_CLASSES, E_BAD_ORDER, E_BAD_PARAMETER, E_BAD_SIZE, BadOrderError, BadParameterError, BadSizeError,
                       ConfigurationError, OK)
+
+#: The string options' values, for type checkers (okid_sensing, okid_realization, ... by their C suffix).
+Sensing = Literal["displacement", "velocity", "acceleration"]
+Realization = Literal["system", "combined"]
+Scaling = Literal["none", "auto"]
+Estimator = Literal["least_squares", "instrumental"]
 
 SENSING = {"displacement": 0, "velocity": 1, "acceleration": 2}
 REALIZATION = {"system": 0, "combined": 1}
@@ -47,10 +53,18 @@ DEFAULTS: Dict[str, Any] = _defaults()
 _INT_MIN, _INT_MAX = -2**31, 2**31 - 1
 
 
-def _integer(name: str, value: Any) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int,)) and not hasattr(value, "__index__"):
-        raise BadParameterError(f"{name} must be an integer, not {value!r}", E_BAD_PARAMETER)
-    value = int(value.__index__())
+def integer(name: str, value: Any) -> int:
+    """A count (an order, a size, a number of passes): an int, a numpy integer or a float with an
+    integral value (4.0 reads as 4, as dt=1 reads as 1.0); bool, complex, str and None are refused
+    with a TypeError, a fraction with a BadParameterError (a ValueError) naming the argument."""
+    if _not_a_number(value) or not (hasattr(value, "__index__") or isinstance(value, (float, np.floating))):
+        raise TypeError(f"{name} = {value!r}: an integer (int, or a float with an integral value), "
+                        f"not {type(value).__name__}")
+    if hasattr(value, "__index__"):
+        value = int(value.__index__())
+    elif not (math.isfinite(value) and float(value).is_integer()):
+        raise BadParameterError(f"{name} = {value!r}: an integer is needed", E_BAD_PARAMETER)
+    value = int(value)
     if not _INT_MIN <= value <= _INT_MAX:  # the binding's int conversion would fail (std::bad_cast)
         cls = BadOrderError if name == "order" else BadSizeError
         code = E_BAD_ORDER if name == "order" else E_BAD_SIZE
@@ -84,6 +98,15 @@ def real_array(values: Any, name: str) -> np.ndarray:
     return a.astype(np.float64, copy=False)
 
 
+def channels_first_hint(shape: Any, name: str) -> str:
+    """The sentence for a record given channels first ((channels, samples), e.g. y.T): more
+    channels than samples, or more than the library takes; empty when the shape looks right."""
+    if len(shape) == 2 and (shape[1] > shape[0] or shape[1] > _core.MAX_DIMENSION):
+        return (f"{name} has shape {tuple(shape)}: {shape[1]} channels of {shape[0]} samples? Time runs along "
+                f"axis 0, (samples, channels): pass {name}.T")
+    return ""
+
+
 def check_bool(name: str, value: Any) -> bool:
     """A flag argument that must be True or False (a string like "no" would be truthy)."""
     if not isinstance(value, (bool, np.bool_)):
@@ -100,8 +123,8 @@ def build(num_inputs: int, num_outputs: int, dt: float, options: Dict[str, Any])
     unknown = sorted(set(options) - set(OPTION_NAMES))
     if unknown:
         raise TypeError(f"unknown okid option(s) {', '.join(unknown)}; the options are {', '.join(OPTION_NAMES)}")
-    cfg: Dict[str, Any] = {"num_inputs": _integer("num_inputs", num_inputs),
-                           "num_outputs": _integer("num_outputs", num_outputs)}
+    cfg: Dict[str, Any] = {"num_inputs": integer("num_inputs", num_inputs),
+                           "num_outputs": integer("num_outputs", num_outputs)}
     dt = _real("dt", dt)
     if not (math.isfinite(dt) and dt > 0):
         raise BadParameterError(f"dt = {dt!r} s: the sample interval must be finite and > 0", E_BAD_PARAMETER)
@@ -109,16 +132,19 @@ def build(num_inputs: int, num_outputs: int, dt: float, options: Dict[str, Any])
     for name in OPTION_NAMES:
         value = options.get(name, DEFAULTS[name])
         if name in ENUMS:
+            if not isinstance(value, str):
+                raise TypeError(f"{name} = {value!r}: one of {', '.join(map(repr, ENUMS[name]))}, not "
+                                f"{type(value).__name__}")
             if value not in ENUMS[name]:
                 raise BadParameterError(f"{name} = {value!r}: one of {', '.join(map(repr, ENUMS[name]))}",
                                         E_BAD_PARAMETER)
             value = ENUMS[name][value]
         elif _KIND[name] == "flag":
-            if value not in (0, 1, False, True):
+            value = int(value) if isinstance(value, (bool, np.bool_)) else integer(name, value)
+            if value not in (0, 1):
                 raise BadParameterError(f"{name} = {value!r}: 0 or 1 (False or True)", E_BAD_PARAMETER)
-            value = int(value)
         elif _KIND[name] == "int":
-            value = _integer(name, value)
+            value = integer(name, value)
         else:
             value = _real(name, value)
         cfg[name] = value

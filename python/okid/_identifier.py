@@ -8,18 +8,17 @@ import json
 import warnings
 from dataclasses import dataclass, fields, replace
 from types import MappingProxyType
-from typing import Any, Optional
+from typing import Any, Dict, Optional
 
 import numpy as np
 
 from . import _config, _core
-from ._config import DEFAULTS
+from ._config import DEFAULTS, Estimator, Realization, Scaling, Sensing
 from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DECOMPOSITION_FAILED, E_NONFINITE_SAMPLE, E_NOT_AVAILABLE,
-                      E_NOT_ENOUGH_DATA, OK, BadParameterError, BadSizeError, DecompositionError, NonFiniteSampleWarning, NotEnoughDataError,
-                      OkidError, check, error_for)
-from ._mode import WarningFlag
-from ._refine import REFINE_DEFAULTS, check_settings
-from ._mode import Mode, Pole, SelectedMode
+                      E_NOT_ENOUGH_DATA, OK, BadParameterError, BadSizeError, DecompositionError, NonFiniteSampleWarning,
+                      NotEnoughDataError, OkidError, check, error_for)
+from ._mode import Mode, Pole, SelectedMode, WarningFlag
+from ._refine import REFINE_DEFAULTS, ProgressCallback, check_settings
 from ._result import Result
 from ._start_search import choose_start
 
@@ -39,8 +38,9 @@ def _block(values: Any, channels: int, name: str) -> np.ndarray:
     if a.ndim == 1 and channels == 1:
         a = a.reshape(-1, 1)
     if a.ndim != 2 or a.shape[1] != channels:
+        hint = f" (pass {name}.T)" if a.ndim == 2 and a.shape[0] == channels else ""
         raise BadSizeError(f"{name} has shape {np.shape(values)}: expected (samples, {channels}) with time along "
-                           f"axis 0{' or (samples,)' if channels == 1 else ''}", E_BAD_SIZE)
+                           f"axis 0{' or (samples,)' if channels == 1 else ''}{hint}", E_BAD_SIZE)
     return np.ascontiguousarray(a)
 
 
@@ -70,15 +70,15 @@ class Identifier:
         self._last: Optional[Result] = None
         check(self._core.init(self._config), "okid_init")
 
-    def __copy__(self):
+    def __copy__(self) -> "Identifier":
         raise TypeError("an okid.Identifier cannot be copied: the copy would share its C core (the pushed "
                         "samples); create another Identifier and push the same samples into it")
 
-    def __deepcopy__(self, memo):
-        self.__copy__()
+    def __deepcopy__(self, memo: Dict[int, Any]) -> "Identifier":
+        return self.__copy__()
 
     @property
-    def config(self) -> dict:
+    def config(self) -> Dict[str, Any]:
         """The okid_config in use: keyword names, enumerations by name."""
         out = dict(self._config)
         for name, values in _config.ENUMS.items():
@@ -90,12 +90,17 @@ class Identifier:
             raise ValueError("this Identifier is closed")
         return self._core
 
-    def push(self, u: Any, y: Any) -> int:
+    def push(self, u: Any, y: Any, *, progress: Optional[ProgressCallback] = None) -> int:
         """Push one sample (u: r values, y: m values) or a block (u: (count, r), y: (count, m)).
 
         A 2-D y is a block, anything else one sample. Samples holding NaN or Inf are rejected (a
         NonFiniteSampleWarning says how many), the regressor window restarts after them and
         everything learned before is kept. Returns the number of samples accepted.
+
+        A block is folded in chunks (some 10-50 ms of work: 16384 samples for the paper's case, fewer
+        for a wider regressor): Ctrl-C raises KeyboardInterrupt between two
+        (the samples of the chunks done stay pushed: ``progress.samples`` counts them, and the
+        identifier stays usable), and progress(done, count), when given, is called after each.
         """
         core = self._live()
         if np.ndim(y) == 2:
@@ -103,7 +108,7 @@ class Identifier:
             yb = _block(y, self.num_outputs, "y")
             if ub.shape[0] != yb.shape[0]:
                 raise BadSizeError(f"u has {ub.shape[0]} samples and y {yb.shape[0]}: push equal counts", E_BAD_SIZE)
-            status, accepted = core.push_block(ub, yb)
+            status, accepted = core.push_block(ub, yb, progress)
             count = ub.shape[0]
         else:
             status = core.push(_sample(u, self.num_inputs, "u"), _sample(y, self.num_outputs, "y"))
@@ -128,14 +133,15 @@ class Identifier:
         return self._last
 
     def refine(self, u: Any, y: Any, *, max_passes: int = REFINE_DEFAULTS["max_passes"],
-               step_tolerance: float = REFINE_DEFAULTS["step_tolerance"]) -> Result:
+               step_tolerance: float = REFINE_DEFAULTS["step_tolerance"],
+               progress: Optional[ProgressCallback] = None) -> Result:
         """The last identify()'s result refined over the record (u, y) the caller gives: the
         samples that model describes, (N, r) and (N, m) at dt (the identifier keeps no record).
         See :meth:`okid.Result.refine`; a refinement that stops without converging warns
         (okid.RefinementWarning)."""
         if self._last is None:
             raise error_for(E_NOT_AVAILABLE, "refine() before identify(): nothing to refine")
-        return self._last._refine(u, y, max_passes, step_tolerance, stacklevel=2)
+        return self._last._refine(u, y, max_passes, step_tolerance, stacklevel=2, progress=progress)
 
     def predict(self, u: Any) -> np.ndarray:
         """One-step-ahead prediction of y(k) (m values) from u(k) and the last observer_order samples,
@@ -168,7 +174,7 @@ class Identifier:
     def __enter__(self) -> "Identifier":
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: Any) -> None:
         self.close()
 
     def __repr__(self) -> str:
@@ -184,16 +190,17 @@ def identify(u: Any, y: Any, dt: float, *,
              block_rows: int = DEFAULTS["block_rows"],
              forgetting_factor: float = DEFAULTS["forgetting_factor"],
              rank_tolerance: float = DEFAULTS["rank_tolerance"],
-             sensing: str = DEFAULTS["sensing"],
-             realization: str = DEFAULTS["realization"],
+             sensing: Sensing = DEFAULTS["sensing"],
+             realization: Realization = DEFAULTS["realization"],
              zero_initial_state: int = DEFAULTS["zero_initial_state"],
              decimation: Optional[int] = None,
-             scaling: str = DEFAULTS["scaling"],
-             estimator: str = DEFAULTS["estimator"],
+             scaling: Scaling = DEFAULTS["scaling"],
+             estimator: Estimator = DEFAULTS["estimator"],
              instrument_lags: int = DEFAULTS["instrument_lags"],
              refine: bool = False,
              max_passes: int = REFINE_DEFAULTS["max_passes"],
-             step_tolerance: float = REFINE_DEFAULTS["step_tolerance"]) -> Result:
+             step_tolerance: float = REFINE_DEFAULTS["step_tolerance"],
+             progress: Optional[ProgressCallback] = None) -> Result:
     """Identify a state-space model and its modes from one record (OKID/ERA).
 
     u: forces, (N, r) or (N,) for one input; y: responses, (N, m) or (N,); time along axis 0.
@@ -234,6 +241,15 @@ def identify(u: Any, y: Any, dt: float, *,
     step_tolerance: with refine, converged when the Gauss-Newton decrement (about the squared step
     in standard deviations) falls below it (> 0, default 1e-6)
 
+    progress: called as progress(done, total) after each chunk (some 10-50 ms of work: 16384
+    samples for the paper's case, fewer for larger problems), first of the push
+    (samples folded of N), then of the refinement (samples fed of N x max_passes). Ctrl-C raises
+    KeyboardInterrupt within one chunk, during the push and the refinement alike.
+
+    Numbers are numbers: a count (observer_order, order, ..., max_passes) is an int or a float
+    with an integral value (4.0 reads as 4), a real setting (dt, ...) an int or a float; bool,
+    complex and str are refused with a TypeError, a fraction for a count with a ConfigurationError.
+
     Returns an immutable :class:`okid.Result`. Raises a :class:`okid.ConfigurationError` (a
     ValueError) naming a setting out of range, :class:`okid.NotEnoughDataError`,
     :class:`okid.NotPersistentlyExcitingError` for a force that does not excite the system.
@@ -265,15 +281,22 @@ def identify(u: Any, y: Any, dt: float, *,
     m = 1 if ya.ndim == 1 else (ya.shape[1] if ya.ndim == 2 else -1)
     if r < 0 or m < 0:
         raise BadSizeError(f"u has shape {ua.shape} and y {ya.shape}: expected (samples, channels) or (samples,)", E_BAD_SIZE)
+    for name, a in (("u", ua), ("y", ya)):
+        hint = _config.channels_first_hint(a.shape, name)
+        if hint:
+            raise BadSizeError(hint, E_BAD_SIZE)
     ub, yb = _block(ua, r, "u"), _block(ya, m, "y")
     if ub.shape[0] != yb.shape[0]:
         raise BadSizeError(f"u has {ub.shape[0]} samples and y {yb.shape[0]}: time along axis 0 must match", E_BAD_SIZE)
     # the data's sufficiency before the workspace is allocated (the CLI's rule, config_explain.c);
     # the start search tries smaller observer orders itself
-    shortfall = _core.data_shortfall(_config.build(r, m, dt, options), ub.shape[0])
-    if shortfall is not None and not (refine and not horizons_given):
+    # (the settings chosen from the data are checked by auto_identify, after the choice)
+    config = _config.build(r, m, dt, options)
+    chosen_from_data = not refine and (given != _core.AUTO_GIVEN_ALL or options["order"] == 0) and \
+        bool(np.isfinite(ub).all() and np.isfinite(yb).all())
+    shortfall = _core.data_shortfall(config, ub.shape[0])
+    if shortfall is not None and not (refine and not horizons_given) and not chosen_from_data:
         raise NotEnoughDataError(shortfall, E_NOT_ENOUGH_DATA)
-    identifier = Identifier(r, m, dt, **options)
     search = None
     if refine and not horizons_given:
         def trial(opts):
@@ -291,25 +314,21 @@ def identify(u: Any, y: Any, dt: float, *,
         options, search = choose_start(trial, options)
         identifier = Identifier(r, m, dt, **options)
     auto, fallback = None, False
-    if not refine and (given != _core.AUTO_GIVEN_ALL or options["order"] == 0) and \
-            np.isfinite(ub).all() and np.isfinite(yb).all():
-        status, settings, auto_json, selected, verdicts = _core.auto_identify(identifier._config, given, ub, yb)
+    if chosen_from_data:
+        status, settings, auto_json, selected, verdicts = _core.auto_identify(config, given, ub, yb)
         if status == E_DECOMPOSITION_FAILED and options["estimator"] == "correlation":
             # the correlation form's guard refused: the QR fold, as below and as the CLI does
             options["estimator"], fallback = "least_squares", True
-            identifier = Identifier(r, m, dt, **options)
-            status, settings, auto_json, selected, verdicts = _core.auto_identify(identifier._config, given, ub, yb)
-        if status == E_NOT_ENOUGH_DATA:
-            p, k = settings["observer_order"], settings["decimation"]
-            raise error_for(status, f"{-(-ub.shape[0] // k) - p} regressor rows from {ub.shape[0]} samples, "
-                                    f"{r + (r + m) * p} needed (q = r + (r + m) observer_order, observer_order = {p}, "
-                                    f"decimation = {k})")
+            config = _config.build(r, m, dt, options)
+            status, settings, auto_json, selected, verdicts = _core.auto_identify(config, given, ub, yb)
+        if status == E_NOT_ENOUGH_DATA:  # auto_json holds the host library's refusal (config_explain.c)
+            raise NotEnoughDataError(auto_json, E_NOT_ENOUGH_DATA)
         check(status, "identify")
         user_order = options["order"]
         options.update(settings)
-        identifier = Identifier(r, m, dt, **options)
         auto = (user_order, auto_json, selected, verdicts)
-    status, accepted = identifier._core.push_block(ub, yb)
+    identifier = Identifier(r, m, dt, **options)
+    status, accepted = identifier._core.push_block(ub, yb, progress)
     if status == E_NONFINITE_SAMPLE:
         warnings.warn(f"{ub.shape[0] - accepted} of {ub.shape[0]} samples held NaN or Inf and were rejected",
                       NonFiniteSampleWarning, stacklevel=2)
@@ -333,7 +352,8 @@ def identify(u: Any, y: Any, dt: float, *,
         return _with_choices(result, *auto)
     if not refine:
         return result
-    return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2), start_search=search)
+    return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2, progress=progress),
+                   start_search=search)
 
 
 def _with_choices(result: Result, user_order: int, auto_json: str, selected, verdicts) -> Result:

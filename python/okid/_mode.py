@@ -10,6 +10,7 @@ from typing import Optional, Tuple
 import numpy as np
 
 from . import _core
+from ._document import ComplexArray, Travelling
 
 
 class WarningFlag(enum.IntFlag):
@@ -41,7 +42,7 @@ class StabilityFlag(enum.IntFlag):
 
 
 @dataclass(frozen=True)
-class Mode:
+class Mode(Travelling):
     """One mode of the identified model; a complex-conjugate pair is reported once (Im(eigenvalue) > 0).
 
     eigenvalue: discrete-time eigenvalue of A (complex); pole: continuous-time pole ln(eigenvalue)/dt
@@ -60,8 +61,8 @@ class Mode:
     frequency_hz: float       #: undamped natural frequency |pole| / 2 pi [Hz]
     damping_ratio: float      #: -Re(pole) / |pole| [-]
     is_pair: bool             #: True for a complex pair (two states), False for a real eigenvalue
-    sensor_shape: np.ndarray  #: C psi, (m,) complex, unit norm
-    shape: np.ndarray         #: eq. 64 with continuous poles: (2 m,) complex, displacements then velocities
+    sensor_shape: ComplexArray  #: C psi, (m,) complex, unit norm
+    shape: ComplexArray       #: eq. 64 with continuous poles: (2 m,) complex, displacements then velocities
     emac: float               #: extended modal amplitude coherence, [0, 1]
     emac_output: float        #: output (C-side) EMAC, [0, 1]
     emac_input: float         #: input (B-side) EMAC, [0, 1]
@@ -74,7 +75,7 @@ class Mode:
     damping_std: Optional[float] = None            #: std of damping_ratio [-]
     eigenvalue_std: Optional[complex] = None       #: std of Re (real part) and of Im (imaginary part) of eigenvalue
     pole_std: Optional[complex] = None             #: std of Re and of Im of pole, as a complex number [1/s]
-    sensor_shape_std: Optional[np.ndarray] = None  #: (m,) complex: std of Re and of Im of each sensor_shape entry
+    sensor_shape_std: Optional[ComplexArray] = None  #: (m,) complex: std of Re and of Im of each sensor_shape entry
 
 
 @dataclass(frozen=True)

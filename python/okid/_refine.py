@@ -6,20 +6,27 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
-from typing import Any, Optional, Tuple
+from typing import Any, Callable, Dict, Optional, Tuple
 
 import numpy as np
 
 from . import _core
 from . import model as _model_mod
-from ._config import SENSING, real_array, real_number
+from ._config import SENSING, Sensing, integer, real_array, real_number
 from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DATA_RANGE, E_RANK_DEFICIENT, OK, BadParameterError, BadSizeError,
                       check)
+from ._document import Travelling
 from ._mode import Mode, ModeArrays, WarningFlag, modes_from_dicts
+from ._statespace import StateSpaceModel
+
+#: progress(done, total) of a long call: samples fed so far and the most it can take (for a
+#: refinement samples x max_passes: it usually converges sooner), called after each chunk of
+#: some 10-50 ms of work (16384 samples for the paper's case, fewer for larger models).
+ProgressCallback = Callable[[int, int], Any]
 
 _MAX_PASSES, _STEP_TOLERANCE = _core.refine_config_default()
 #: okid_refine_config_default()'s values (docs/cli.md: --max-passes, --step-tolerance).
-REFINE_DEFAULTS = {"max_passes": _MAX_PASSES, "step_tolerance": _STEP_TOLERANCE}
+REFINE_DEFAULTS: Dict[str, Any] = {"max_passes": _MAX_PASSES, "step_tolerance": _STEP_TOLERANCE}
 
 
 class RefinementWarning(RuntimeWarning):
@@ -43,7 +50,7 @@ class _ModeArrays(ModeArrays):
 
 
 @dataclass(frozen=True, eq=False)
-class Refinement(_ModeArrays):
+class Refinement(_ModeArrays, StateSpaceModel, Travelling):
     """An okid_refine_result: the refined model in real modal form, its modes with their standard
     deviations, and how the refinement ended. Every array is a read-only copy."""
     state: str                      #: "converged", "diverged", "not_improving" or "iteration_limit"
@@ -75,6 +82,7 @@ class Refinement(_ModeArrays):
 
     @property
     def converged(self) -> bool:
+        """The refinement converged: its modes are the maximum-likelihood ones."""
         return self.state == "converged"
 
 
@@ -89,7 +97,8 @@ def _refinement(core) -> Refinement:
 
 def check_settings(max_passes: Any, step_tolerance: Any) -> Tuple[int, float]:
     """The CLI's ranges: --max-passes 2..1000, --step-tolerance > 0 (finite)."""
-    if isinstance(max_passes, bool) or not hasattr(max_passes, "__index__") or not 2 <= max_passes.__index__() <= 1000:
+    passes = integer("max_passes", max_passes)
+    if not 2 <= passes <= 1000:
         raise BadParameterError(f"max_passes = {max_passes!r}: an integer in 2..1000 (default {_MAX_PASSES})",
                                 E_BAD_PARAMETER)
     try:
@@ -99,7 +108,7 @@ def check_settings(max_passes: Any, step_tolerance: Any) -> Tuple[int, float]:
     if not (math.isfinite(tol) and tol > 0):
         raise BadParameterError(f"step_tolerance = {step_tolerance!r}: a finite number > 0 (default {_STEP_TOLERANCE:g})",
                                 E_BAD_PARAMETER)
-    return int(max_passes.__index__()), tol
+    return passes, tol
 
 
 def _record(u: Any, y: Any, r: int, m: int) -> Tuple[np.ndarray, np.ndarray]:
@@ -129,12 +138,13 @@ def _model(a, b, c, d) -> Tuple[np.ndarray, ...]:
 
 
 def run(model, dt: float, sensing: str, u: Any, y: Any, max_passes: int, step_tolerance: float,
-        noise_std: Optional[np.ndarray] = None, what: str = "refine"):
-    """okid_refine_* over the record: (RefineCore, Refinement)."""
+        noise_std: Optional[np.ndarray] = None, what: str = "refine", progress: Optional[ProgressCallback] = None):
+    """okid_refine_* over the record: (RefineCore, Refinement). Ctrl-C raises KeyboardInterrupt
+    within one chunk; progress(done, total) follows the samples fed."""
     a, b, c, d = _model(*model)
     ua, ya = _record(u, y, b.shape[1], c.shape[0])
     status, core = _core.refine(a, b, c, d, float(dt), SENSING[sensing], ua, ya, max_passes, step_tolerance,
-                                noise_std)
+                                noise_std, progress)
     check(status, f"{what} (n = {a.shape[0]}, r = {b.shape[1]}, m = {c.shape[0]}, {ua.shape[0]} samples: more "
                   f"output samples than parameters, finite inputs)")
     return core, _refinement(core)
@@ -166,7 +176,7 @@ def warn_if_stopped(refined: Refinement, stacklevel: int) -> None:
 
 
 @dataclass(frozen=True, eq=False)
-class CramerRaoBound(_ModeArrays):
+class CramerRaoBound(_ModeArrays, Travelling):
     """The Cramér–Rao lower bound of a planned (or performed) experiment: the standard deviation
     below which no unbiased estimate of a mode's frequency or damping ratio can go."""
     modes: Tuple[Mode, ...]    #: the model's modes (okid.Mode), their *_std fields the bound
@@ -186,7 +196,7 @@ _STD_REASONS = {
 
 
 def crlb(u: Any, dt: float, *, model: Optional[Tuple[Any, Any, Any, Any]] = None, noise: Optional[float] = None,
-         noise_std: Any = None, sensing: str = "acceleration") -> CramerRaoBound:
+         noise_std: Any = None, sensing: Sensing = "acceleration") -> CramerRaoBound:
     """The Cramér–Rao lower bound of the natural frequencies and damping ratios of a model driven by
     the force record u, with white Gaussian output noise.
 

@@ -3,17 +3,31 @@
 workspace (Mode and the flags are in _mode)."""
 from __future__ import annotations
 
+import copy
 import json
+import math
+import os
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
-from typing import Any, Dict, Mapping, Optional, Tuple
+from typing import Any, Dict, Mapping, Optional, Tuple, Union
 
 import numpy as np
 
 from . import _core
-from ._errors import E_BAD_PARAMETER, BadParameterError, check
+from . import _document
+from ._config import integer
+from ._document import Travelling
+from ._errors import E_BAD_PARAMETER, E_NOT_AVAILABLE, BadParameterError, check, error_for
 from ._mode import Mode, ModeArrays, StabilityFlag, WarningFlag, modes_from_dicts
-from ._refine import REFINE_DEFAULTS, Refinement, check_settings, run as _run_refinement, warn_if_stopped
+from ._refine import (REFINE_DEFAULTS, ProgressCallback, Refinement, check_settings, run as _run_refinement,
+                      warn_if_stopped)
+from ._statespace import StateSpaceModel
+
+#: Result.save()'s file: "format" and "format_version" first, then the members of ``okid identify
+#: --json`` (Result.to_dict()), then under "python" what the CLI's JSON does not carry
+#: (docs/python.md, "Results that travel"). A reader refuses a version above its own.
+FORMAT = "okid.Result"
+FORMAT_VERSION = 1
 
 
 @dataclass(frozen=True)
@@ -27,7 +41,7 @@ class StabilizationOrder:
 class Stabilization:
     """Stabilization diagram data: the modes of orders step, 2 step, ..., max_order from one SVD."""
 
-    def __init__(self, core, max_order: int, step: int):
+    def __init__(self, core: Any, max_order: int, step: int):
         self._core = core
         self.max_order = max_order
         self.step = step
@@ -49,11 +63,41 @@ _FIELDS = tuple(_core.RESULT_SCALARS) + ("A", "B", "C", "D", "G", "singular_valu
 
 
 @dataclass(frozen=True, eq=False)
-class Result(ModeArrays):
+class Result(ModeArrays, StateSpaceModel, Travelling):
     """An identified model: state space, Markov parameters, modes and diagnostics. Immutable; every
     array is a read-only copy that later pushes and identifications leave as it is. A Result keeps
     the workspace of the identifier that made it (okid_workspace_size() bytes) for stabilization():
-    to collect many records, keep the numbers you need rather than the Results."""
+    to collect many records, keep the numbers you need rather than the Results. A pickled, copied
+    or loaded Result (save(), okid.load()) is detached: the same fields and to_dict(), no
+    stabilization().
+
+    Fields (n states, r inputs, m outputs; the model is discrete at dt, in the units of the data):
+
+    - order: n, the realized order [states]
+    - A (n, n) [-], B (n, r) [state / input unit], C (m, n) [output unit / state], D (m, r)
+      [output unit / input unit]: x(k+1) = A x(k) + B u(k), y(k) = C x(k) + D u(k)
+    - G: (n, m) observer gain [state / output unit] with realization="combined", else None
+    - singular_values: the Hankel singular values, decreasing [output unit / input unit]
+    - markov: [Y_0 Y_1 ... Y_L] (m, r (L + 1)), eq. 51 [output unit / input unit]
+    - observer_gain_markov: [Y°_1 ... Y°_L] (m, m L) [-] with realization="combined", else None
+    - dt: the model's sample interval [s] (decimation times the data's)
+    - samples: samples accepted; rows: regressor rows in the least squares [counts]
+    - regressor_rank, regressor_columns (q = r + (r + m) p), input_rank (r (p + 1) when
+      persistently exciting), regressor_rank_expected (min(q, r (p + 1) + n)) [counts]
+    - lsq_condition, input_condition, realization_condition (sigma_1 / sigma_n of H(0)): condition
+      numbers [-]
+    - decimation: K [-]; instrument_lags: L of the instrumental estimator, 0 for least squares
+    - input_scales (r,), output_scales (m,): channel RMS with scaling="auto" [the channel's unit], else None
+    - modes: okid.Mode tuple sorted by frequency (frequency_hz [Hz], damping_ratio [-], ...)
+    - warnings: okid.WarningFlag; config: the okid_config used (keyword names)
+    - refinement: the prediction-error refinement (okid.Refinement) or None; start_search: the
+      starts tried with refine=True and no horizon given, else None; start: after a refinement,
+      the OKID/ERA Result it started from (modes and warnings are then the refined ones)
+    - chosen: the settings chosen from the data, each {value, chosen, reason}, and the outputs'
+      band band_hz [Hz] (docs/quality.md section 8), else None; poles: with the order chosen,
+      every pole of the model as okid.Pole (verdict, reason), while modes holds the physical
+      modes as okid.SelectedMode (their spread across orders [Hz, -]), else None
+    """
     order: int                          #: n, the realized order (states)
     A: np.ndarray                       #: (n, n) discrete state matrix
     B: np.ndarray                       #: (n, r)
@@ -81,10 +125,11 @@ class Result(ModeArrays):
     warnings: WarningFlag               #: what deserves a look
     config: Mapping[str, Any]           #: the okid_config used (keyword names and values)
     refinement: Optional[Refinement]    #: the prediction-error refinement (refine=True, refine()), else None
-    _core: Any = field(repr=False)
-    _identifier: Any = field(repr=False)
-    _generation: int = field(repr=False)
+    _core: Any = field(repr=False, default=None)
+    _identifier: Any = field(repr=False, default=None)
+    _generation: int = field(repr=False, default=0)
     _refine_core: Any = field(repr=False, default=None)
+    _document: Optional[Mapping[str, Any]] = field(repr=False, default=None)  # to_dict() of a detached Result
     #: with refine=True and no horizon given: the starts tried ({"chosen": index, "candidates":
     #: [{observer_order, hankel_rows, hankel_cols, state, cost}]}, the JSON's "start_search"), else None
     start_search: Optional[Mapping[str, Any]] = None
@@ -110,24 +155,79 @@ class Result(ModeArrays):
     def to_dict(self) -> Dict[str, Any]:
         """The object ``okid identify --json`` prints for the same data and options, written by the
         CLI's own JSON writer (without the CLI-only "inputs", "outputs" and "elapsed_seconds"), with
-        the "refinement" object of ``--refine`` when this result was refined."""
-        if self._refine_core is not None:
-            # the run's members, OKID/ERA's model as "start", then the refined result's, as okid
-            # identify --refine writes them
-            text = self.start._core.to_json_refined_start() + self._refine_core.to_json() + "\n}\n"
+        the "refinement" object of ``--refine`` when this result was refined. A detached Result
+        (pickled, copied, loaded) gives the object it was detached with."""
+        if self._core is not None:
+            if self._refine_core is not None:
+                # the run's members, OKID/ERA's model as "start", then the refined result's, as okid
+                # identify --refine writes them
+                text = self.start._core.to_json_refined_start() + self._refine_core.to_json() + "\n}\n"
+            else:
+                text = self._core.to_json()
+            out = json.loads(text)
+            if self._auto_json is not None:  # the CLI's members after the model: "chosen", "modes", "poles"
+                out.pop("modes")
+                out["config"]["order"] = self.config["order"]
+                out.update(json.loads("{" + self._auto_json.lstrip().lstrip(",") + "}"))
         else:
-            text = self._core.to_json()
-        out = json.loads(text)
-        if self._auto_json is not None:  # the CLI's members after the model: "chosen", "modes", "poles"
-            out.pop("modes")
-            out["config"]["order"] = self.config["order"]
-            out.update(json.loads("{" + self._auto_json.lstrip().lstrip(",") + "}"))
+            out = copy.deepcopy(_document.thaw_mapping(self._document or {}))
+        out.pop("start_search", None)
         if self.start_search is not None:
             out["start_search"] = json.loads(json.dumps(self.start_search))
         return out
 
+    def _private_state(self) -> Dict[str, Any]:
+        return {"_document": self.to_dict()}
+
+    def save(self, path: Union[str, "os.PathLike[str]"]) -> None:
+        """Write this result to path as JSON (the format FORMAT, version FORMAT_VERSION:
+        docs/python.md, "Results that travel"); okid.load(path) gives it back equal. An existing
+        file is refused (FileExistsError): the caller removes it."""
+        document = self.to_dict()
+        extra = _document.missing(self, document)
+        text = json.dumps({"format": FORMAT, "format_version": FORMAT_VERSION, **document,
+                           **({"python": extra} if extra else {})}, indent=1, allow_nan=False)
+        with open(path, "x", encoding="utf-8") as f:
+            f.write(text + "\n")
+
+    @classmethod
+    def from_dict(cls, document: Mapping[str, Any]) -> "Result":
+        """A detached Result from a JSON object: Result.save()'s, or the CLI's ``okid identify
+        --json`` (with --refine too). Fields the CLI's JSON lacks (observer_gain_markov; a
+        refinement's order, dt, cost) are None, derived or nan."""
+        document = dict(document)
+        fmt = document.pop("format", FORMAT)
+        version = document.pop("format_version", FORMAT_VERSION)
+        if fmt != FORMAT:
+            raise ValueError(f"format = {fmt!r}: okid.load reads {FORMAT!r} files and the JSON of okid identify --json")
+        if isinstance(version, bool) or not isinstance(version, int) or not 1 <= version <= FORMAT_VERSION:
+            raise ValueError(f"format_version = {version!r}: this okid reads versions 1..{FORMAT_VERSION} "
+                             f"(a newer okid wrote the file: upgrade okid)")
+        extra = document.pop("python", {})
+        for name in ("inputs", "outputs", "elapsed_seconds"):  # the CLI's, not the result's
+            document.pop(name, None)
+        # okid identify --refine: the top-level modes and warnings are the refined ones, the model
+        # fields (A..D, diagnostics, singular values) OKID/ERA's under "start", as in Result
+        start_doc = document.get("start")
+        fields = dict(document)
+        if isinstance(start_doc, Mapping):
+            fields.pop("start")
+            fields.update({k: v for k, v in start_doc.items() if k not in ("modes", "warnings", "warning_bits")})
+        extra = dict(extra)
+        start_extra = extra.pop("start", None)
+        values = _document.read(cls, _document.merged(fields, extra), _CLI_FALLBACKS,
+                                aliases={"warnings": "warning_bits"})
+        if isinstance(start_doc, Mapping):
+            refined_only = ("start", "refinement", "std_covariance", "initial_state", "modes", "warnings",
+                            "warning_bits", "A", "B", "C", "D")
+            header = {k: v for k, v in document.items() if k not in refined_only}
+            start = {**header, **start_doc, **({"python": start_extra} if start_extra else {})}
+            values = replace(values, start=cls.from_dict(start))
+        return replace(values, _document=MappingProxyType(document))
+
     def refine(self, u: Any, y: Any, *, max_passes: int = REFINE_DEFAULTS["max_passes"],
-               step_tolerance: float = REFINE_DEFAULTS["step_tolerance"]) -> "Result":
+               step_tolerance: float = REFINE_DEFAULTS["step_tolerance"],
+               progress: Optional[ProgressCallback] = None) -> "Result":
         """This result with its prediction-error refinement over the record (u, y): the same
         arrays this model describes, (N, r) and (N, m), at its sample interval dt (docs/refinement.md).
 
@@ -137,24 +237,29 @@ class Result(ModeArrays):
         step in standard deviations) falls below it (> 0). Returns a new Result whose
         ``refinement`` holds the refined model and its modes with their standard deviations; a
         refinement that stops without converging gives an okid.RefinementWarning.
+
+        The record goes in chunks (some 10-50 ms of work each): Ctrl-C raises KeyboardInterrupt
+        between two, and progress(done, total), when given, is called after each with the samples
+        fed and samples x max_passes.
         """
         if self.decimation > 1:
             raise BadParameterError(f"refine() of a result with decimation = {self.decimation}: the refinement needs "
                                     f"the record at the model's sample interval; identify without decimation",
                                     E_BAD_PARAMETER)
-        return self._refine(u, y, max_passes, step_tolerance, stacklevel=2)
+        return self._refine(u, y, max_passes, step_tolerance, stacklevel=2, progress=progress)
 
-    def _refine(self, u: Any, y: Any, max_passes: Any, step_tolerance: Any, stacklevel: int) -> "Result":
+    def _refine(self, u: Any, y: Any, max_passes: Any, step_tolerance: Any, stacklevel: int,
+                progress: Optional[ProgressCallback] = None) -> "Result":
         passes, tol = check_settings(max_passes, step_tolerance)
         core, refined = _run_refinement((self.A, self.B, self.C, self.D), self.dt, self.config["sensing"], u, y,
-                                        passes, tol)
+                                        passes, tol, progress=progress)
         warn_if_stopped(refined, stacklevel + 1)
         start = self.start if self.start is not None else self
         # the refined modes and their warnings are the result; OKID/ERA's stay in start
         return replace(start, modes=refined.modes, warnings=WarningFlag(refined.warnings), refinement=refined,
                        start=start, _refine_core=core)
 
-    def to_frame(self):
+    def to_frame(self) -> Any:
         """The modes as a pandas DataFrame, one row per mode (needs pandas)."""
         try:
             import pandas as pd
@@ -169,10 +274,39 @@ class Result(ModeArrays):
                       damping_tolerance: float = 0.05, mac_min: float = 0.98) -> Stabilization:
         """Stabilization diagram data for orders step, 2 step, ..., max_order (at most the Hankel
         size), from this result's Markov parameters. Available until the identifier that made this
-        result identifies again or is reset (NotAvailableError afterwards)."""
-        status, core = self._identifier.stabilization(self._generation, int(max_order), int(step),
+        result identifies again or is reset (NotAvailableError afterwards, and for a detached Result)."""
+        if self._identifier is None:
+            raise error_for(E_NOT_AVAILABLE, "stabilization() of a detached Result (pickled, copied or loaded): "
+                                             "identify again for the diagram")
+        max_order, step = integer("max_order", max_order), integer("step", step)
+        status, core = self._identifier.stabilization(self._generation, max_order, step,
                                                       float(frequency_tolerance), float(damping_tolerance),
                                                       float(mac_min))
         check(status, f"stabilization(max_order={max_order}, step={step}) (max_order 1.."
                       f"{len(self.singular_values)}, step 1..max_order; only for the identifier's latest result)")
-        return Stabilization(core, int(max_order), int(step))
+        return Stabilization(core, max_order, step)
+
+
+#: What the CLI's JSON lacks that a Result needs: its refinement's order, dt and cost.
+_CLI_FALLBACKS: _document.Fallbacks = {
+    "Refinement.order": lambda obj, outer: len(obj["A"]),
+    "Refinement.dt": lambda obj, outer: outer["dt"],
+    "Refinement.cost": lambda obj, outer: math.nan,
+    # the residual tests (docs/refinement.md) sit in the CLI's "residual_tests" object, one entry per output
+    "Refinement.whiteness": lambda obj, outer: [o["whiteness"] for o in obj["residual_tests"]["outputs"]],
+    "Refinement.max_autocorrelation": lambda obj, outer: [o["max_autocorrelation"]
+                                                          for o in obj["residual_tests"]["outputs"]],
+    "Refinement.fit_percent": lambda obj, outer: [o["fit_percent"] for o in obj["residual_tests"]["outputs"]],
+    "Refinement.output_warnings": lambda obj, outer: [o["warning_bits"] for o in obj["residual_tests"]["outputs"]],
+    "Refinement.autocorrelation_band": lambda obj, outer: obj["residual_tests"]["autocorrelation_band"],
+}
+
+
+def load(path: Union[str, "os.PathLike[str]"]) -> Result:
+    """The Result a file holds: one Result.save() wrote, or the output of ``okid identify --json``
+    (with or without --refine). Detached: the same fields and to_dict(), no stabilization()."""
+    with open(path, encoding="utf-8") as f:
+        document = json.load(f)
+    if not isinstance(document, dict):
+        raise ValueError(f"{os.fspath(path)}: not a JSON object (okid identify --json or Result.save() writes one)")
+    return Result.from_dict(document)

@@ -4,7 +4,7 @@ continuous state space (paper eq. 6-9), its exact zero-order-hold discretisation
 the discrete simulator. Matrices are ordinary (rows, cols) arrays; time runs along axis 0."""
 from __future__ import annotations
 
-from typing import Optional, Tuple
+from typing import Any, Optional, Tuple
 
 import numpy as np
 
@@ -14,14 +14,14 @@ from ._errors import E_BAD_PARAMETER, E_BAD_SIZE, BadParameterError, BadSizeErro
 __all__ = ["chain_model", "state_space", "discretize_zoh", "simulate", "paper_system"]
 
 
-def _f(a, name: str, shape=None) -> np.ndarray:
+def _f(a: Any, name: str, shape: Optional[Tuple[int, ...]] = None) -> np.ndarray:
     a = np.asfortranarray(np.atleast_2d(np.asarray(a, dtype=np.float64)))
     if shape is not None and a.shape != shape:
         raise BadSizeError(f"{name} has shape {a.shape}, expected {shape}", E_BAD_SIZE)
     return a
 
 
-def chain_model(masses, dampers, springs) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+def chain_model(masses: Any, dampers: Any, springs: Any) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """M, R, K of n masses [kg] in a chain between two walls: damper r_i [N s/m] and spring k_i
     [N/m] join mass i-1 and mass i (the walls are masses 0 and n+1; 0 leaves a link out).
     masses: n values > 0; dampers, springs: n + 1 values >= 0. The paper's system is
@@ -37,7 +37,8 @@ def chain_model(masses, dampers, springs) -> Tuple[np.ndarray, np.ndarray, np.nd
     return mrk
 
 
-def state_space(mass, damping, stiffness, input_matrix, *, acceleration=None, velocity=None, displacement=None):
+def state_space(mass: Any, damping: Any, stiffness: Any, input_matrix: Any, *, acceleration: Any = None,
+                velocity: Any = None, displacement: Any = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Continuous state space (Ac, Bc, C, D) of M x'' + R x' + K x = B2 u, y = Ca x'' + Cv x' + Cd x
     with state [x; x'] (eq. 6-9). input_matrix is B2 (n2, r); the output matrices are (m, n2), any
     of them None (zero), at least one given."""
@@ -61,7 +62,7 @@ def state_space(mass, damping, stiffness, input_matrix, *, acceleration=None, ve
     return mats
 
 
-def discretize_zoh(ac, bc, dt: float) -> Tuple[np.ndarray, np.ndarray]:
+def discretize_zoh(ac: Any, bc: Any, dt: float) -> Tuple[np.ndarray, np.ndarray]:
     """Exact zero-order-hold discretisation: A = e^(Ac dt), B = int_0^dt e^(Ac t) dt Bc (dt in s)."""
     ac = _f(ac, "ac")
     n = ac.shape[0]
@@ -71,7 +72,7 @@ def discretize_zoh(ac, bc, dt: float) -> Tuple[np.ndarray, np.ndarray]:
     return ab
 
 
-def simulate(a, b, c, d, u, x0: Optional[np.ndarray] = None) -> Tuple[np.ndarray, np.ndarray]:
+def simulate(a: Any, b: Any, c: Any, d: Any, u: Any, x0: Optional[Any] = None) -> Tuple[np.ndarray, np.ndarray]:
     """y(k) = C x(k) + D u(k), x(k+1) = A x(k) + B u(k) for u of shape (N, r): returns (y of shape
     (N, m), the final state). x0 is the initial state (zeros if None)."""
     a = _f(a, "A")
@@ -108,7 +109,7 @@ def lift(u, y, factor: int) -> Tuple[np.ndarray, np.ndarray]:
     return lifted
 
 
-def paper_system(dt: float = 0.01, sensing: str = "acceleration"):
+def paper_system(dt: float = 0.01, sensing: str = "acceleration") -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The paper's 2-DOF system (masses 2, 3 kg; dampers 2, 4, 3 N s/m; springs 20, 40, 30 N/m; the
     force on mass 1, both masses measured), discretised exactly: (A, B, C, D)."""
     ac, bc, c, d = _paper_continuous(sensing)
@@ -116,7 +117,7 @@ def paper_system(dt: float = 0.01, sensing: str = "acceleration"):
     return a, b, c, d
 
 
-def _paper_continuous(sensing: str = "acceleration"):
+def _paper_continuous(sensing: str = "acceleration") -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The paper's 2-DOF system in continuous time: (Ac, Bc, C, D)."""
     mass, damping, stiffness = chain_model([2, 3], [2, 4, 3], [20, 40, 30])
     outputs = {sensing: np.eye(2)}

@@ -14,6 +14,7 @@ extern "C" {
 #include "auto_modes.h"
 #include "auto_report.h"
 #include "auto_settings.h"
+#include "config_explain.h"
 #include "json_writer.h"
 #include "okid_fields.h"
 }
@@ -91,6 +92,7 @@ void bind_auto(nb::module_ &m)
             okid_identifier id;
             okid_result res{};
             int status = OKID_OK;
+            char shortfall[512] = "";
             {
                 nb::gil_scoped_release release;
                 auto_band band{}, input_band{};
@@ -102,6 +104,10 @@ void bind_auto(nb::module_ &m)
                 choice.given = given;
                 size_t bytes = 0;
                 status = okid_workspace_size(&cfg, &bytes);
+                /* the data's sufficiency before any workspace (the CLI's rule) */
+                if (status == OKID_OK && config_data_shortfall(&cfg, n, shortfall, sizeof shortfall)) {
+                    status = OKID_E_NOT_ENOUGH_DATA;
+                }
                 if (status == OKID_OK && cfg.order == 0) {
                     am.reset(static_cast<auto_modes *>(std::calloc(1, sizeof(auto_modes))));
                     if (!am) throw std::bad_alloc();
@@ -124,6 +130,9 @@ void bind_auto(nb::module_ &m)
             settings["hankel_rows"] = cfg.hankel_rows;
             settings["hankel_cols"] = cfg.hankel_cols;
             settings["order"] = cfg.order;
+            if (status == OKID_E_NOT_ENOUGH_DATA && shortfall[0] != '\0') {
+                return nb::make_tuple(status, settings, nb::str(shortfall), nb::none(), nb::none());
+            }
             if (status != OKID_OK) return nb::make_tuple(status, settings, nb::none(), nb::none(), nb::none());
             nb::str json = write_to_string(
                 [&](FILE *out) { auto_json(out, &choice, (double)cfg.dt, am.get(), &res, outputs); });

@@ -11,6 +11,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
+#include <algorithm>
 #include <complex>
 #include <cstddef>
 #include <cstdlib>
@@ -80,6 +81,43 @@ template <class Writer> nb::str write_to_string(Writer &&write)
 
 // An okid_config from the dict of its fields (okid/_config.py makes it).
 okid_config config_from_dict(const nb::dict &d);
+// The work a long call hands to the library between two looks at Python, in multiply-adds: some
+// 10-50 ms (docs/python.md, "Long calls"), short enough for Ctrl-C, long enough to cost nothing.
+constexpr double CHUNK_WORK = 67108864.0;  // 2^26
+
+// Rows per chunk for a cost of work_per_row multiply-adds a row: 16384 for the paper's fold (a
+// 63-wide factor), fewer for wider problems, at least 64.
+inline size_t chunk_rows(double work_per_row)
+{
+    const double rows = CHUNK_WORK / (work_per_row > 1.0 ? work_per_row : 1.0);
+    return rows < 64.0 ? 64 : rows > 16384.0 ? 16384 : (size_t)rows;
+}
+
+// feed(first, count) over rows [0, total) in chunks of `chunk` rows with the GIL released. Between
+// chunks, with the GIL held, a pending signal raises (KeyboardInterrupt for Ctrl-C: nb::python_error)
+// and progress(offset + done, grand_total) is called when progress is not None. feed returns an
+// okid_status; OKID_E_NONFINITE_SAMPLE (rows rejected, the rest taken) does not stop the feed, any
+// other failure does. Returns the first failure, else the last non-OK status, else OKID_OK.
+template <class Feed>
+int feed_in_chunks(size_t total, size_t chunk, const nb::object &progress, size_t offset, size_t grand_total,
+                   Feed &&feed)
+{
+    int status = OKID_OK;
+    for (size_t done = 0; done < total;) {
+        const size_t count = std::min(chunk, total - done);
+        int s;
+        {
+            nb::gil_scoped_release release;
+            s = feed(done, count);
+        }
+        if (s != OKID_OK) status = s;
+        if (s != OKID_OK && s != OKID_E_NONFINITE_SAMPLE) return s;
+        done += count;
+        if (PyErr_CheckSignals() != 0) throw nb::python_error();
+        if (!progress.is_none()) progress(offset + done, grand_total);
+    }
+    return status;
+}
 
 void bind_identifier(nb::module_ &m);
 void bind_host(nb::module_ &m);

@@ -308,18 +308,27 @@ void bind_identifier(nb::module_ &m)
         .def_prop_ro("generation", [](const IdentifierCore &self) { return self.generation; })
         .def(
             "push_block",
-            [](IdentifierCore &self, CBlock u, CBlock y) {
+            [](IdentifierCore &self, CBlock u, CBlock y, nb::object progress) {
                 UseGuard guard(self.busy);
                 if (!guard.acquired()) return nb::make_tuple(STATUS_BUSY, (size_t)0);
                 size_t accepted = 0;
-                int s;
-                {
-                    nb::gil_scoped_release release;
-                    s = okid_push_block(&self.id, u.shape(0), u.data(), u.shape(1), y.data(), y.shape(1), &accepted);
-                }
+                const size_t r = u.shape(1), mo = y.shape(1);
+                // in chunks: Ctrl-C raises between two (the rows pushed so far stay pushed); a row's
+                // fold costs about w^2 multiply-adds, w = r + (r + m) p + m the factor's width
+                const double w = (double)(r + (r + mo) * (size_t)self.cfg.observer_order + mo);
+                const int s = feed_in_chunks(u.shape(0), chunk_rows(w * w), progress, 0, u.shape(0),
+                                             [&](size_t first, size_t count) {
+                    size_t taken = 0;
+                    const int st = okid_push_block(&self.id, count, u.data() + first * r, r, y.data() + first * mo,
+                                                   mo, &taken);
+                    accepted += taken;
+                    return st;
+                });
                 return nb::make_tuple(s, accepted);
             },
-            "okid_push_block on a (count, r) and a (count, m) C-contiguous block, no copy: (status, accepted).")
+            nb::arg("u"), nb::arg("y"), nb::arg("progress").none() = nb::none(),
+            "okid_push_block on a (count, r) and a (count, m) C-contiguous block, no copy, in chunks of chunk_rows() "
+            "rows with signals checked and progress(done, count) called between them: (status, accepted).")
         .def("push",
              [](IdentifierCore &self, CVector u, CVector y) {
                  UseGuard guard(self.busy);

@@ -2,6 +2,8 @@
 // okid._core model functions: the chain model, the mechanical model's state space, the exact ZOH
 // and the simulator of lib/include/okid/model.h. Matrices come in column-major (okid/_model.py
 // converts), results go out as C-order numpy arrays.
+#include <algorithm>
+
 #include "binding.h"
 
 #include <nanobind/stl/optional.h>
@@ -58,10 +60,12 @@ void bind_model(nb::module_ &m)
     m.def("simulate", [](FMatrix a, FMatrix b, FMatrix c, FMatrix d, CBlock u, CVector x0) {
         const int n = (int)a.shape(0), r = (int)b.shape(1), mo = (int)c.shape(0);
         const size_t count = u.shape(0);
-        std::vector<double> x(x0.data(), x0.data() + n), tmp((size_t)n), y(count * (size_t)mo);
+        std::vector<double> x((size_t)n), tmp((size_t)n), y(count * (size_t)mo);
         okid_simulator sim;
         int s = okid_simulator_init(&sim, n, r, mo, a.data(), b.data(), c.data(), d.data(), x.data(), tmp.data());
         if (s == OKID_OK) {
+            std::copy(x0.data(), x0.data() + n, x.begin());  // after init, which zeroes the state
+
             nb::gil_scoped_release release;
             s = okid_simulate(&sim, count, u.data(), (size_t)r, y.data(), (size_t)mo);
         }

@@ -121,7 +121,7 @@ void bind_refine(nb::module_ &m)
     m.def(
         "refine",
         [](CMatrix a, CMatrix b, CMatrix c, CMatrix d, double dt, int sensing, CMatrix u, CMatrix y,
-           int max_passes, double step_tolerance, std::optional<CVector> noise_std) {
+           int max_passes, double step_tolerance, std::optional<CVector> noise_std, nb::object progress) {
             const int n = (int)a.shape(0), r = (int)b.shape(1), mo = (int)c.shape(0);
             auto core = std::make_unique<RefineCore>();
             core->m = mo;
@@ -147,22 +147,33 @@ void bind_refine(nb::module_ &m)
                 s = okid_refine_init(&core->rf, &core->cfg, &start, (okid_sensing)sensing, core->ws.get(), bytes,
                                      nullptr);
                 if (s == OKID_OK && noise_std) s = okid_refine_set_noise(&core->rf, noise_std->data());
-                // the caller's (count, r) and (count, m) arrays are the record: one block per pass
-                while (s == OKID_OK && state == OKID_REFINE_NEED_PASS) {
-                    s = okid_refine_begin_pass(&core->rf);
-                    if (s == OKID_OK)
-                        s = okid_refine_push_block(&core->rf, u.shape(0), u.data(), u.shape(1), y.data(), y.shape(1));
-                    if (s == OKID_OK) s = okid_refine_end_pass(&core->rf, &state);
-                }
-                if (s == OKID_OK) s = okid_refine_get_result(&core->rf, &core->out);
             }
+            // the caller's (count, r) and (count, m) arrays are the record: fed once per pass in chunks,
+            // Ctrl-C raising between two; progress sees samples fed over samples x max_passes
+            const size_t count = u.shape(0), ru = u.shape(1), my = y.shape(1);
+            // a sample's sensitivities and Gauss-Newton sums cost about P^2 m multiply-adds, P the parameters
+            const double params = (double)n * (double)(r + mo + 1) + (double)mo * (double)r;
+            const size_t chunk = chunk_rows(params * params * (double)mo);
+            for (int pass = 0; s == OKID_OK && state == OKID_REFINE_NEED_PASS; ++pass) {
+                s = okid_refine_begin_pass(&core->rf);
+                if (s == OKID_OK)
+                    s = feed_in_chunks(count, chunk, progress, (size_t)pass * count, (size_t)max_passes * count,
+                                       [&](size_t first, size_t rows) {
+                                           return (int)okid_refine_push_block(&core->rf, rows, u.data() + first * ru,
+                                                                              ru, y.data() + first * my, my);
+                                       });
+                if (s == OKID_OK) s = okid_refine_end_pass(&core->rf, &state);
+            }
+            if (s == OKID_OK) s = okid_refine_get_result(&core->rf, &core->out);
             if (s != OKID_OK) return nb::make_tuple(s, nb::none());
             return nb::make_tuple(s, nb::cast(core.release(), nb::rv_policy::take_ownership));
         },
         nb::arg("a"), nb::arg("b"), nb::arg("c"), nb::arg("d"), nb::arg("dt"), nb::arg("sensing"), nb::arg("u"),
         nb::arg("y"), nb::arg("max_passes"), nb::arg("step_tolerance"), nb::arg("noise_std").none(),
+        nb::arg("progress").none() = nb::none(),
         "okid_refine_init from (A, B, C, D, dt), okid_refine_set_noise when noise_std is given, then passes over "
-        "(u, y) until the state is not NEED_PASS: (status, RefineCore).");
+        "(u, y) until the state is not NEED_PASS, in chunks (Ctrl-C raises between two, progress(done, "
+        "max_passes count) is called after each): (status, RefineCore).");
 }
 
 }  // namespace okid_py

@@ -109,8 +109,9 @@ def test_keywords_are_the_okid_config_fields():
     keyword_only = [n for n, p in params.items() if p.kind is p.KEYWORD_ONLY]
     assert [f for f in fields if f not in ("num_inputs", "num_outputs", "dt")] == keyword_only[:len(fields) - 3]
     assert list(params)[:3] == ["u", "y", "dt"]
-    # the okid_config fields, then okid_refine_config's behind refine (docs/cli.md)
-    assert keyword_only == list(okid.OPTION_NAMES) + ["refine", "max_passes", "step_tolerance"]
+    # the okid_config fields, then okid_refine_config's behind refine (docs/cli.md), then the
+    # progress callback of a long call (no setting)
+    assert keyword_only == list(okid.OPTION_NAMES) + ["refine", "max_passes", "step_tolerance", "progress"]
     text = header_with(r"typedef struct okid_refine_config\s*\{")
     body = re.search(r"typedef struct okid_refine_config\s*\{(.*?)\}\s*okid_refine_config;", text, re.S).group(1)
     assert re.findall(r"(\w+)\s*;", re.sub(r"/\*.*?\*/", "", body, flags=re.S)) == ["max_passes", "step_tolerance"]
@@ -552,13 +553,14 @@ def test_to_frame_and_stabilization():
 # top of the file or inside a function alike), so the graph has no cycle and no arrow back up.
 PACKAGE_LAYERS = {
     "_core": 0,
-    "_errors": 1,
+    "_errors": 1, "_document": 1,
     "_config": 2, "model": 2, "_mode": 2,
-    "_refine": 3, "_record": 3,
-    "_result": 4, "_start_search": 4,
-    "_identifier": 5,
-    "__init__": 6,
-    "tools": 7, "fleet": 7,  # the user tools, on top of the package
+    "_statespace": 3,
+    "_refine": 4, "_record": 4,
+    "_result": 5, "_start_search": 5,
+    "_identifier": 6, "plot": 6,
+    "__init__": 7,
+    "tools": 8, "fleet": 8,  # the user tools, on top of the package
 }
 
 

@@ -21,6 +21,7 @@ import re
 import sys
 import zipfile
 from pathlib import Path
+from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Tuple
 
 CONFIG_NAME = "okid_identifier.cfg"
 LOG_CATEGORIES = [("logEvents", "identifications and other events"),
@@ -29,12 +30,12 @@ LOG_CATEGORIES = [("logEvents", "identifications and other events"),
                   ("logAll", "everything")]
 
 
-def packaged_fmu_dir():
+def packaged_fmu_dir() -> Path:
     """The FMUs the wheel carries (okid/fmu: fmi2/ and fmi3/, written by scripts/wheel.sh)."""
     return Path(__file__).resolve().parent.parent / "fmu"
 
 
-def default_base():
+def default_base() -> Path:
     """The prebuilt FMI 2 identifier: $OKID_FMU_DIR/fmi2, the wheel's okid/fmu/fmi2, an installed
     share/okid/fmu/fmi2, or the build tree."""
     candidates = []
@@ -53,23 +54,23 @@ def fnv1a(data: bytes) -> int:
     return h
 
 
-def c_double(x):
+def c_double(x: float) -> str:
     """printf("%.17g") of a double (Python's formatting is correctly rounded, as glibc's is)."""
     return "%.17g" % x
 
 
-def escape(text):
+def escape(text: str) -> str:
     return text.replace("&", "&amp;").replace('"', "&quot;").replace("<", "&lt;").replace(">", "&gt;")
 
 
-def config_text(values):
+def config_text(values: Sequence[Tuple[str, Any]]) -> str:
     """The resources configuration: one 'name value' line per setting, in table order."""
     lines = [f"{name} {c_double(value) if isinstance(value, float) else value}" for name, value in values]
     return "# okid identifier FMU configuration (written by okid-fmu; the GUID binds it)\n" + "\n".join(lines) + "\n"
 
 
-def parse_config(text):
-    values = {}
+def parse_config(text: str) -> Dict[str, float]:
+    values: Dict[str, float] = {}
     for line in text.splitlines():
         fields = line.split()
         if fields and not fields[0].startswith("#"):
@@ -80,15 +81,15 @@ def parse_config(text):
 class Table:
     """The identifier's variable table (model_variables.json) with a configuration applied."""
 
-    def __init__(self, table, config=""):
+    def __init__(self, table: Dict[str, Any], config: str = ""):
         self.table = table
-        self.vars = table["variables"]
-        self.values = {v["name"]: v["start"] for v in self.vars if v["start"] is not None}
+        self.vars: List[Dict[str, Any]] = table["variables"]
+        self.values: Dict[str, Any] = {v["name"]: v["start"] for v in self.vars if v["start"] is not None}
         for name, value in parse_config(config).items():
             self.values[name] = value
-        self.hash = fnv1a(config.encode()) if config else 0
+        self.hash: int = fnv1a(config.encode()) if config else 0
 
-    def size(self, v):
+    def size(self, v: Dict[str, Any]) -> int:
         if not v["dims"]:
             return 1
         n = 1
@@ -96,7 +97,7 @@ class Table:
             n *= d if isinstance(d, int) else int(self.values[d])
         return n
 
-    def flat(self):
+    def flat(self) -> Iterator[Tuple[Dict[str, Any], int, str]]:
         """(variable, element index, FMI 2 name) in value-reference order."""
         for v in self.vars:
             size = self.size(v)
@@ -110,13 +111,13 @@ class Table:
                 indices = iter([e // max(inner, 1) + 1, e % max(inner, 1) + 1])
                 yield v, e, re.sub("%d", lambda _: str(next(indices)), v["flat_name"])
 
-    def token(self):
+    def token(self) -> str:
         s = {k: int(self.values[k]) for k in ("num_inputs", "num_outputs", "max_modes", "num_singular_values")}
         base = f"okid-identifier-{self.table['generation_tool'].split()[-1]}"
         core = f"{base}-r{s['num_inputs']}-m{s['num_outputs']}-modes{s['max_modes']}-sv{s['num_singular_values']}"
         return "{" + core + (f"-config{self.hash:08x}" if self.hash else "") + "}"
 
-    def start_text(self, v):
+    def start_text(self, v: Dict[str, Any]) -> str:
         value = self.values.get(v["name"], 0.0)
         if v["type"] == "real":
             return c_double(float(value))
@@ -124,7 +125,7 @@ class Table:
             return "true" if value else "false"
         return "%d" % int(value)
 
-    def range_text(self, v):
+    def range_text(self, v: Dict[str, Any]) -> str:
         out = ""
         for key in ("min", "max"):
             x = v[key]
@@ -132,7 +133,7 @@ class Table:
                 out += f' {key}="{c_double(x) if v["type"] == "real" else "%.0f" % x}"'
         return out
 
-    def fmi2(self, sources):
+    def fmi2(self, sources: Sequence[str]) -> str:
         t = self.table
         xml = ['<?xml version="1.0" encoding="UTF-8"?>',
                f'<fmiModelDescription fmiVersion="2.0" modelName="{escape(t["model"])}" '
@@ -229,7 +230,7 @@ def check_identifier_config(values):
     return None if status == 0 else message
 
 
-def generate(base, out, settings):
+def generate(base: Any, out: Any, settings: Sequence[Tuple[str, Any]]) -> str:
     """Writes the FMU `out` from the prebuilt FMI 2 FMU `base` for settings [(name, value), ...]
     (structural parameters and parameter defaults); returns the modelDescription text."""
     with zipfile.ZipFile(base) as z:
@@ -270,8 +271,8 @@ def generate(base, out, settings):
     return text
 
 
-def enumeration(items):
-    def parse(text):
+def enumeration(items: Sequence[str]) -> Callable[[str], int]:
+    def parse(text: str) -> int:
         if text in items:
             return items.index(text)
         if text.isdigit() and int(text) < len(items):
@@ -280,7 +281,7 @@ def enumeration(items):
     return parse
 
 
-def main(argv=None):
+def main(argv: Optional[Sequence[str]] = None) -> int:
     pre = argparse.ArgumentParser(add_help=False)
     pre.add_argument("--base", type=Path, default=None)
     known, _ = pre.parse_known_args(argv)

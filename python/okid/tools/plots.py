@@ -6,6 +6,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from pathlib import Path  # noqa: E402
+from typing import Any, Optional  # noqa: E402
 
 import okid  # noqa: E402
 
@@ -18,7 +20,7 @@ def _identified(t, force, y):
     return res.markov.T, res.singular_values
 
 
-def paper_plots(folder, ref, cs, noisy, noisy_ref, cli=None):
+def paper_plots(folder: Path, ref: Any, cs: Any, noisy: Any, noisy_ref: Any, cli: Optional[Any] = None) -> None:
     """The paper's figures in folder; with cli (tests/python/verify_fmu.py --cli) also okid's identified Markov
     parameters, which now come from the okid package in-process."""
     folder.mkdir(parents=True, exist_ok=True)

@@ -20,6 +20,7 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import matplotlib
 
@@ -34,7 +35,7 @@ KINDS = {  # kind: (marker, size, label)
 }
 
 
-def load(source):
+def load(source: Union[Dict[str, Any], str, Path]) -> Dict[str, Any]:
     """The result dict of ``okid identify --json``: from a dict, a path, or '-' (standard input)."""
     if isinstance(source, dict):
         return source
@@ -43,14 +44,14 @@ def load(source):
     return json.loads(Path(source).read_text())
 
 
-def classify(pole):
+def classify(pole: Dict[str, Any]) -> str:
     """'stable', 'frequency' or 'new' from the library's flags of one pole of the diagram."""
     if pole["stable_frequency"] and pole["stable_damping"] and pole["stable_shape"]:
         return "stable"
     return "frequency" if pole["stable_frequency"] else "new"
 
 
-def poles(result, max_frequency=None):
+def poles(result: Dict[str, Any], max_frequency: Optional[float] = None) -> List[Tuple[int, float, float, str, float]]:
     """(order, frequency_hz, damping_ratio, kind, cmi) of every oscillating pole of the diagram."""
     if "stabilization" not in result:
         raise ValueError("no 'stabilization' in the result: run okid identify with --stabilization NMAX")
@@ -63,7 +64,8 @@ def poles(result, max_frequency=None):
     return rows
 
 
-def plot_stabilization(source, png, max_frequency=None, min_cmi=0.5, title=None):
+def plot_stabilization(source: Union[Dict[str, Any], str, Path], png: Union[str, Path],
+                       max_frequency: Optional[float] = None, min_cmi: float = 0.5, title: Optional[str] = None) -> Path:
     """Draw the diagram of ``source`` (see load) into ``png``; returns the path written."""
     result = load(source)
     rows = poles(result, max_frequency)
@@ -93,7 +95,7 @@ def plot_stabilization(source, png, max_frequency=None, min_cmi=0.5, title=None)
     return png
 
 
-def main(argv=None):
+def main(argv: Optional[Sequence[str]] = None) -> int:
     parser = argparse.ArgumentParser(description="Stabilization diagram PNG from okid identify --json --stabilization.")
     parser.add_argument("json", help="the JSON file ('-' reads standard input)")
     parser.add_argument("--output", "-o", default="stabilization.png", help="PNG to write (default stabilization.png)")
