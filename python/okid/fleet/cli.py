@@ -86,11 +86,11 @@ def _parser() -> argparse.ArgumentParser:
                    "--covariates, enough to span their range)")
     t.add_argument("--covariates", default="", metavar="NAMES",
                    help="covariates (identified with --covariates) regressed out of the frequencies over the baseline")
-    t.add_argument("--ewma-lambda", type=float, default=0.25, help="weight of the newest record in the EWMA chart "
-                   "(default 0.25)")
-    t.add_argument("--ewma-limit", type=float, default=3.0,
-                   help="the chart's limit in EWMA standard deviations (default 3: about 500 records between false "
-                   "alarms)")
+    t.add_argument("--ewma-lambda", type=float, default=0.2, help="weight of the newest record in the EWMA chart "
+                   "(default 0.2)")
+    t.add_argument("--ewma-limit", type=float, default=3.5,
+                   help="the chart's limit in EWMA standard deviations (default 3.5: about 2900 records between "
+                   "false alarms)")
     t.add_argument("--alarms", help="also write the alarms table (CSV)")
 
     s = sub.add_parser("synth", help="write a synthetic fleet (okid's simulator) and its exact modes")

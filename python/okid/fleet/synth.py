@@ -101,11 +101,13 @@ def synthesize(out_dir: str, spec: FleetSpec = FleetSpec()) -> dict:
                 loss = spec.stiffness_loss * j / max(spec.records - 1, 1)
             springs = springs_asset.copy()
             springs[0] *= 1 - loss
-            # temperature in [10, 30] degC; every stiffness scales by (1 + swing tau)^2, so every
-            # frequency (proportional to the square root of stiffness) by 1 + swing tau, tau in [-1, 1]
+            # temperature in [10, 30] degC, tau = (T - 20) / 10 in [-1, 1]: the springs scale by
+            # (1 + swing tau)^2 and the dampers by 1 + swing tau, so every eigenvalue of the chain
+            # scales by exactly 1 + swing tau (frequencies linear in T, damping ratios unchanged)
             temperature = 20.0 + 10.0 * np.sin(2 * np.pi * j / spec.temperature_period + phase)
-            springs *= (1 + spec.temperature_swing * (temperature - 20.0) / 10.0) ** 2
-            mass_m, damp_m, stiff_m = model.chain_model(masses, dampers, springs)
+            scale = 1 + spec.temperature_swing * (temperature - 20.0) / 10.0
+            springs *= scale ** 2
+            mass_m, damp_m, stiff_m = model.chain_model(masses, dampers * scale, springs)
             b2 = np.zeros((spec.masses, 1))
             b2[0, 0] = 1.0
             ac, bc, c, d = model.state_space(mass_m, damp_m, stiff_m, b2, acceleration=np.eye(spec.masses))

@@ -41,8 +41,8 @@ class TrackOptions:
     drift_min: float = 0.005           #: relative frequency change reported as drift (0.5 %)
     baseline_records: int = 5          #: the first records of an asset that make its reference
     covariates: Tuple[str, ...] = ()   #: covariates regressed out of the frequencies (monitor.py)
-    ewma_lambda: float = 0.25          #: the EWMA chart's weight of the newest record
-    ewma_limit: float = 3.0            #: its limit, in asymptotic EWMA standard deviations (ARL0 ~ 500)
+    ewma_lambda: float = 0.2           #: the EWMA chart's weight of the newest record
+    ewma_limit: float = 3.5            #: its limit, in asymptotic EWMA standard deviations (ARL0 ~ 2900)
 
 
 def mac(a: np.ndarray, b: np.ndarray) -> float:
