@@ -13,8 +13,10 @@ from .job import FleetError, Interrupted, Summary, identify_fleet, read_modes, r
 from .records import ChannelSpec, RecordError, RecordRef, discover, read
 from .rows import identify_record
 from .synth import FleetSpec, synthesize
+from . import monitor
 from .track import TrackOptions, drift_summary, mac, track
+from .track import alarms as track_alarms
 
 __all__ = ["identify_fleet", "read_modes", "records_done", "Summary", "FleetError", "Interrupted",
            "ChannelSpec", "RecordRef", "RecordError", "discover", "read", "identify_record",
-           "FleetSpec", "synthesize", "track", "drift_summary", "TrackOptions", "mac"]
+           "FleetSpec", "synthesize", "track", "drift_summary", "track_alarms", "TrackOptions", "mac", "monitor"]

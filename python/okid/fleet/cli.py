@@ -11,7 +11,8 @@ import argparse
 import sys
 from typing import List, Optional
 
-EXIT_OK, EXIT_ERROR, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
+EXIT_OK, EXIT_ERROR, EXIT_USAGE, EXIT_FAILED_RECORDS, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
+MAX_FAILED_FRACTION = 0.5  # more records failed than this (or all of them): the job did not work
 
 
 def _flag(name: str) -> str:
@@ -36,6 +37,13 @@ def _add_okid_options(p: argparse.ArgumentParser) -> None:
     c.add_argument("--inputs", default="1", help="input columns: a count or comma-separated names (default 1)")
     c.add_argument("--outputs", default=None, help="output columns: a count or names (default: the rest)")
     c.add_argument("--dt", type=float, default=None, help="sample interval [s] of CSV files without a time column")
+    c.add_argument("--covariates", default="", metavar="NAMES",
+                   help="comma-separated columns that are no channel (temperature, load): their mean per record "
+                   "goes to the table, for okid-fleet track --covariates")
+
+
+def _names(text: str) -> tuple:
+    return tuple(n.strip() for n in text.split(",") if n.strip())
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -48,14 +56,23 @@ def _parser() -> argparse.ArgumentParser:
                    help="CSV files, globs, folders of CSV files, Parquet files or folders")
     i.add_argument("--out", required=True, help="output folder of Parquet parts (e.g. modes.parquet)")
     i.add_argument("--scheduler", help="tcp://HOST:PORT of a running Dask scheduler (default: a local cluster)")
+    i.add_argument("--scheduler-file", help="the JSON file a running Dask scheduler wrote (dask scheduler "
+                   "--scheduler-file)")
+    i.add_argument("--connect-timeout", type=float, default=20.0,
+                   help="seconds a scheduler may take to answer (default 20)")
+    i.add_argument("--max-failed-fraction", type=float, default=MAX_FAILED_FRACTION,
+                   help=f"exit with status {EXIT_FAILED_RECORDS} when more than this fraction of the records "
+                   f"failed, or all of them (default {MAX_FAILED_FRACTION})")
     i.add_argument("--workers", type=int, help="local worker processes (default: one per core)")
     i.add_argument("--batch-size", type=int, help="records per task (default: about 4 tasks per worker, <= 50)")
-    i.add_argument("--resume", action="store_true", help="skip the records already in --out")
-    i.add_argument("--overwrite", action="store_true", help="replace an existing --out")
+    i.add_argument("--resume", action="store_true",
+                   help="skip the records already in --out (refused when --out was written with other settings)")
+    i.add_argument("--overwrite", action="store_true",
+                   help="remove the parts of an earlier job in --out first (only the files okid-fleet wrote)")
     i.add_argument("--quiet", action="store_true", help="no progress")
     _add_okid_options(i)
 
-    t = sub.add_parser("track", help="match each asset's modes to its reference over time")
+    t = sub.add_parser("track", help="match each asset's modes to its baseline over time, robust trends")
     t.add_argument("modes", help="the output of okid-fleet identify")
     t.add_argument("--out", required=True, help="the track table (Parquet file)")
     t.add_argument("--plot", help="draw frequencies and damping ratios against time (PNG)")
@@ -64,6 +81,17 @@ def _parser() -> argparse.ArgumentParser:
     t.add_argument("--frequency-tolerance", type=float, default=0.05, help="relative (default 0.05)")
     t.add_argument("--mac-min", type=float, default=0.9, help="least MAC to the reference shape (default 0.9)")
     t.add_argument("--drift-min", type=float, default=0.005, help="relative change called drift (default 0.005)")
+    t.add_argument("--baseline-records", type=int, default=5,
+                   help="the first records of each asset whose median modes are the reference (default 5; with "
+                   "--covariates, enough to span their range)")
+    t.add_argument("--covariates", default="", metavar="NAMES",
+                   help="covariates (identified with --covariates) regressed out of the frequencies over the baseline")
+    t.add_argument("--ewma-lambda", type=float, default=0.2, help="weight of the newest record in the EWMA chart "
+                   "(default 0.2)")
+    t.add_argument("--ewma-limit", type=float, default=3.5,
+                   help="the chart's limit in EWMA standard deviations (default 3.5: about 2900 records between "
+                   "false alarms)")
+    t.add_argument("--alarms", help="also write the alarms table (CSV)")
 
     s = sub.add_parser("synth", help="write a synthetic fleet (okid's simulator) and its exact modes")
     s.add_argument("--out", required=True, help="folder: records/ and truth.parquet go there")
@@ -78,6 +106,11 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--interval-minutes", type=float, default=10.0)
     s.add_argument("--seed", type=int, default=1)
     s.add_argument("--format", choices=("parquet", "csv"), default="parquet")
+    s.add_argument("--damage-start", type=int, help="the record from which the stiffness loss is whole (default: a "
+                   "ramp over all records)")
+    s.add_argument("--temperature-swing", type=float, default=0.0,
+                   help="relative frequency swing by a temperature cycle, e.g. 0.02 (default 0: no temperature)")
+    s.add_argument("--temperature-period", type=int, default=24, help="records per temperature cycle (default 24)")
     return p
 
 
@@ -88,11 +121,18 @@ def _identify(a) -> int:
     from .records import ChannelSpec, RecordError
 
     options = {name: getattr(a, name) for name in okid.OPTION_NAMES if getattr(a, name) is not None}
+    if a.scheduler and a.scheduler_file:
+        print("okid-fleet: --scheduler and --scheduler-file name the same thing: give one", file=sys.stderr)
+        return EXIT_USAGE
+    if not 0 <= a.max_failed_fraction <= 1:
+        print(f"okid-fleet: --max-failed-fraction {a.max_failed_fraction}: a fraction in [0, 1]", file=sys.stderr)
+        return EXIT_USAGE
     try:
         summary = identify_fleet(a.records, a.out, options=options,
-                                 channels=ChannelSpec(a.inputs, a.outputs, a.dt), scheduler=a.scheduler,
-                                 workers=a.workers, batch_size=a.batch_size, resume=a.resume,
-                                 overwrite=a.overwrite, progress=None if a.quiet else sys.stderr)
+                                 channels=ChannelSpec(a.inputs, a.outputs, a.dt, _names(a.covariates)), scheduler=a.scheduler,
+                                 scheduler_file=a.scheduler_file, workers=a.workers, batch_size=a.batch_size,
+                                 resume=a.resume, overwrite=a.overwrite, connect_timeout=a.connect_timeout,
+                                 progress=None if a.quiet else sys.stderr)
     except Interrupted as exc:
         print(f"okid-fleet: {exc}", file=sys.stderr)
         return EXIT_INTERRUPTED
@@ -103,26 +143,35 @@ def _identify(a) -> int:
     print(f"okid-fleet: {summary.records} records identified ({summary.failed} failed, {summary.skipped} already "
           f"done) in {summary.seconds:.2f} s on {summary.workers} worker(s), {rate:.1f} records/s, "
           f"{summary.batches} tasks; {summary.rows} rows in {a.out}")
+    for status, count, message in summary.failures:
+        print(f"  {count} {status}, e.g. {message}")
+    if summary.too_many_failed(a.max_failed_fraction):
+        print(f"okid-fleet: {summary.failed} of {summary.records} records failed (more than "
+              f"{100 * a.max_failed_fraction:g} % or all): the job did not work", file=sys.stderr)
+        return EXIT_FAILED_RECORDS
     return EXIT_OK
 
 
 def _track(a) -> int:
     from .job import read_modes
     from .plot import plot_tracks
-    from .track import TrackOptions, track
+    from .track import TrackOptions, alarms, track
 
     modes = read_modes(a.modes)
     if modes.empty:
         print(f"okid-fleet: {a.modes} holds no rows", file=sys.stderr)
         return EXIT_ERROR
     try:
-        tracks, summary = track(modes, TrackOptions(a.frequency_tolerance, a.mac_min, a.drift_min), a.asset)
+        tracks, summary = track(modes, TrackOptions(a.frequency_tolerance, a.mac_min, a.drift_min, a.baseline_records,
+                                                    _names(a.covariates), a.ewma_lambda, a.ewma_limit), a.asset)
     except ValueError as exc:
         print(f"okid-fleet: {exc}", file=sys.stderr)
         return EXIT_ERROR
     tracks.to_parquet(a.out, index=False)
     if a.summary:
         summary.to_csv(a.summary, index=False)
+    if a.alarms:
+        alarms(tracks).to_csv(a.alarms, index=False)
     if a.plot:
         plot_tracks(tracks, summary, a.plot, a.asset)
     with_drift = summary[summary["drift"]]
@@ -131,7 +180,8 @@ def _track(a) -> int:
     for _, r in summary.iterrows():
         print(f"  {r['asset']} mode {r['mode']}: {r['reference_frequency_hz']:.4f} Hz, change "
               f"{100 * r['frequency_change']:+.2f} % (+- {100 * r['change_stderr']:.2f}) over {r['records']} "
-              f"records{'  DRIFT' if r['drift'] else ''}")
+              f"records{'  DRIFT' if r['drift'] else ''}"
+              + (f"  ALARM from {r['first_alarm']} ({r['alarms']} records)" if r["alarms"] else ""))
     return EXIT_OK
 
 
@@ -140,7 +190,8 @@ def _synth(a) -> int:
 
     spec = FleetSpec(assets=a.assets, records=a.records, damaged=a.damaged, stiffness_loss=a.stiffness_loss,
                      masses=a.masses, samples=a.samples, dt=a.dt, noise=a.noise,
-                     interval_minutes=a.interval_minutes, seed=a.seed, fmt=a.format)
+                     interval_minutes=a.interval_minutes, seed=a.seed, fmt=a.format, damage_start=a.damage_start,
+                     temperature_swing=a.temperature_swing, temperature_period=a.temperature_period)
     try:
         info = synthesize(a.out, spec)
     except ValueError as exc:

@@ -3,31 +3,37 @@
 of the Parquet output.
 
 No scheduler given: a LocalCluster of single-threaded worker processes, one per core (the nanny
-sets OMP/OPENBLAS/MKL_NUM_THREADS=1 in each, so BLAS does not oversubscribe). A scheduler address:
-the same code on an existing cluster; then the records and the output folder must be reachable
-from every worker under the same paths (a shared file system), and every worker needs okid.
+sets OMP/OPENBLAS/MKL_NUM_THREADS=1 in each, so BLAS does not oversubscribe). A scheduler address
+(or its scheduler file): the same code on an existing cluster; the records and the output folder
+go to the workers as absolute paths, so they must be reachable under the same paths from every
+worker (a shared file system), and every worker needs okid.
 
 Every part is written to a temporary name and renamed when complete, so an interrupted job leaves
 only whole parts; a part holds every record of its batch (a failed record is a status row), so
-``resume`` finds the records already done from the output alone.
+``resume`` finds the records already done from the output alone. The output folder's manifest
+(output.py) keeps the job's settings and the runs that wrote it: nothing else is ever removed.
+
+A task that fails or kills its worker (Dask's KilledWorker) is retried record by record, so one
+poison record costs its batch a retry and ends as its own status row; the others are kept.
 """
 from __future__ import annotations
 
+import asyncio
 import contextlib
+import json
 import logging
 import math
 import os
-import shutil
 import signal
 import sys
 import threading
 import time
-import uuid
 from dataclasses import dataclass
-from typing import Any, Iterable, List, Mapping, Optional, Sequence, TextIO
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, TextIO, Tuple
 
-from .records import ChannelSpec, RecordRef, discover
-from .rows import STATUS_OK, identify_record, to_table
+from .output import Output, OutputError, part_name, settings, write_part
+from .records import ChannelSpec, RecordRef, RowGroupCache, discover, expand
+from .rows import STATUS_OK, STATUS_TASK_FAILED, STATUS_WORKER_DIED, failure_row, identify_record
 
 MAX_BATCH = 50  # records per task at most: the scheduler's ~1 ms per task stays small against them
 
@@ -49,31 +55,37 @@ class Summary:
     batches: int        #: tasks
     workers: int        #: worker processes (at the start)
     seconds: float      #: wall time of the identification (cluster start-up excluded)
+    failures: Tuple[Tuple[str, int, str], ...] = ()  #: (status, records, first message), most frequent first
+
+    def too_many_failed(self, max_failed_fraction: float) -> bool:
+        """Every record of the run failed, or more than MAX_FAILED_FRACTION of them."""
+        return self.records > 0 and (self.failed == self.records or self.failed > max_failed_fraction * self.records)
 
 
 def identify_batch(refs: Sequence[RecordRef], channels: ChannelSpec, options: Mapping[str, Any], out_dir: str,
                    part: str) -> dict:
     """A task: identify REFS, write their rows to OUT_DIR/PART.parquet (atomically)."""
-    import pyarrow.parquet as pq
-
     rows: List[dict] = []
-    failed = 0
+    statuses: List[Tuple[str, str]] = []
+    cache = RowGroupCache()
     for ref in refs:
-        record_rows = identify_record(ref, channels, options)
-        failed += record_rows[0]["status"] != STATUS_OK
+        record_rows = identify_record(ref, channels, options, cache)
+        statuses.append((record_rows[0]["status"], record_rows[0]["message"]))
         rows.extend(record_rows)
-    final = os.path.join(out_dir, part + ".parquet")
-    tmp = os.path.join(out_dir, f".{part}.{uuid.uuid4().hex}.tmp")
-    pq.write_table(to_table(rows), tmp)
-    os.replace(tmp, final)
-    return {"part": part, "records": len(refs), "failed": failed, "rows": len(rows)}
+    write_part(rows, out_dir, part)
+    return {"part": part, "records": len(refs), "rows": len(rows), "statuses": statuses}
 
 
 def parts(out_dir: str) -> List[str]:
+    """The whole parts of OUT_DIR: those its manifest's runs wrote; a folder without a manifest
+    (a table written by other means) gives all its Parquet files."""
+    out = Output(out_dir)
+    if out.manifest() is not None:
+        return out.parts()
     if not os.path.isdir(out_dir):
         return []
     return sorted(os.path.join(out_dir, f) for f in os.listdir(out_dir)
-                  if f.endswith(".parquet") and not f.startswith("."))
+                  if f.endswith(".parquet") and not f.startswith((".", "_")))
 
 
 def records_done(out_dir: str) -> set:
@@ -136,57 +148,55 @@ class Progress:
             self.stream.flush()
 
 
-#: Seconds a --scheduler has to answer. Dask's own timeout covers the TCP connection only: a port
-#: that accepts and never speaks Dask held Client() forever, so the connection runs in a thread
-#: that is given up on after this long.
-CONNECT_SECONDS = 30.0
+async def _identity(address: str, timeout: float) -> dict:
+    """The scheduler's identity, asked over one connection. Dask's Client waits forever for an
+    answer from a port that accepts and never speaks (not a Dask scheduler); the caller bounds this."""
+    from distributed.comm import connect
+
+    comm = await connect(address, timeout=timeout)
+    try:
+        await comm.write({"op": "identity"})
+        answer = await comm.read()
+    finally:
+        await comm.close()
+    if not isinstance(answer, dict) or answer.get("type") != "Scheduler":
+        raise ValueError(f"{address} is not a Dask scheduler")
+    return answer
 
 
-def _quiet_abandoned_clients():
-    """A Client whose connection failed tries to close itself when collected and prints "Exception
-    ignored in Client.__del__" with a traceback after the refusal's one line: not news."""
-    previous = sys.unraisablehook
-
-    def hook(unraisable):
-        if getattr(unraisable.object, "__qualname__", "") != "Client.__del__":
-            previous(unraisable)
-
-    sys.unraisablehook = hook
-
-
-def _connect(scheduler: str, seconds: float):
-    from distributed import Client
-
-    box: dict = {}
-
-    def connect():
-        try:
-            box["client"] = Client(scheduler, timeout=f"{max(1.0, seconds - 5)}s")
-        except BaseException as exc:  # noqa: B902 (reported below as one line)
-            box["error"] = exc
-
-    thread = threading.Thread(target=connect, name="okid-fleet-connect", daemon=True)
-    thread.start()
-    thread.join(seconds)
-    if thread.is_alive() or "error" in box:
-        _quiet_abandoned_clients()
-    if thread.is_alive():
-        raise FleetError(f"no Dask scheduler answered at {scheduler} within {seconds:g} s "
-                         f"(is it a Dask scheduler's address?)")
-    if "error" in box:
-        exc = box["error"]
-        raise FleetError(f"no Dask scheduler at {scheduler}: {type(exc).__name__}: {exc}") from None
-    return box["client"]
-
-
-def _client(scheduler: Optional[str], workers: Optional[int], connect_seconds: float = CONNECT_SECONDS):
+def _client(scheduler: Optional[str], scheduler_file: Optional[str], workers: Optional[int],
+            connect_timeout: float, progress: Optional[TextIO]):
+    import dask
     from distributed import Client, LocalCluster
 
+    def say(text: str) -> None:
+        if progress is not None:
+            progress.write(f"okid-fleet: {text}\n")
+            progress.flush()
+
+    if scheduler_file:
+        try:
+            with open(scheduler_file, encoding="utf-8") as f:
+                scheduler = json.load(f)["address"]
+        except (OSError, ValueError, KeyError, TypeError) as exc:
+            raise FleetError(f"--scheduler-file {scheduler_file}: no scheduler address in it ({exc})") from None
     if scheduler:
-        return _connect(scheduler, connect_seconds), None
+        say(f"connecting to {scheduler}")
+        try:
+            asyncio.run(asyncio.wait_for(_identity(scheduler, connect_timeout), connect_timeout))
+            return Client(scheduler, timeout=f"{connect_timeout}s"), None
+        except (OSError, ValueError, TypeError) as exc:  # a timeout is an OSError, a bad address a ValueError,
+            # a tls:// address without the certificates a TypeError
+            reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            raise FleetError(f"no Dask scheduler answered at {scheduler} within {connect_timeout:g} s "
+                             f"({reason})") from None
     n = workers or os.cpu_count() or 1
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
-                           silence_logs=logging.ERROR)
+    say(f"starting a local cluster of {n} worker process(es)")
+    # A task whose worker dies twice is lost (KilledWorker) and its records are retried one by one:
+    # poison records cost two worker restarts each instead of Dask's default four.
+    with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
+                               silence_logs=logging.ERROR)
     return Client(cluster), cluster
 
 
@@ -236,70 +246,106 @@ def batch_size_for(records: int, workers: int) -> int:
     return max(1, min(MAX_BATCH, math.ceil(records / (4 * max(workers, 1)))))
 
 
+def _count(statuses: Iterable[Tuple[str, str]], failures: Dict[str, List]) -> int:
+    """Add the failed records among STATUSES to FAILURES (status -> [count, first message]); their number."""
+    failed = 0
+    for status, message in statuses:
+        if status != STATUS_OK:
+            entry = failures.setdefault(status, [0, message])
+            entry[0] += 1
+            failed += 1
+    return failed
+
+
 def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapping[str, Any]] = None,
                    channels: ChannelSpec = ChannelSpec(), scheduler: Optional[str] = None,
-                   workers: Optional[int] = None, batch_size: Optional[int] = None, resume: bool = False,
-                   overwrite: bool = False, progress: Optional[TextIO] = sys.stderr,
+                   scheduler_file: Optional[str] = None, workers: Optional[int] = None,
+                   batch_size: Optional[int] = None, resume: bool = False, overwrite: bool = False,
+                   connect_timeout: float = 20.0, progress: Optional[TextIO] = sys.stderr,
                    live: Optional[bool] = None) -> Summary:
     """Identify every record of PATHS on Dask and write the mode table to the Parquet folder OUT_DIR.
 
     options: okid.identify's keywords (the okid_config names); channels: which columns are inputs
-    and outputs; scheduler: "tcp://host:port" of a running cluster, else a local one with
-    ``workers`` processes (default: one per core); resume: skip the records already in OUT_DIR;
-    overwrite: start OUT_DIR afresh. Raises Interrupted on Ctrl-C (the parts written stay whole).
+    and outputs; scheduler: "tcp://host:port" of a running cluster (or scheduler_file: its JSON
+    file), else a local one with ``workers`` processes (default: one per core); connect_timeout
+    [s]: how long a scheduler may take to answer; resume: skip the records already in OUT_DIR
+    (refused when OUT_DIR was written with other settings); overwrite: remove the parts of the
+    earlier runs in OUT_DIR (and nothing else). A task that kills its worker is retried record by
+    record; the record that still kills it is a status row ``worker_died``. Raises Interrupted on
+    Ctrl-C (the parts written stay whole), FleetError when the job cannot start.
     """
     options = dict(options or {})
-    refs = discover(paths)
+    inputs = expand(paths)
+    refs = discover(inputs)
     if not refs:
         raise FleetError("no records found")
-    existing = parts(out_dir)
-    if existing and not (resume or overwrite):
-        raise FleetError(f"{out_dir} already holds {len(existing)} part(s): --resume to finish it, "
-                         "--overwrite to start again")
-    if existing and overwrite:
-        shutil.rmtree(out_dir)
+    out = Output(out_dir)
     try:
-        os.makedirs(out_dir, exist_ok=True)
-    except OSError as exc:  # --out a file, or under one: one line, never a traceback
-        raise FleetError(f"--out {out_dir}: cannot be the output folder ({exc.strerror})") from None
-    for stale in (f for f in os.listdir(out_dir) if f.endswith(".tmp")):
-        os.remove(os.path.join(out_dir, stale))  # a part an interrupted run did not finish
-    done = records_done(out_dir) if resume else set()
+        out.check_inputs(inputs)
+        run = out.prepare(settings(options, channels), resume=resume, overwrite=overwrite)
+    except OutputError as exc:
+        raise FleetError(str(exc)) from None
+    done = records_done(out.path) if resume else set()
     todo = [r for r in refs if r.record not in done]
-    client, cluster = _client(scheduler, workers)
+    client, cluster = _client(scheduler, scheduler_file, workers, connect_timeout, progress)
     try:
+        if progress is not None and client.dashboard_link:
+            progress.write(f"okid-fleet: dashboard {client.dashboard_link}\n")
         n_workers = max(1, len(client.scheduler_info().get("workers", {})))
         size = batch_size or batch_size_for(len(todo), n_workers)
         batches = [todo[i:i + size] for i in range(0, len(todo), size)]
-        run = time.strftime("%Y%m%dT%H%M%S") + "-" + uuid.uuid4().hex[:6]
-        out_abs = os.path.abspath(out_dir)
         bar = Progress(len(todo), progress, live) if progress is not None else None
         t0 = time.monotonic()
-        futures = [client.submit(identify_batch, batch, channels, options, out_abs, f"part-{run}-{i:05d}",
-                                 key=f"okid-fleet-{run}-{i:05d}", retries=2, pure=False)
-                   for i, batch in enumerate(batches)]
-        records = failed = rows = 0
+
+        def submit(refs_: Sequence[RecordRef], part: str):
+            return client.submit(identify_batch, list(refs_), channels, options, out.path, part,
+                                 key=f"okid-fleet-{part}", retries=1, pure=False)
+
+        tasks = {}
+        for i, batch in enumerate(batches):
+            tasks[submit(batch, part_name(run, i))] = (i, None, batch)
+        records = rows = 0
+        failures: Dict[str, List] = {}
         with _ctrl_c_as_flag() as interrupted:
-            pending = set(futures)
+            pending = set(tasks)
             while pending and not interrupted.is_set():
                 done_now, pending = _wait_some(pending)
                 for future in done_now:
-                    result = future.result()
+                    i, j, batch = tasks.pop(future)
+                    if future.status == "error":
+                        exc = future.exception()
+                        if len(batch) > 1:  # isolate: every record of the batch alone
+                            for k, ref in enumerate(batch):
+                                single = submit([ref], part_name(run, i, k))
+                                tasks[single] = (i, k, [ref])
+                                pending.add(single)
+                            continue
+                        status = STATUS_WORKER_DIED if type(exc).__name__ == "KilledWorker" else STATUS_TASK_FAILED
+                        message = (f"the task of this record killed its worker process: {exc}"
+                                   if status == STATUS_WORKER_DIED else f"{type(exc).__name__}: {exc}")
+                        part = part_name(run, i, j if j is not None else 0)
+                        write_part([failure_row(batch[0], status, message, options)], out.path, part)
+                        result = {"records": 1, "rows": 1, "statuses": [(status, message)]}
+                    else:
+                        result = future.result()
                     records += result["records"]
-                    failed += result["failed"]
                     rows += result["rows"]
+                    failed = _count(result["statuses"], failures)
                     if bar:
-                        bar.update(result["records"], result["failed"])
+                        bar.update(result["records"], failed)
         if pending:  # Ctrl-C: the tasks still out are cancelled, the parts written are whole
             _quiet_shutdown(client)
             client.cancel(list(pending))
             if bar:
                 bar.close()
-            raise Interrupted(f"interrupted: {len(records_done(out_dir))} of {len(refs)} records are in "
+            raise Interrupted(f"interrupted: {len(records_done(out.path))} of {len(refs)} records are in "
                               f"{out_dir}; run again with --resume to finish")
         if bar:
             bar.close()
-        return Summary(records, failed, len(done), rows, len(batches), n_workers, time.monotonic() - t0)
+        failed = sum(count for count, _ in failures.values())
+        reasons = tuple(sorted(((status, count, message) for status, (count, message) in failures.items()),
+                               key=lambda r: (-r[1], r[0])))
+        return Summary(records, failed, len(done), rows, len(batches), n_workers, time.monotonic() - t0, reasons)
     finally:
         client.close()
         if cluster is not None:

@@ -12,8 +12,12 @@ when it reads as an ISO 8601 time (``2026-01-05T10-20-00Z.csv``), else unknown.
 
 Parquet: one row per sample with the columns ``asset``, ``record``, ``start`` (timestamp),
 ``dt`` [s] and the channels (any other numeric column, in the file's order; a ``time`` column is
-skipped); records are found from the row groups' statistics (one record per row group is the
-fast case) or, without them, from the ``record`` column alone.
+skipped); ``asset`` and ``record`` may instead be Hive partition folders (``asset=a1/``). Records
+are found from the row groups' statistics (one record per row group is the fast case) or, without
+them, from the ``record`` column of each row group; a task reads each row group once.
+
+A folder is searched recursively for both kinds; a Parquet file that cannot be opened is a failed
+record (status ``unreadable``), never a traceback.
 """
 from __future__ import annotations
 
@@ -23,7 +27,8 @@ import os
 import re
 from dataclasses import dataclass
 from datetime import datetime, timezone
-from typing import Iterable, List, Optional, Sequence, Tuple
+from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple
+from urllib.parse import unquote
 
 import numpy as np
 
@@ -35,12 +40,14 @@ class RecordError(Exception):
 @dataclass(frozen=True)
 class RecordRef:
     """One record: enough to find it again inside a task (picklable, no samples)."""
-    source: str                      #: "csv" or "parquet"
+    source: str                      #: "csv", "parquet" or "broken" (a file that cannot be opened)
     path: str                        #: the file
     record: str                      #: unique name of the record in the job
     asset: str                       #: the machine it belongs to
     start: Optional[float] = None    #: start time, seconds since 1970-01-01 UTC (None: unknown yet)
-    row_groups: Optional[Tuple[int, ...]] = None  #: Parquet row groups holding it (None: filter by name)
+    row_groups: Optional[Tuple[int, ...]] = None  #: Parquet row groups holding it
+    partition: Tuple[Tuple[str, str], ...] = ()   #: Hive partition keys of its folders
+    error: Optional[str] = None      #: source "broken": why the file could not be opened
 
 
 @dataclass(frozen=True)
@@ -50,6 +57,7 @@ class ChannelSpec:
     inputs: str = "1"
     outputs: Optional[str] = None
     dt: Optional[float] = None       #: sample interval when a CSV has no time column
+    covariates: Tuple[str, ...] = () #: columns that are no channel: their mean over the record is kept (temperature, load)
 
     def select(self, names: Sequence[str]) -> Tuple[List[int], List[int]]:
         used: set = set()
@@ -108,32 +116,51 @@ def start_from_name(path: str) -> Optional[float]:
     return datetime(y, mo, d, h, mi, s, tzinfo=timezone.utc).timestamp()
 
 
-def _is_parquet_dir(path: str) -> bool:
-    return any(name.endswith(".parquet") for name in os.listdir(path))
+DATA_SUFFIXES = (".csv", ".parquet")
 
 
-def discover(paths: Iterable[str]) -> List[RecordRef]:
-    """Every record named by PATHS: CSV files, globs, folders of CSV files (searched recursively)
-    and Parquet files or folders of them. Sorted by asset, start, record; names must be unique."""
-    refs: List[RecordRef] = []
+def _hidden(name: str) -> bool:
+    """Files a Parquet writer keeps beside its data (_SUCCESS, _metadata, .crc, temporary parts)."""
+    return name.startswith((".", "_"))
+
+
+def _walk(root: str) -> List[str]:
+    """Every CSV and Parquet file under ROOT (recursively, sorted), hidden files aside."""
+    found = []
+    for folder, dirs, files in os.walk(root):
+        dirs[:] = sorted(d for d in dirs if not _hidden(d))
+        found.extend(os.path.join(folder, f) for f in files if f.endswith(DATA_SUFFIXES) and not _hidden(f))
+    return sorted(found)
+
+
+def expand(paths: Iterable[str]) -> List[str]:
+    """The absolute paths that PATHS name (globs expanded), in order."""
+    out: List[str] = []
     for given in paths:
         matches = sorted(glob.glob(given, recursive=True)) if glob.has_magic(given) else [given]
         if not matches:
             raise RecordError(f"{given}: no file matches")
-        for path in matches:
-            if os.path.isdir(path):
-                if path.endswith(".parquet") or _is_parquet_dir(path):
-                    refs.extend(_parquet_records(path))
-                else:
-                    root = os.path.normpath(path)
-                    for csv in sorted(glob.glob(os.path.join(root, "**", "*.csv"), recursive=True)):
-                        refs.append(_csv_record(csv, root))
-            elif path.endswith(".parquet"):
-                refs.extend(_parquet_records(path))
-            elif os.path.exists(path):
-                refs.append(_csv_record(path, os.path.dirname(os.path.normpath(path)) or "."))
-            else:
-                raise RecordError(f"{path}: no such file or folder")
+        out.extend(os.path.abspath(m) for m in matches)
+    return out
+
+
+def discover(paths: Iterable[str]) -> List[RecordRef]:
+    """Every record named by PATHS: CSV files, globs, folders (searched recursively for CSV and
+    Parquet files alike, Hive partitions ``key=value/`` included) and Parquet files. Every path is
+    made absolute here, on the client, so that workers started elsewhere find the files. Sorted by
+    asset, start, record; names must be unique."""
+    refs: List[RecordRef] = []
+    for path in expand(paths):
+        if os.path.isdir(path):
+            files = _walk(path)
+            if not files:
+                raise RecordError(f"{path}: no CSV or Parquet file in this folder")
+            for file in files:
+                refs.extend(_file_records(file, path))
+        elif os.path.exists(path):
+            refs.extend(_file_records(path, os.path.dirname(path)))
+        else:
+            raise RecordError(f"{path}: no such file or folder")
     seen = {}
     for ref in refs:
         if ref.record in seen:
@@ -142,17 +169,35 @@ def discover(paths: Iterable[str]) -> List[RecordRef]:
     return sorted(refs, key=lambda r: (r.asset, r.start if r.start is not None else math.inf, r.record))
 
 
-def _csv_record(path: str, root: str) -> RecordRef:
+def _file_records(file: str, root: str) -> List[RecordRef]:
+    if file.endswith(".parquet"):
+        return _parquet_records(file, root)
+    return [_csv_record(file, root)]
+
+
+def partition_keys(file: str, root: str) -> Dict[str, str]:
+    """The Hive partition keys of FILE below ROOT: ``root/asset=a1/day=3/x.parquet`` -> asset, day."""
+    rel = os.path.relpath(os.path.dirname(file), root)
+    keys = {}
+    for part in ([] if rel == "." else rel.split(os.sep)):
+        key, sep, value = part.partition("=")
+        if sep and key:
+            keys[key] = unquote(value)
+    return keys
+
+
+def _record_name(path: str, root: str) -> Tuple[str, str]:
+    """(record, asset) of a file found below ROOT: the record is its path from ROOT's folder level
+    (the file's folder and name for a file at ROOT's top), the asset its folder's name."""
     rel = os.path.relpath(path, root)
-    folder = os.path.basename(os.path.dirname(os.path.abspath(path)))
+    folder = os.path.basename(os.path.dirname(path))
     record = os.path.splitext(os.path.join(folder, rel) if os.path.dirname(rel) == "" else rel)[0]
-    return RecordRef("csv", path, record.replace(os.sep, "/"), folder, start_from_name(path))
+    return record.replace(os.sep, "/"), folder
 
 
-def _parquet_files(path: str) -> List[str]:
-    if os.path.isdir(path):
-        return sorted(glob.glob(os.path.join(path, "**", "*.parquet"), recursive=True))
-    return [path]
+def _csv_record(path: str, root: str) -> RecordRef:
+    record, asset = _record_name(path, root)
+    return RecordRef("csv", path, record, asset, start_from_name(path))
 
 
 def _stat(rg, index: Optional[int]):
@@ -177,40 +222,59 @@ def _timestamp_seconds(value) -> Optional[float]:
         return None
 
 
-def _parquet_records(path: str) -> List[RecordRef]:
+def _parquet_records(file: str, root: str) -> List[RecordRef]:
+    """The records of one Parquet file. Partition keys of its folders (``asset=.../``) stand in for
+    the asset and record columns a Hive-partitioned dataset leaves out of its files. A file that
+    cannot be opened is one failed record (status row), not the end of the job."""
     import pyarrow.parquet as pq
 
-    refs: List[RecordRef] = []
-    for file in _parquet_files(path):
-        meta = pq.ParquetFile(file).metadata
-        names = [meta.schema.column(i).name for i in range(meta.num_columns)]
-        missing = [c for c in ("asset", "record", "dt") if c not in names]
-        if missing:
-            raise RecordError(f"{file}: a record dataset needs the column(s) {', '.join(missing)}")
-        col = {name: names.index(name) for name in META_COLUMNS if name in names}
+    keys = partition_keys(file, root)
+    try:
+        pf = pq.ParquetFile(file)
+        meta = pf.metadata
+    except Exception as exc:
+        record, asset = _record_name(file, root)
+        return [RecordRef("broken", file, keys.get("record", record), keys.get("asset", asset),
+                          error=f"{type(exc).__name__}: {exc}")]
+    names = [meta.schema.column(i).name for i in range(meta.num_columns)]
+    missing = [c for c in ("asset", "record", "dt") if c not in names and c not in keys]
+    if missing:
+        raise RecordError(f"{file}: a record dataset needs the column(s) {', '.join(missing)}")
+    col = {name: names.index(name) for name in META_COLUMNS if name in names}
+    partition = tuple(sorted(keys.items()))
+    groups: Dict[str, list] = {}
+    by_statistics = True
+    for g in range(meta.num_row_groups):
+        rg = meta.row_group(g)
+        record = keys.get("record", _stat(rg, col.get("record")))
+        asset = keys.get("asset", _stat(rg, col.get("asset")))
+        if record is None or asset is None:
+            by_statistics = False
+            break
+        entry = groups.setdefault(str(record), [str(asset), _timestamp_seconds(_stat(rg, col.get("start"))), []])
+        entry[2].append(g)
+    if not by_statistics:  # several records per row group: their row groups from the columns themselves
         groups = {}
-        by_statistics = True
+        wanted = [c for c in ("asset", "record", "start") if c in names]
         for g in range(meta.num_row_groups):
-            rg = meta.row_group(g)
-            record, asset = _stat(rg, col["record"]), _stat(rg, col["asset"])
-            if record is None or asset is None:
-                by_statistics = False
-                break
-            start = _timestamp_seconds(_stat(rg, col.get("start")))
-            entry = groups.setdefault(str(record), [str(asset), start, []])
-            entry[2].append(g)
-        if by_statistics:
-            for record, (asset, start, rgs) in groups.items():
-                refs.append(RecordRef("parquet", file, record, asset, start, tuple(rgs)))
-            continue
-        table = pq.read_table(file, columns=[c for c in ("asset", "record", "start") if c in names])
-        frame = table.to_pandas()
-        for record, rows in frame.groupby("record", sort=True):
-            start = _timestamp_seconds(rows["start"].iloc[0]) if "start" in rows else None
-            if start is not None and isinstance(rows["start"].iloc[0], np.datetime64):
-                start = float(rows["start"].iloc[0].astype("datetime64[us]").astype(np.int64)) / 1e6
-            refs.append(RecordRef("parquet", file, str(record), str(rows["asset"].iloc[0]), start, None))
-    return refs
+            table = pf.read_row_group(g, columns=wanted)
+            records = table.column("record").to_pylist() if "record" in names else [keys["record"]] * table.num_rows
+            assets = table.column("asset").to_pylist() if "asset" in names else [keys["asset"]] * table.num_rows
+            starts = table.column("start").to_pylist() if "start" in names else [None] * table.num_rows
+            for i in _first_of_each(records):
+                entry = groups.setdefault(str(records[i]), [str(assets[i]), _timestamp_seconds(starts[i]), []])
+                if g not in entry[2]:
+                    entry[2].append(g)
+    return [RecordRef("parquet", file, record, asset, start, tuple(rgs), partition)
+            for record, (asset, start, rgs) in groups.items()]
+
+
+def _first_of_each(values: list) -> List[int]:
+    """The index of each distinct value's first occurrence, in order."""
+    first: Dict[Any, int] = {}
+    for i, v in enumerate(values):
+        first.setdefault(v, i)
+    return list(first.values())
 
 
 @dataclass(frozen=True)
@@ -221,22 +285,60 @@ class RecordData:
     start: Optional[float] #: seconds since the epoch, or None
     input_names: Tuple[str, ...]
     output_names: Tuple[str, ...]
+    covariates: Tuple[Tuple[str, float], ...] = ()  #: (name, mean over the record)
 
 
-def read(ref: RecordRef, channels: ChannelSpec) -> RecordData:
-    """The samples of one record (inside a task). Raises RecordError for anything wrong with it."""
+class RowGroupCache:
+    """The row groups of the last Parquet file read, so that the records sharing a row group (many
+    records per row group) are read in one pass per task instead of once per record."""
+
+    def __init__(self):
+        self.path: Optional[str] = None
+        self.groups: Dict[int, Any] = {}
+
+    def read(self, path: str, row_groups: Sequence[int]):
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        if path != self.path:
+            self.path, self.groups = path, {}
+        missing = [g for g in row_groups if g not in self.groups]
+        if missing:
+            pf = pq.ParquetFile(path)
+            self.groups.update({g: pf.read_row_group(g) for g in missing})
+        return pa.concat_tables([self.groups[g] for g in row_groups])
+
+
+def read(ref: RecordRef, channels: ChannelSpec, cache: Optional[RowGroupCache] = None) -> RecordData:
+    """The samples of one record (inside a task). Raises RecordError for anything wrong with it.
+    CACHE: keep the row groups of the file for the next records of the same file."""
+    if ref.source == "broken":
+        raise RecordError(f"{ref.path}: {ref.error}")
     try:
-        return _read_csv(ref, channels) if ref.source == "csv" else _read_parquet(ref, channels)
+        if ref.source == "csv":
+            return _read_csv(ref, channels)
+        return _read_parquet(ref, channels, cache or RowGroupCache())
     except RecordError:
         raise
     except Exception as exc:  # a broken file: whatever the reader says, as the record's status
         raise RecordError(f"{ref.path}: {type(exc).__name__}: {exc}") from None
 
 
-def _split(values: np.ndarray, names: Sequence[str], channels: ChannelSpec):
+def _split(values: np.ndarray, names: Sequence[str], channels: ChannelSpec, where: str) -> dict:
+    """The covariate columns taken out (their means kept), then the inputs and outputs chosen."""
+    names = list(names)
+    covs = []
+    for name in channels.covariates:
+        if name not in names:
+            raise RecordError(f"{where}: no covariate column named '{name}' (columns: {', '.join(names)})")
+        covs.append(names.index(name))
+    covariates = tuple((names[i], float(np.mean(values[:, i]))) for i in covs)
+    keep = [i for i in range(len(names)) if i not in covs]
+    values, names = values[:, keep], [names[i] for i in keep]
     ins, outs = channels.select(names)
-    return (np.ascontiguousarray(values[:, ins]), np.ascontiguousarray(values[:, outs]),
-            tuple(names[i] for i in ins), tuple(names[i] for i in outs))
+    return dict(u=np.ascontiguousarray(values[:, ins]), y=np.ascontiguousarray(values[:, outs]),
+                input_names=tuple(names[i] for i in ins), output_names=tuple(names[i] for i in outs),
+                covariates=covariates)
 
 
 def _read_csv(ref: RecordRef, channels: ChannelSpec) -> RecordData:
@@ -246,30 +348,33 @@ def _read_csv(ref: RecordRef, channels: ChannelSpec) -> RecordData:
 
     inputs = None if channels.inputs.strip() == "1" else channels.inputs  # the CLI's default: a count, never a name
     try:
-        rec = okid.read_record(ref.path, inputs, channels.outputs, channels.dt)
+        outputs = None if channels.covariates else channels.outputs  # covariates are taken out below
+        rec = okid.read_record(ref.path, inputs, outputs, channels.dt)
     except okid.RecordError as exc:
         raise RecordError(str(exc)) from None
     start = ref.start
     if start is None and rec.start is not None and rec.start > 1e8:  # absolute time stamps: epoch seconds
         start = float(rec.start)
-    return RecordData(rec.u, rec.y, rec.dt, start, rec.input_names, rec.output_names)
+    if not channels.covariates:
+        return RecordData(u=rec.u, y=rec.y, dt=rec.dt, start=start, input_names=rec.input_names,
+                          output_names=rec.output_names, covariates=())
+    # covariate columns: read as outputs, then taken out by name (as for Parquet records)
+    values = np.hstack([rec.u, rec.y])
+    return RecordData(dt=rec.dt, start=start, **_split(values, rec.input_names + rec.output_names, channels, ref.path))
 
 
-def _read_parquet(ref: RecordRef, channels: ChannelSpec) -> RecordData:
+def _read_parquet(ref: RecordRef, channels: ChannelSpec, cache: RowGroupCache) -> RecordData:
     import pyarrow.compute as pc
-    import pyarrow.parquet as pq
 
-    if ref.row_groups is not None:
-        table = pq.ParquetFile(ref.path).read_row_groups(list(ref.row_groups))
-    else:
-        table = pq.read_table(ref.path, filters=[("record", "=", ref.record)])
-    table = table.filter(pc.equal(table.column("record"), ref.record))
+    table = cache.read(ref.path, ref.row_groups or ())
+    if "record" in table.column_names:
+        table = table.filter(pc.equal(table.column("record"), ref.record))
     if table.num_rows == 0:
         raise RecordError(f"{ref.path}: record '{ref.record}' has no samples")
     dts = np.unique(table.column("dt").to_numpy(zero_copy_only=False))
     if dts.size != 1 or not (dts[0] > 0 and math.isfinite(dts[0])):
         raise RecordError(f"{ref.path}: record '{ref.record}': dt must be one finite value > 0 (got {dts[:4]})")
-    names = [n for n in table.column_names if n not in META_COLUMNS and not is_time_name(n)]
+    keys = {k for k, _ in ref.partition}
+    names = [n for n in table.column_names if n not in META_COLUMNS and n not in keys and not is_time_name(n)]
     values = np.column_stack([table.column(n).to_numpy(zero_copy_only=False).astype(np.float64) for n in names])
-    u, y, inames, onames = _split(values, names, channels)
-    return RecordData(u, y, float(dts[0]), ref.start, inames, onames)
+    return RecordData(dt=float(dts[0]), start=ref.start, **_split(values, names, channels, ref.path))

@@ -12,10 +12,12 @@ from typing import Any, Dict, List, Mapping, Optional
 
 import numpy as np
 
-from .records import ChannelSpec, RecordError, RecordRef, read
+from .records import ChannelSpec, RecordError, RecordRef, RowGroupCache, read
 
 STATUS_OK = "ok"
 STATUS_UNREADABLE = "unreadable"
+STATUS_WORKER_DIED = "worker_died"   # the record's task killed its worker process, alone, twice
+STATUS_TASK_FAILED = "task_failed"   # the record's task raised outside the identification
 
 
 def _schema():
@@ -31,6 +33,7 @@ def _schema():
         ("warnings", pa.list_(pa.string())), ("warning_bits", pa.int64()),
         ("order", pa.int32()), ("samples", pa.int64()), ("dt", pa.float64()),
         ("outputs", pa.list_(pa.string())), ("config", pa.string()),
+        ("covariate_names", pa.list_(pa.string())), ("covariate_values", pa.list_(pa.float64())),
     ])
 
 
@@ -65,13 +68,21 @@ def _failure(ref: RecordRef, start: Optional[float], exc: BaseException, config:
     return row
 
 
-def identify_record(ref: RecordRef, channels: ChannelSpec, options: Mapping[str, Any]) -> List[Dict[str, Any]]:
+def failure_row(ref: RecordRef, status: str, message: str, options: Mapping[str, Any]) -> Dict[str, Any]:
+    """The status row of a record whose task could not give one (its worker died, ...)."""
+    row = _base(ref, ref.start)
+    row.update(status=status, message=message, config=json.dumps(dict(options), sort_keys=True))
+    return row
+
+
+def identify_record(ref: RecordRef, channels: ChannelSpec, options: Mapping[str, Any],
+                    cache: Optional[RowGroupCache] = None) -> List[Dict[str, Any]]:
     """Read and identify one record with okid.identify; never raises for a property of the record."""
     import okid
 
     config = json.dumps(dict(options), sort_keys=True)
     try:
-        data = read(ref, channels)
+        data = read(ref, channels, cache)
     except RecordError as exc:
         return [_failure(ref, ref.start, exc, config)]
     try:
@@ -81,7 +92,9 @@ def identify_record(ref: RecordRef, channels: ChannelSpec, options: Mapping[str,
     common = _base(ref, data.start)
     common.update(status=STATUS_OK, message="", warnings=[flag.name.lower() for flag in okid.WarningFlag if flag & result.warnings],
                   warning_bits=int(result.warnings), order=int(result.order), samples=int(result.samples),
-                  dt=float(result.dt), outputs=list(data.output_names), config=config)
+                  dt=float(result.dt), outputs=list(data.output_names), config=config,
+                  covariate_names=[name for name, _ in data.covariates],
+                  covariate_values=[value for _, value in data.covariates])
     if not result.modes:
         row = dict(common)
         row.update(status="no_modes", message="the identified model has no oscillating or real mode")

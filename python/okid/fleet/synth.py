@@ -3,7 +3,11 @@
 real data: ASSETS chains of masses (the paper's 2-DOF system by default), each with its own small
 spread of stiffness, R records each of white-noise force on mass 1 and the accelerations of every
 mass with output noise; DAMAGED of the assets lose stiffness of their first spring linearly over
-their records. The exact modes of every record are written beside the records (truth.parquet).
+their records (or, with ``damage_start``, all at once from that record on). With a
+``temperature_swing``, every asset's springs also follow a temperature cycle (a ``temperature``
+column in every record: identify with ``--covariates temperature``), moving every frequency by up
+to +- the swing, as the seasons move a real structure's. The exact modes of every record are
+written beside the records (truth.parquet).
 """
 from __future__ import annotations
 
@@ -36,6 +40,9 @@ class FleetSpec:
     interval_minutes: float = 10.0  #: time between a machine's records
     seed: int = 1
     fmt: str = "parquet"            #: "parquet" (one file per machine, a row group per record) or "csv"
+    damage_start: Optional[int] = None  #: the record from which the loss is whole (a step), else a ramp
+    temperature_swing: float = 0.0  #: relative frequency swing by temperature (0.02: +- 2 %), 0: no temperature
+    temperature_period: int = 24    #: records per temperature cycle
 
 
 def chain(n: int):
@@ -68,6 +75,8 @@ def synthesize(out_dir: str, spec: FleetSpec = FleetSpec()) -> dict:
 
     if spec.assets < 1 or spec.records < 1 or spec.samples < 10 or spec.masses < 1:
         raise ValueError("synth needs at least 1 asset, 1 record, 10 samples and 1 mass")
+    if not 0 <= spec.temperature_swing < 0.5 or spec.temperature_period < 1:
+        raise ValueError(f"temperature swing {spec.temperature_swing}: in [0, 0.5); period {spec.temperature_period}: >= 1")
     if spec.fmt not in ("parquet", "csv"):
         raise ValueError(f"format {spec.fmt!r}: 'parquet' or 'csv'")
     rng = np.random.default_rng(spec.seed)
@@ -81,12 +90,24 @@ def synthesize(out_dir: str, spec: FleetSpec = FleetSpec()) -> dict:
     for a in range(spec.assets):
         asset = _asset_name(a)
         springs_asset = springs0 * (1 + spec.spread * rng.standard_normal(springs0.size))
+        phase = 2 * np.pi * a / spec.assets
         writer = None
         for j in range(spec.records):
-            loss = spec.stiffness_loss * j / max(spec.records - 1, 1) if a in damaged else 0.0
+            if a not in damaged:
+                loss = 0.0
+            elif spec.damage_start is not None:
+                loss = spec.stiffness_loss if j >= spec.damage_start else 0.0
+            else:
+                loss = spec.stiffness_loss * j / max(spec.records - 1, 1)
             springs = springs_asset.copy()
             springs[0] *= 1 - loss
-            mass_m, damp_m, stiff_m = model.chain_model(masses, dampers, springs)
+            # temperature in [10, 30] degC, tau = (T - 20) / 10 in [-1, 1]: the springs scale by
+            # (1 + swing tau)^2 and the dampers by 1 + swing tau, so every eigenvalue of the chain
+            # scales by exactly 1 + swing tau (frequencies linear in T, damping ratios unchanged)
+            temperature = 20.0 + 10.0 * np.sin(2 * np.pi * j / spec.temperature_period + phase)
+            scale = 1 + spec.temperature_swing * (temperature - 20.0) / 10.0
+            springs *= scale ** 2
+            mass_m, damp_m, stiff_m = model.chain_model(masses, dampers * scale, springs)
             b2 = np.zeros((spec.masses, 1))
             b2[0, 0] = 1.0
             ac, bc, c, d = model.state_space(mass_m, damp_m, stiff_m, b2, acceleration=np.eye(spec.masses))
@@ -100,21 +121,23 @@ def synthesize(out_dir: str, spec: FleetSpec = FleetSpec()) -> dict:
             freqs, zetas = exact_modes(ac)
             for k, (f, z) in enumerate(zip(freqs, zetas), start=1):
                 truth.append({"asset": asset, "record": record, "start": start, "damaged": a in damaged,
-                              "stiffness_factor": 1 - loss, "mode": k, "frequency_hz": float(f),
-                              "damping_ratio": float(z)})
+                              "stiffness_factor": 1 - loss, "temperature": float(temperature), "mode": k,
+                              "frequency_hz": float(f), "damping_ratio": float(z)})
             time_s = np.arange(spec.samples) * spec.dt
+            extra = {"temperature": np.full(spec.samples, temperature)} if spec.temperature_swing else {}
             if spec.fmt == "csv":
                 folder = os.path.join(records_dir, asset)
                 os.makedirs(folder, exist_ok=True)
-                data = np.column_stack([time_s, force[:, 0], y])
+                data = np.column_stack([time_s, force[:, 0], y, *extra.values()])
                 np.savetxt(os.path.join(folder, stamp + ".csv"), data, delimiter=",", fmt="%.17g",
-                           header=",".join(["time", "force"] + outputs), comments="")
+                           header=",".join(["time", "force"] + outputs + list(extra)), comments="")
                 continue
             columns = {"asset": pa.array([asset] * spec.samples), "record": pa.array([record] * spec.samples),
                        "start": pa.array([start] * spec.samples, pa.timestamp("us", tz="UTC")),
                        "dt": pa.array(np.full(spec.samples, spec.dt)), "time": pa.array(time_s),
                        "force": pa.array(force[:, 0])}
             columns.update({name: pa.array(y[:, i]) for i, name in enumerate(outputs)})
+            columns.update({name: pa.array(v) for name, v in extra.items()})
             table = pa.table(columns)
             if writer is None:
                 writer = pq.ParquetWriter(os.path.join(records_dir, asset + ".parquet"), table.schema)
