@@ -16,7 +16,6 @@ extern "C" {
 #include "auto_settings.h"
 #include "config_explain.h"
 #include "json_writer.h"
-#include "okid_fields.h"
 }
 
 namespace okid_py {
@@ -24,20 +23,6 @@ namespace okid_py {
 namespace {
 
 using CBlock = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
-
-okid_config config_of(const nb::dict &d)
-{
-    okid_config c{};
-    okid_config_default(&c, 1, 1);
-#define INT(name) c.name = nb::cast<int>(d[#name]);
-#define REAL(name) c.name = (okid_real)nb::cast<double>(d[#name]);
-#define ENUM(name, type) c.name = (type)nb::cast<int>(d[#name]);
-    OKID_CONFIG_FIELDS(INT, REAL, ENUM, INT)
-#undef INT
-#undef REAL
-#undef ENUM
-    return c;
-}
 
 struct ModesDeleter {
     void operator()(auto_modes *am) const noexcept
@@ -83,7 +68,7 @@ void bind_auto(nb::module_ &m)
     m.def(
         "auto_identify",
         [](const nb::dict &config, unsigned given, CBlock u, CBlock y) {
-            okid_config cfg = config_of(config);
+            okid_config cfg = config_from_dict(config);
             const size_t n = u.shape(0);
             const int r = cfg.num_inputs, outputs = cfg.num_outputs;
             auto_choice choice{};

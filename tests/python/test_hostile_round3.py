@@ -367,42 +367,7 @@ def _fleet(*args, timeout=120):
     return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
 
 
-def test_fleet_scheduler_that_does_not_speak_dask_times_out():
-    """A TCP port that accepts and says nothing held Client() forever (Dask's timeout covers the
-    connection only); now the connection is given up on after connect_seconds, with one line."""
-    import socket
-    import threading
-    import time
-    from okid.fleet import job
-
-    server = socket.socket()
-    server.bind(("127.0.0.1", 0))
-    server.listen(8)
-    held = []
-    stop = threading.Event()
-
-    def accept():
-        server.settimeout(0.2)
-        while not stop.is_set():
-            try:
-                held.append(server.accept()[0])
-            except OSError:
-                pass
-
-    thread = threading.Thread(target=accept, daemon=True)
-    thread.start()
-    address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
-    try:
-        began = time.monotonic()
-        with pytest.raises(job.FleetError, match=rf"^no Dask scheduler answered at {address} within 3 s"):
-            job._client(address, None, None, 3, None)
-        assert time.monotonic() - began < 3 + 2  # the deadline, and a thread's wake-up
-    finally:
-        stop.set()
-        thread.join()
-        for conn in held:
-            conn.close()
-        server.close()
+# A port that accepts and never speaks Dask: test_fleet.py's test_a_port_that_is_not_dask_times_out.
 
 
 @pytest.mark.parametrize("args, says", [
