@@ -31,7 +31,7 @@ def _spec(name: str, value: Union[None, int, str]) -> Optional[str]:
     return str(value)
 
 
-def read_record(path: Union[str, os.PathLike], inputs: Union[None, int, str] = None,
+def read_record(path: Union[str, os.PathLike[str]], inputs: Union[None, int, str] = None,
                 outputs: Union[None, int, str] = None, dt: Optional[float] = None,
                 ignore_time_column: bool = False) -> Record:
     """Read a CSV recording as ``okid identify`` does (docs/cli.md, docs/robustness.md).

@@ -87,7 +87,7 @@ def simulate(a: Any, b: Any, c: Any, d: Any, u: Any, x0: Optional[Any] = None) -
     return yx
 
 
-def lift(u, y, factor: int) -> Tuple[np.ndarray, np.ndarray]:
+def lift(u: Any, y: Any, factor: int) -> Tuple[np.ndarray, np.ndarray]:
     """Exact decimation by lifting (okid_lift, docs/refinement.md): K = factor consecutive samples
     of u (N, r) and y (N, m), time along axis 0, become one sample with inputs [u(iK), ...,
     u(iK+K-1)] (K r channels) and outputs y(iK). Returns (u_lifted (N // K, K r), y_lifted

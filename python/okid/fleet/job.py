@@ -29,13 +29,16 @@ import sys
 import threading
 import time
 from dataclasses import dataclass
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, TextIO, Tuple
+from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Mapping, Optional, Sequence, Set, TextIO, Tuple
 
 from .output import Output, OutputError, part_name, settings, write_part
 from .records import ChannelSpec, RecordRef, RowGroupCache, discover, expand
 from .rows import STATUS_OK, STATUS_TASK_FAILED, STATUS_WORKER_DIED, failure_row, identify_record
 
-MAX_BATCH = 50  # records per task at most: the scheduler's ~1 ms per task stays small against them
+if TYPE_CHECKING:  # for the annotations only: pandas is the fleet extra's
+    import pandas as pd
+
+MAX_BATCH: int = 50  # records per task at most: the scheduler's ~1 ms per task stays small against them
 
 
 class FleetError(Exception):
@@ -63,9 +66,9 @@ class Summary:
 
 
 def identify_batch(refs: Sequence[RecordRef], channels: ChannelSpec, options: Mapping[str, Any], out_dir: str,
-                   part: str) -> dict:
+                   part: str) -> Dict[str, Any]:
     """A task: identify REFS, write their rows to OUT_DIR/PART.parquet (atomically)."""
-    rows: List[dict] = []
+    rows: List[Dict[str, Any]] = []
     statuses: List[Tuple[str, str]] = []
     cache = RowGroupCache()
     for ref in refs:
@@ -88,17 +91,17 @@ def parts(out_dir: str) -> List[str]:
                   if f.endswith(".parquet") and not f.startswith((".", "_")))
 
 
-def records_done(out_dir: str) -> set:
+def records_done(out_dir: str) -> Set[str]:
     """The records present in the output's whole parts."""
     import pyarrow.parquet as pq
 
-    done: set = set()
+    done: Set[str] = set()
     for path in parts(out_dir):
         done.update(pq.read_table(path, columns=["record"]).column("record").to_pylist())
     return done
 
 
-def read_modes(out_dir: str):
+def read_modes(out_dir: str) -> pd.DataFrame:
     """The mode table of a job's output as a pandas DataFrame, sorted by asset, start, record, mode."""
     import pandas as pd
     import pyarrow as pa
@@ -117,12 +120,14 @@ class Progress:
     """Records done, failed, rate and time left: one line redrawn on a terminal, else a line every
     10 % of the records."""
 
-    def __init__(self, total: int, stream: TextIO, live: Optional[bool] = None):
-        self.total, self.stream = total, stream
-        self.live = stream.isatty() if live is None else live
-        self.done = self.failed = 0
-        self.t0 = time.monotonic()
-        self._next_report = 0.1
+    def __init__(self, total: int, stream: TextIO, live: Optional[bool] = None) -> None:
+        self.total: int = total              #: records of the job
+        self.stream: TextIO = stream
+        self.live: bool = stream.isatty() if live is None else live  #: one line redrawn (a terminal)
+        self.done: int = 0                   #: records done so far (failed ones included)
+        self.failed: int = 0                 #: of them, records whose status is not ok
+        self.t0: float = time.monotonic()    #: start [s] (time.monotonic)
+        self._next_report: float = 0.1
 
     def line(self) -> str:
         elapsed = time.monotonic() - self.t0

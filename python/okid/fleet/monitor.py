@@ -22,11 +22,14 @@ step). Here, per asset and mode:
 """
 from __future__ import annotations
 
-from typing import List, Sequence, Tuple
+from typing import TYPE_CHECKING, Any, Dict, List, Sequence, Tuple
 
 import numpy as np
 
-MAD_TO_SIGMA = 1.4826  # 1 / Phi^-1(3/4): the MAD of Gaussian scatter times this is its standard deviation
+if TYPE_CHECKING:  # for the annotations only: pandas is the fleet extra's
+    import pandas as pd
+
+MAD_TO_SIGMA: float = 1.4826  # 1 / Phi^-1(3/4): the MAD of Gaussian scatter times this is its standard deviation
 
 
 def robust_sigma(x: np.ndarray) -> float:
@@ -75,7 +78,7 @@ def average_run_length(lam: float, limit_l: float, shift: float = 0.0, runs: int
     return float(length.mean()), float(length.std() / np.sqrt(runs))
 
 
-def chart(tracks, covariates: Sequence[str], lam: float, limit_l: float) -> List[dict]:
+def chart(tracks: pd.DataFrame, covariates: Sequence[str], lam: float, limit_l: float) -> List[Dict[str, Any]]:
     """Per track point (TRACKS: one asset and mode, in time order, with a bool column ``baseline``
     and one per covariate): the compensated frequency, its change from the baseline median, the
     EWMA statistic with weight LAM, its limit (LIMIT_L asymptotic standard deviations) and the alarm."""

@@ -14,10 +14,13 @@ import os
 import re
 import time
 import uuid
-from typing import Any, Dict, List, Mapping, Optional, Sequence
+from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Sequence
 
-MANIFEST = "_okid_fleet.json"
-TOOL = "okid-fleet"
+if TYPE_CHECKING:
+    from .records import ChannelSpec
+
+MANIFEST: str = "_okid_fleet.json"
+TOOL: str = "okid-fleet"
 _PART = re.compile(r"^part-(?P<run>\d{8}T\d{6}-[0-9a-f]{6})-\d{5}(?:-\d{4})?\.parquet$")
 _TMP = re.compile(r"^\.part-(?P<run>\d{8}T\d{6}-[0-9a-f]{6})-[0-9-]+\.[0-9a-f]{32}\.tmp$")
 
@@ -26,7 +29,7 @@ class OutputError(Exception):
     """An output folder the job may not use as asked (refused before anything is written)."""
 
 
-def settings(options: Mapping[str, Any], channels) -> Dict[str, Any]:
+def settings(options: Mapping[str, Any], channels: ChannelSpec) -> Dict[str, Any]:
     """Everything that decides a job's rows: the okid version, the identification settings and the
     channel choice. Two runs into one folder must agree on all of it."""
     import okid
@@ -55,9 +58,9 @@ def _is_inside(path: str, folder: str) -> bool:
 class Output:
     """The output folder OUT_DIR (made absolute: the workers write into it under this path)."""
 
-    def __init__(self, out_dir: str):
-        self.path = os.path.abspath(out_dir)
-        self.manifest_path = os.path.join(self.path, MANIFEST)
+    def __init__(self, out_dir: str) -> None:
+        self.path: str = os.path.abspath(out_dir)                        #: the folder, absolute
+        self.manifest_path: str = os.path.join(self.path, MANIFEST)      #: its manifest
 
     def manifest(self) -> Optional[Dict[str, Any]]:
         try:
@@ -147,7 +150,7 @@ def part_name(run: str, batch: int, record: Optional[int] = None) -> str:
     return f"part-{run}-{batch:05d}" + ("" if record is None else f"-{record:04d}")
 
 
-def write_part(rows: List[dict], out_dir: str, part: str) -> None:
+def write_part(rows: List[Dict[str, Any]], out_dir: str, part: str) -> None:
     """ROWS to OUT_DIR/PART.parquet, written under a temporary name and renamed when whole."""
     import pyarrow.parquet as pq
 

@@ -5,14 +5,17 @@ band (+- 3 robust standard deviations) and the Theil-Sen trend, and its damping 
 time. Every asset shares one relative scale, so that 0.2 % of noise does not look like a drift."""
 from __future__ import annotations
 
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 from .track import days_since_first
 
-MAX_ASSETS = 12  # panels beyond this are unreadable: name an asset instead
+if TYPE_CHECKING:  # for the annotations only: pandas is the fleet extra's
+    import pandas as pd
+
+MAX_ASSETS: int = 12  # panels beyond this are unreadable: name an asset instead
 
 
-def plot_tracks(tracks, summary, path: str, asset: Optional[str] = None) -> int:
+def plot_tracks(tracks: pd.DataFrame, summary: pd.DataFrame, path: str, asset: Optional[str] = None) -> int:
     """Draw TRACKS (the track table) to PATH (PNG); returns the number of assets drawn."""
     import matplotlib
 

@@ -27,12 +27,15 @@ import os
 import re
 from dataclasses import dataclass
 from datetime import datetime, timezone
-from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Optional, Sequence, Tuple
 from urllib.parse import unquote
 
 import numpy as np
 
-META_COLUMNS = ("asset", "record", "start", "dt")
+if TYPE_CHECKING:  # for the annotations only: pyarrow is the fleet extra's
+    import pyarrow as pa
+
+META_COLUMNS: Tuple[str, ...] = ("asset", "record", "start", "dt")
 class RecordError(Exception):
     """A record that cannot be read or does not have the channels asked for."""
 
@@ -292,11 +295,12 @@ class RowGroupCache:
     """The row groups of the last Parquet file read, so that the records sharing a row group (many
     records per row group) are read in one pass per task instead of once per record."""
 
-    def __init__(self):
-        self.path: Optional[str] = None
-        self.groups: Dict[int, Any] = {}
+    def __init__(self) -> None:
+        self.path: Optional[str] = None          #: the Parquet file whose row groups are kept
+        self.groups: Dict[int, pa.Table] = {}    #: its row groups read so far, by index
 
-    def read(self, path: str, row_groups: Sequence[int]):
+    def read(self, path: str, row_groups: Sequence[int]) -> pa.Table:
+        """The row groups ROW_GROUPS of the Parquet file PATH as one table."""
         import pyarrow as pa
         import pyarrow.parquet as pq
 

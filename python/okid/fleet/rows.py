@@ -8,16 +8,19 @@ from __future__ import annotations
 
 import json
 import re
-from typing import Any, Dict, List, Mapping, Optional
+from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional
 
 import numpy as np
 
 from .records import ChannelSpec, RecordError, RecordRef, RowGroupCache, read
 
-STATUS_OK = "ok"
-STATUS_UNREADABLE = "unreadable"
-STATUS_WORKER_DIED = "worker_died"   # the record's task killed its worker process, alone, twice
-STATUS_TASK_FAILED = "task_failed"   # the record's task raised outside the identification
+if TYPE_CHECKING:  # for the annotations only: pyarrow is the fleet extra's
+    import pyarrow as pa
+
+STATUS_OK: str = "ok"
+STATUS_UNREADABLE: str = "unreadable"
+STATUS_WORKER_DIED: str = "worker_died"   # the record's task killed its worker process, alone, twice
+STATUS_TASK_FAILED: str = "task_failed"   # the record's task raised outside the identification
 
 
 def _schema():
@@ -38,10 +41,10 @@ def _schema():
 
 
 #: The columns of the mode table (Arrow schema), one row per (record, mode) or per failed record.
-SCHEMA = None
+SCHEMA: Optional[pa.Schema] = None
 
 
-def schema():
+def schema() -> pa.Schema:
     global SCHEMA
     if SCHEMA is None:
         SCHEMA = _schema()
@@ -111,7 +114,7 @@ def identify_record(ref: RecordRef, channels: ChannelSpec, options: Mapping[str,
     return rows
 
 
-def to_table(rows: List[Dict[str, Any]]):
+def to_table(rows: List[Dict[str, Any]]) -> pa.Table:
     import pyarrow as pa
 
     return pa.Table.from_pylist(rows, schema=schema())

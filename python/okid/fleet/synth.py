@@ -14,16 +14,16 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 from datetime import datetime, timedelta, timezone
-from typing import List, Optional
+from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
 from .. import model
 
-PAPER_MASSES = (2.0, 3.0)
-PAPER_DAMPERS = (2.0, 4.0, 3.0)
-PAPER_SPRINGS = (20.0, 40.0, 30.0)
-START = datetime(2026, 1, 1, tzinfo=timezone.utc)
+PAPER_MASSES: Tuple[float, ...] = (2.0, 3.0)            #: [kg]
+PAPER_DAMPERS: Tuple[float, ...] = (2.0, 4.0, 3.0)      #: [N s/m]
+PAPER_SPRINGS: Tuple[float, ...] = (20.0, 40.0, 30.0)   #: [N/m]
+START: datetime = datetime(2026, 1, 1, tzinfo=timezone.utc)
 
 
 @dataclass(frozen=True)
@@ -45,7 +45,7 @@ class FleetSpec:
     temperature_period: int = 24    #: records per temperature cycle
 
 
-def chain(n: int):
+def chain(n: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Masses, dampers and springs of an n-mass chain: the paper's values for n = 2, repeated
     beyond (masses 2, 3, 2, ... kg; springs 20, 40, 30, 40, 30, ... N/m; dampers a tenth of them)."""
     masses = np.array([PAPER_MASSES[i % 2] for i in range(n)])
@@ -56,7 +56,7 @@ def chain(n: int):
     return masses, dampers, springs
 
 
-def exact_modes(ac: np.ndarray):
+def exact_modes(ac: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
     """Natural frequencies [Hz] and damping ratios of the continuous model, one per pair, ascending."""
     s = np.linalg.eigvals(ac)
     s = s[s.imag > 0]
@@ -68,7 +68,7 @@ def _asset_name(i: int) -> str:
     return f"asset-{i:03d}"
 
 
-def synthesize(out_dir: str, spec: FleetSpec = FleetSpec()) -> dict:
+def synthesize(out_dir: str, spec: FleetSpec = FleetSpec()) -> Dict[str, Any]:
     """Write the records under OUT_DIR/records and the exact modes to OUT_DIR/truth.parquet."""
     import pyarrow as pa
     import pyarrow.parquet as pq
@@ -85,7 +85,7 @@ def synthesize(out_dir: str, spec: FleetSpec = FleetSpec()) -> dict:
     masses, dampers, springs0 = chain(spec.masses)
     records_dir = os.path.join(out_dir, "records")
     os.makedirs(records_dir, exist_ok=True)
-    truth: List[dict] = []
+    truth: List[Dict[str, Any]] = []
     outputs = [f"acc{i + 1}" for i in range(spec.masses)]
     for a in range(spec.assets):
         asset = _asset_name(a)

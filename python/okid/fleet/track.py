@@ -25,13 +25,16 @@ are those of the compensated frequency (the frequency itself without covariates)
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from .monitor import chart, robust_sigma
 
-THEIL_SEN_MAX_POINTS = 3000  # beyond: an evenly spaced subset gives the slope (all pairs: n^2 / 2 slopes)
+if TYPE_CHECKING:  # for the annotations only: pandas is the fleet extra's
+    import pandas as pd
+
+THEIL_SEN_MAX_POINTS: int = 3000  # beyond: an evenly spaced subset gives the slope (all pairs: n^2 / 2 slopes)
 
 
 @dataclass(frozen=True)
@@ -114,13 +117,13 @@ def _baseline(by_record: List[Tuple[str, object]], opts: TrackOptions) -> List[_
     return refs
 
 
-def track_asset(rows, opts: TrackOptions) -> List[dict]:
+def track_asset(rows: pd.DataFrame, opts: TrackOptions) -> List[Dict[str, Any]]:
     """Track rows of one asset (status ok, sorted in time): one dict per matched (record, mode)."""
     by_record = [(record, rows[rows["record"] == record]) for record in dict.fromkeys(rows["record"])]
     if not by_record:
         return []
     refs = _baseline(by_record, opts)
-    out: List[dict] = []
+    out: List[Dict[str, Any]] = []
     for k, (record, cand) in enumerate(by_record):
         for i, j, m in sorted(_match(cand, refs, opts)):
             r = cand.iloc[j]
@@ -144,16 +147,17 @@ def _covariates(row, record: str, names: Sequence[str]) -> Dict[str, float]:
     return {n: float(have[n]) for n in names}
 
 
-TRACK_COLUMNS = ["asset", "mode", "record", "start", "frequency_hz", "damping_ratio", "mac",
-                 "reference_frequency_hz", "baseline_spread", "frequency_change", "baseline"]
-CHART_COLUMNS = ["compensated_hz", "compensated_change", "ewma", "ewma_limit", "alarm"]
-SUMMARY_COLUMNS = ["asset", "mode", "records", "reference_frequency_hz", "baseline_spread", "frequency_change",
-                   "change_stderr", "drift", "trend_intercept_hz", "trend_slope_hz_per_day", "damping_ratio_median",
-                   "alarms", "first_alarm"]
-ALARM_COLUMNS = ["asset", "mode", "record", "start", "compensated_change", "ewma", "ewma_limit"]
+TRACK_COLUMNS: List[str] = ["asset", "mode", "record", "start", "frequency_hz", "damping_ratio", "mac",
+                            "reference_frequency_hz", "baseline_spread", "frequency_change", "baseline"]
+CHART_COLUMNS: List[str] = ["compensated_hz", "compensated_change", "ewma", "ewma_limit", "alarm"]
+SUMMARY_COLUMNS: List[str] = ["asset", "mode", "records", "reference_frequency_hz", "baseline_spread",
+                              "frequency_change", "change_stderr", "drift", "trend_intercept_hz",
+                              "trend_slope_hz_per_day", "damping_ratio_median", "alarms", "first_alarm"]
+ALARM_COLUMNS: List[str] = ["asset", "mode", "record", "start", "compensated_change", "ewma", "ewma_limit"]
 
 
-def track(modes, opts: TrackOptions = TrackOptions(), asset: Optional[str] = None):
+def track(modes: pd.DataFrame, opts: TrackOptions = TrackOptions(),
+          asset: Optional[str] = None) -> Tuple[pd.DataFrame, pd.DataFrame]:
     """The track table (TRACK_COLUMNS) and the drift summary (SUMMARY_COLUMNS, one row per asset
     and reference mode) of a mode table."""
     import pandas as pd
@@ -168,7 +172,7 @@ def track(modes, opts: TrackOptions = TrackOptions(), asset: Optional[str] = Non
         if ok.empty:
             raise ValueError(f"asset '{asset}' has no successful record")
     ok = ok.sort_values(["asset", "start", "record", "mode"], na_position="last", kind="stable")
-    rows: List[dict] = []
+    rows: List[Dict[str, Any]] = []
     for _, group in ok.groupby("asset", sort=True):
         rows.extend(track_asset(group, opts))
     tracks = pd.DataFrame(rows, columns=TRACK_COLUMNS + list(opts.covariates))
@@ -180,7 +184,7 @@ def track(modes, opts: TrackOptions = TrackOptions(), asset: Optional[str] = Non
     return tracks, drift_summary(tracks, opts)
 
 
-def alarms(tracks):
+def alarms(tracks: pd.DataFrame) -> pd.DataFrame:
     """The alarms table: every tracked point past the baseline whose EWMA is beyond its limit."""
     return tracks.loc[tracks["alarm"].astype(bool), ALARM_COLUMNS].reset_index(drop=True)
 
@@ -198,13 +202,13 @@ def theil_sen(t: np.ndarray, f: np.ndarray) -> Tuple[float, float]:
     return slope, float(np.median(f - slope * t))
 
 
-def days_since_first(g) -> np.ndarray:
+def days_since_first(g: pd.DataFrame) -> np.ndarray:
     if g["start"].notna().all():
         return (g["start"] - g["start"].iloc[0]).dt.total_seconds().to_numpy(float) / 86400.0
     return np.arange(len(g), dtype=float)
 
 
-def drift_summary(tracks, opts: TrackOptions):
+def drift_summary(tracks: pd.DataFrame, opts: TrackOptions) -> pd.DataFrame:
     import pandas as pd
 
     out = []

@@ -21,7 +21,7 @@ import re
 import sys
 import zipfile
 from pathlib import Path
-from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple
 
 CONFIG_NAME = "okid_identifier.cfg"
 LOG_CATEGORIES = [("logEvents", "identifications and other events"),
@@ -200,7 +200,7 @@ class Table:
         return "\n".join(xml) + "\n"
 
 
-def check_value(v, value):
+def check_value(v: Mapping[str, Any], value: Any) -> Optional[str]:
     """A setting against its variable: a finite number, an integer for the integer kinds, within the
     variable's [min, max]. The refusal's text, or None."""
     name = v["name"]
@@ -217,7 +217,7 @@ def check_value(v, value):
     return None
 
 
-def check_identifier_config(values):
+def check_identifier_config(values: Mapping[str, Any]) -> Optional[str]:
     """The okid_config the FMU's binary will run, checked by the C library itself (okid_config_check
     and its explanation, host_tools/common/config_explain.c): the refusal's text, or None."""
     from okid import _core
