@@ -456,7 +456,7 @@ def test_model_description_is_honest(version):
     assert v["zero_initial_state"].type == "Boolean"
     enum_type = "Enumeration" if version == 3 else "Integer"
     for name, items in [("sensing", "displacement velocity acceleration"), ("realization", "system combined"),
-                        ("scaling", "none auto"), ("estimator", "least_squares instrumental")]:
+                        ("scaling", "none auto"), ("estimator", "least_squares instrumental correlation")]:
         assert v[name].type == enum_type
         if version == 3:
             assert [i.name for i in v[name].declaredType.items] == items.split()
