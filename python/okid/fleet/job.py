@@ -302,13 +302,14 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
         bar = Progress(len(todo), progress, live) if progress is not None else None
         t0 = time.monotonic()
 
-        def submit(refs_: Sequence[RecordRef], part: str):
+        def submit(refs_: Sequence[RecordRef], part: str, attempt: int = 0):
             return client.submit(identify_batch, list(refs_), channels, options, out.path, part,
-                                 key=f"okid-fleet-{part}", retries=1, pure=False)
+                                 key=f"okid-fleet-{part}" + (f"-again{attempt}" if attempt else ""),
+                                 retries=1, pure=False)
 
         tasks = {}
         for i, batch in enumerate(batches):
-            tasks[submit(batch, part_name(run, i))] = (i, None, batch)
+            tasks[submit(batch, part_name(run, i))] = (i, None, batch, 0)
         records = rows = 0
         failures: Dict[str, List] = {}
         with _ctrl_c_as_flag() as interrupted:
@@ -316,14 +317,21 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
             while pending and not interrupted.is_set():
                 done_now, pending = _wait_some(pending)
                 for future in done_now:
-                    i, j, batch = tasks.pop(future)
+                    i, j, batch, attempt = tasks.pop(future)
                     if future.status == "error":
                         exc = future.exception()
                         if len(batch) > 1:  # isolate: every record of the batch alone
                             for k, ref in enumerate(batch):
                                 single = submit([ref], part_name(run, i, k))
-                                tasks[single] = (i, k, [ref])
+                                tasks[single] = (i, k, [ref], 0)
                                 pending.add(single)
+                            continue
+                        if type(exc).__name__ == "KilledWorker" and attempt == 0:
+                            # alone, once more: a record whose worker another record killed (its
+                            # result lost with that worker) is not the killer
+                            again = submit(batch, part_name(run, i, j if j is not None else 0), attempt + 1)
+                            tasks[again] = (i, j, batch, attempt + 1)
+                            pending.add(again)
                             continue
                         status = STATUS_WORKER_DIED if type(exc).__name__ == "KilledWorker" else STATUS_TASK_FAILED
                         message = (f"the task of this record killed its worker process: {exc}"
