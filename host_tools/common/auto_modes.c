@@ -12,25 +12,12 @@ static void *workspace_of(size_t bytes)
                                                    OKID_WORKSPACE_ALIGN);
 }
 
-/* MAC of two sensor shapes (m complex values each). */
-static double mac(const okid_complex *a, const okid_complex *b, int m)
-{
-    double re = 0, im = 0, na = 0, nb = 0;
-    for (int i = 0; i < m; ++i) {
-        re += (double)a[i].re * (double)b[i].re + (double)a[i].im * (double)b[i].im;
-        im += (double)a[i].im * (double)b[i].re - (double)a[i].re * (double)b[i].im;
-        na += (double)a[i].re * (double)a[i].re + (double)a[i].im * (double)a[i].im;
-        nb += (double)b[i].re * (double)b[i].re + (double)b[i].im * (double)b[i].im;
-    }
-    return na > 0 && nb > 0 ? (re * re + im * im) / (na * nb) : 0;
-}
-
 /* The selection's clustering gates in frequency and shape: the same physical mode. */
 static int same_mode(const okid_mode_selection_criteria *c, const okid_mode *a, const okid_mode *b, int m)
 {
     const double fa = (double)a->frequency_hz, fb = (double)b->frequency_hz;
     return a->is_pair && b->is_pair && fabs(fa - fb) <= (double)c->frequency_distance * fa &&
-           mac(a->sensor_shape, b->sensor_shape, m) >= (double)c->mac_min;
+           (double)okid_mac(a->sensor_shape, b->sensor_shape, m) >= (double)c->mac_min;
 }
 
 /* window > 0: alpha = beta = window; 0 keeps cfg's Hankel size (given by the user). */
