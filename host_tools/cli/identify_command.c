@@ -173,7 +173,10 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
         if (stab_ws != NULL && st.num_orders > 0) print_stabilization(&st);
         if (refined != NULL && search->count > 0) print_start_search(search);
         if (refined != NULL) print_refinement(refined, cfg->num_outputs, cc->output_names);
-        if (o->timing) printf("\nelapsed from okid_init to the modes: %.6f s\n", elapsed);
+        if (o->timing) {
+            printf("\nelapsed from okid_init to the %s: %.6f s\n",
+                   refined != NULL ? "refined modes (start search, OKID/ERA, refinement)" : "modes", elapsed);
+        }
     }
     free(stab_ws);
     return 0;
@@ -302,6 +305,8 @@ static int identify_and_refine(const identify_options *o, okid_config *cfg, reco
     }
     start_search search = {.count = 0, .best = -1};
     void *grown = NULL;
+    struct timespec t0, t1; /* --timing: the start search, OKID/ERA and the refinement */
+    timespec_get(&t0, TIME_UTC);
     if (!o->horizons_given && cfg->decimation <= 1) {
         identify_choose_start(o, cfg, n, u, y, &search);
         if (okid_workspace_size(cfg, &bytes) != OKID_OK ||
@@ -324,7 +329,9 @@ static int identify_and_refine(const identify_options *o, okid_config *cfg, reco
         okid_refine_result refined;
         void *rf_ws = NULL;
         rc = identify_refine(o, &res, n, u, y, 0, &rf, &rf_ws, &refined);
-        if (rc == 0) rc = report(o, cfg, &id, &res, cc, -1, &refined, &search, NULL, NULL);
+        timespec_get(&t1, TIME_UTC);
+        const double elapsed = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+        if (rc == 0) rc = report(o, cfg, &id, &res, cc, elapsed, &refined, &search, NULL, NULL);
         free(rf_ws);
     }
     free(grown);
