@@ -19,6 +19,7 @@
 #include "json_writer.h"
 #include "record_channels.h"
 #include "record_reader.h"
+#include "warning_poles.h"
 
 /* Names of the chosen columns, for the table and the JSON. */
 typedef struct column_choice {
@@ -56,7 +57,9 @@ static void print_header(const okid_config *cfg, const okid_result *res, const c
     printf("%s\n", res->num_singular_values > 12 ? " ..." : "");
     for (unsigned bit = 1; bit != 0 && bit <= res->warnings; bit <<= 1) {
         if (res->warnings & bit) {
-            printf("warning: %s\n", okid_warning_str(bit));
+            char poles[512]; /* the poles it is about, by frequency */
+            warning_poles_text(res->modes, res->num_modes, bit, poles, sizeof poles);
+            printf("warning: %s%s\n", okid_warning_str(bit), poles);
         }
     }
 }
