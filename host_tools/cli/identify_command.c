@@ -80,8 +80,17 @@ static void print_model_modes(const okid_config *cfg, const okid_result *res, co
         }
         printf("\n");
     }
+    /* what the sensors see first, by output name (for acceleration sensing eq. 64's displacement and
+       velocity are derived from it) */
+    printf("\nsensor shapes C psi (largest component 1); columns:");
+    for (int i = 0; i < cc->m; ++i) printf(" %s", cc->output_names[i]);
+    printf("\n");
+    for (int i = 0; i < res->num_modes; ++i) {
+        printf("%5d", i + 1);
+        auto_print_sensor_shape(&res->modes[i], cfg->num_outputs);
+    }
     /* eq. 64: the displacement, then the velocity, at each sensor location */
-    printf("\nmode shapes (eq. 64, unit norm); columns:");
+    printf("\nmode shapes (eq. 64, unit norm; displacement and velocity whatever the sensing); columns:");
     for (int a = 0; a < 2 * cc->m; ++a) {
         printf(" %s(%s)", a < cc->m ? "disp" : "vel", cc->output_names[a % cc->m]);
     }
