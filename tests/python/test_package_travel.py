@@ -329,6 +329,61 @@ def test_plot_stabilization(record, axes, tmp_path):
     _written(axes, tmp_path, "stabilization")
 
 
+def test_measured_frequency_response_is_the_exact_one():
+    """okid.plot's H1 estimate (Welch, Hann) of a noise-free record of the paper's system (numpy's
+    simulation and exact model, tests/python/reference.py) against C (zI - A)^-1 B + D on the unit
+    circle. Its error is the window's leakage of the impulse response's decay tau = 1/(2 pi zeta f)
+    (2.0 s for mode 1) over a segment of n dt = 125 s: 1.6 %; the bound is 3x that."""
+    from reference import paper_reference
+    ref = paper_reference(DT)
+    u = np.random.default_rng(3).standard_normal((20000, 1))
+    y, _ = ref.simulate(u)
+    f, h = okid.plot.measured_frequency_response(u, y, DT)
+    band = (f > 0.1) & (f < 3.0)
+    z = np.exp(2j * np.pi * f[band] * DT)
+    exact = np.array([ref.C @ np.linalg.solve(zk * np.eye(4) - ref.A, ref.B) + ref.D for zk in z])
+    assert h.shape == (len(f), 2, 1)
+    np.testing.assert_allclose(np.abs(h[band] - exact) / np.abs(exact).max(axis=0), 0, atol=0.05)
+    with pytest.raises(ValueError, match="same number of samples, at least 64"):
+        okid.plot.measured_frequency_response(u[:50], y[:50], DT)
+
+
+def test_plot_stabilization_marks_the_physical_modes(record, axes, tmp_path):
+    """okid.plot_stabilization on okid.identify's defaults: the diagram's poles, a line and the spread
+    band at each physical mode, and the measured frequency response's singular values behind."""
+    u, y = record
+    res = okid.identify(u, y, DT)
+    assert okid.plot_stabilization(res, u, y, ax=axes) is axes
+    lines = [ln.get_xdata()[0] for ln in axes.get_lines()]
+    # the paper's 1.05 Hz mode is damped 33 %, above the selection's 0.2 (docs/quality.md section 8)
+    assert [round(m.frequency_hz, 2) for m in res.modes] == [0.50]
+    np.testing.assert_array_equal(lines, [m.frequency_hz for m in res.modes])
+    behind = [a for a in axes.figure.axes if a is not axes][0]
+    f, h = okid.plot.measured_frequency_response(u, y, DT)
+    keep = f <= 0.5 / res.dt
+    np.testing.assert_array_equal(np.array([ln.get_ydata() for ln in behind.get_lines()]).T,
+                                  np.linalg.svd(h[keep], compute_uv=False))
+    _written(axes, tmp_path, "stabilization_selected")
+
+
+def test_stabilization_tool_draws_a_csv_record(record, tmp_path):
+    """okid-stabilization FILE.csv: the record identified with the defaults, the PNG written, its path
+    printed; a refusal is one line and exit 1, nothing written."""
+    u, y = record
+    csv = tmp_path / "rec.csv"
+    rows = np.column_stack([np.arange(len(u)) * DT, u, y])
+    np.savetxt(csv, rows, delimiter=",", header="t,force,acc1,acc2", comments="")
+    tool = Path(sys.executable).with_name("okid-stabilization")
+    png = tmp_path / "s.png"
+    run = subprocess.run([str(tool), str(csv), "--inputs", "1", "-o", str(png)], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == str(png) and png.stat().st_size > 5000
+    bad = subprocess.run([str(tool), str(csv), "--inputs", "force9", "-o", str(tmp_path / "t.png")],
+                         capture_output=True, text=True, timeout=120)
+    assert bad.returncode == 1 and len(bad.stderr.strip().splitlines()) == 1 and "force9" in bad.stderr
+    assert not (tmp_path / "t.png").exists()
+
+
 def test_plot_without_axes_makes_a_figure(result):
     import matplotlib
     matplotlib.use("Agg")
