@@ -6,7 +6,7 @@
 # compared), the float build, the double and float C suites again under reference BLAS and each
 # OpenBLAS kernel this CPU runs, the Eigen-backend build, the 32-bit (gcc -m32) build, the firmware
 # cross-builds (Cortex-M4F, M7, M33, M55, RISC-V) with their tests under QEMU and the footprint
-# report, the whole suite again under ASan + UBSan, valgrind memcheck, and bounded fuzzing. Stops at
+# report, the C and CLI suites again under ASan + UBSan, valgrind memcheck, and bounded fuzzing. Stops at
 # the first failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
