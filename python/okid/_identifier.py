@@ -8,7 +8,7 @@ import json
 import warnings
 from dataclasses import dataclass, fields, replace
 from types import MappingProxyType
-from typing import Any, Dict, Optional
+from typing import Any, Dict, Optional, Tuple
 
 import numpy as np
 
@@ -76,6 +76,10 @@ class Identifier:
 
     def __deepcopy__(self, memo: Dict[int, Any]) -> "Identifier":
         return self.__copy__()
+
+    def __reduce__(self) -> Tuple[Any, ...]:
+        raise TypeError("an okid.Identifier cannot be pickled: its C core (the pushed samples) stays in this "
+                        "process; pickle its Results, or push the same samples into an Identifier there")
 
     @property
     def config(self) -> Dict[str, Any]:

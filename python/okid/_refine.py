@@ -6,7 +6,8 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
-from typing import Any, Callable, Dict, Optional, Tuple
+import os
+from typing import Any, Callable, Dict, Mapping, Optional, Tuple, Union
 
 import numpy as np
 
@@ -15,6 +16,7 @@ from . import model as _model_mod
 from ._config import SENSING, Sensing, integer, real_array, real_number
 from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DATA_RANGE, E_RANK_DEFICIENT, OK, BadParameterError, BadSizeError,
                       check)
+from . import _document
 from ._document import Travelling
 from ._mode import Mode, ModeArrays, WarningFlag, modes_from_dicts
 from ._statespace import StateSpaceModel
@@ -181,9 +183,36 @@ class CramerRaoBound(_ModeArrays, Travelling):
     below which no unbiased estimate of a mode's frequency or damping ratio can go."""
     modes: Tuple[Mode, ...]    #: the model's modes (okid.Mode), their *_std fields the bound
     noise_std: np.ndarray      #: (m,) the output noise standard deviations used [output units]
-    num_parameters: int        #: parameters of the model class (order n with feedthrough and x(0))
-    samples: int               #: N
+    num_parameters: int        #: parameters of the model class (order n with feedthrough and x(0)) [counts]
+    samples: int               #: N [samples]
 
+    def to_dict(self) -> Dict[str, Any]:
+        """The bound as a JSON object: its fields by name (arrays as lists, complex as [re, im])."""
+        return _document.encode(self)
+
+    def save(self, path: Union[str, "os.PathLike[str]"]) -> None:
+        """Write the bound to path as JSON (format CRLB_FORMAT, version CRLB_FORMAT_VERSION:
+        docs/python.md); CramerRaoBound.load(path) gives it back equal. An existing file is
+        refused (FileExistsError)."""
+        _document.save(self, self.to_dict(), path, CRLB_FORMAT, CRLB_FORMAT_VERSION)
+
+    @classmethod
+    def from_dict(cls, document: Mapping[str, Any]) -> "CramerRaoBound":
+        """The bound from CramerRaoBound.save()'s (or to_dict()'s) object."""
+        document, extra = _document.open_document(document, CRLB_FORMAT, CRLB_FORMAT_VERSION,
+                                                  f"okid.CramerRaoBound.load reads {CRLB_FORMAT!r} files",
+                                                  default_format=CRLB_FORMAT)
+        return _document.read(cls, _document.merged(document, extra))
+
+    @classmethod
+    def load(cls, path: Union[str, "os.PathLike[str]"]) -> "CramerRaoBound":
+        """The bound a file holds (CramerRaoBound.save()'s)."""
+        return cls.from_dict(_document.load_json(path, "CramerRaoBound.save()"))
+
+
+#: CramerRaoBound.save()'s file: "format", "format_version", then the bound's fields.
+CRLB_FORMAT = "okid.CramerRaoBound"
+CRLB_FORMAT_VERSION = 1
 
 
 #: why okid_refine_result::std_status is not OKID_OK (the words of okid crlb's refusal)
