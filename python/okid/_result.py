@@ -18,7 +18,7 @@ from . import _document
 from ._config import integer
 from ._document import Travelling
 from ._errors import E_BAD_PARAMETER, E_NOT_AVAILABLE, BadParameterError, check, error_for
-from ._mode import Mode, ModeArrays, StabilityFlag, WarningFlag, modes_from_dicts
+from ._mode import Mode, ModeArrays, Pole, SelectedMode, StabilityFlag, WarningFlag, modes_from_dicts
 from ._refine import (REFINE_DEFAULTS, ProgressCallback, Refinement, check_settings, run as _run_refinement,
                       warn_if_stopped)
 from ._statespace import StateSpaceModel
@@ -187,7 +187,7 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
     chosen: Optional[Mapping[str, Any]] = None
     #: with the order chosen (order=0): every pole of the model with its verdict (okid.Pole), while
     #: ``modes`` holds the physical modes (okid.SelectedMode); else None
-    poles: Optional[Tuple[Any, ...]] = None
+    poles: Optional[Tuple[Pole, ...]] = None
     _auto_json: Optional[str] = field(repr=False, default=None)
     #: after a refinement: the OKID/ERA result it started from (modes, warnings and model as
     #: identified; this result's modes and warnings are the refined ones, JSON "start"), else None
@@ -257,8 +257,10 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
             fields.pop("start")
             fields.update({k: v for k, v in start_doc.items() if k not in ("modes", "warnings", "warning_bits")})
         start_extra = extra.pop("start", None)
-        values = _document.read(cls, _document.merged(fields, extra), _CLI_FALLBACKS,
-                                aliases={"warnings": "warning_bits"})
+        fields = _document.merged(fields, extra)
+        values = _document.read(cls, fields, _CLI_FALLBACKS, aliases={"warnings": "warning_bits"})
+        if values.poles is not None:  # the order chosen: the modes are the physical ones the selection kept
+            values = replace(values, modes=tuple(_document.read(SelectedMode, m) for m in fields["modes"]))
         if isinstance(start_doc, Mapping):
             refined_only = ("start", "refinement", "std_covariance", "initial_state", "modes", "warnings",
                             "warning_bits", "A", "B", "C", "D")

@@ -106,6 +106,100 @@ def test_a_result_pickles_and_copies_equal(result, refined, how):
         clone(result).stabilization(8)
 
 
+def _same_error(a, b, where):
+    assert type(a) is type(b) and str(a) == str(b) and getattr(a, "status", None) == getattr(b, "status", None), where
+
+
+@pytest.fixture(scope="module")
+def public_instances(record, result, refined, tmp_path_factory):
+    """An instance of every public type of okid.__all__ (exceptions and warnings are made from their
+    class below): a type added to okid.__all__ without one here fails the test that uses this."""
+    u, y = record
+    chosen = okid.identify(u, y, DT)  # settings and order chosen from the data: SelectedMode and Pole
+    assert chosen.poles and isinstance(chosen.modes[0], okid.SelectedMode)
+    diagram = okid.identify(u, y, DT, observer_order=20, order=4, hankel_rows=20, hankel_cols=20).stabilization(12)
+    flags = [f for level in diagram.orders for f in level.stability]
+    assert any(flags)  # a diagram with stable modes: the flags' round trip is seen
+    csv = tmp_path_factory.mktemp("record") / "rec.csv"
+    np.savetxt(csv, np.column_stack([np.arange(len(u)) * DT, u, y]), delimiter=",", header="t,force,acc1,acc2",
+               comments="", fmt="%.17g")
+    identifier = okid.Identifier(1, 2, DT, **SETTINGS)
+    identifier.push(u, y)
+    return {
+        "Result": [result, refined, chosen], "Mode": [result.modes[0], refined.refinement.modes[0]],
+        "SelectedMode": [chosen.modes[0]], "Pole": [chosen.poles[0]],
+        "WarningFlag": [okid.WarningFlag.UNSTABLE_POLE | okid.WarningFlag.WEAK_EXCITATION],
+        "Stabilization": [diagram], "StabilizationOrder": list(diagram.orders),
+        "StabilityFlag": [max(flags, key=int)], "Refinement": [refined.refinement],
+        "CramerRaoBound": [okid.crlb(u, DT, noise=0.05)], "Record": [okid.read_record(csv)],
+        "Progress": [identifier.progress],
+    }
+
+
+#: public types that do not travel, and why
+NOT_PICKLABLE = {"Identifier": "its C core holds the pushed samples (TypeError, as copy.copy)"}
+
+
+def _public_types():
+    return {name: getattr(okid, name) for name in okid.__all__ if isinstance(getattr(okid, name), type)}
+
+
+def test_every_public_type_pickles_and_copies(public_instances):
+    """Every class of okid.__all__: pickle, deepcopy and copy give an equal value (arrays read-only);
+    an exception keeps its message and status (a worker's error crosses a process pool as itself)."""
+    types = _public_types()
+    made = {name for name, cls in types.items() if issubclass(cls, BaseException)}
+    assert set(types) == set(public_instances) | made | set(NOT_PICKLABLE), \
+        "a public type without an instance in public_instances (or a reason in NOT_PICKLABLE)"
+    clones = (lambda v: pickle.loads(pickle.dumps(v)), copy.deepcopy, copy.copy)
+    for name, cls in types.items():
+        if name in NOT_PICKLABLE:
+            continue
+        if name in made:
+            value = cls("a message", -4) if issubclass(cls, okid.OkidError) else cls("a message")
+            for clone in clones:
+                _same_error(value, clone(value), name)
+            continue
+        for i, value in enumerate(public_instances[name]):
+            assert type(value) is cls, name
+            for clone in clones:
+                other = clone(value)
+                if isinstance(value, okid.Record):
+                    assert type(other) is okid.Record and other[2:] == value[2:], name
+                    for a, b in zip(value[:2], other[:2]):
+                        np.testing.assert_array_equal(a, b)
+                        assert not b.flags.writeable, f"{name}: an array came back writable"
+                else:
+                    assert_same_value(value, other, f"{name}[{i}]")
+                if hasattr(value, "to_dict"):
+                    assert other.to_dict() == value.to_dict(), name
+    identifier = okid.Identifier(1, 2, DT, **SETTINGS)
+    with pytest.raises(TypeError, match="cannot be pickled: its C core"):
+        pickle.dumps(identifier)
+
+
+def test_every_public_result_with_save_loads_back_equal(public_instances, tmp_path):
+    """Every public type with save() (the results a user keeps) gives an equal value back from its
+    file, by its class's load(), and refuses to overwrite; one type's file is refused by another's."""
+    savable = {name for name, cls in _public_types().items() if hasattr(cls, "save")}
+    assert savable == {"Result", "Stabilization", "CramerRaoBound"}
+    for name in sorted(savable):
+        cls = getattr(okid, name)
+        for i, value in enumerate(public_instances[name]):
+            path = tmp_path / f"{name}-{i}.json"
+            value.save(path)
+            back = cls.load(path)
+            assert_same_value(value, back, f"{name}[{i}]")
+            assert back.to_dict() == value.to_dict(), name
+            with pytest.raises(FileExistsError):
+                value.save(path)
+    with pytest.raises(ValueError, match=r"^format = 'okid.Stabilization': okid.load reads 'okid.Result' files.*"
+                                         r"okid.Stabilization.load reads that one$"):
+        okid.load(tmp_path / "Stabilization-0.json")
+    with pytest.raises(ValueError, match=r"^format = 'okid.Result': okid.Stabilization.load .*okid.load reads that one$"):
+        okid.Stabilization.load(tmp_path / "Result-0.json")
+
+
 def _identify_in_worker(seed):
     u, y = paper_record(seed=seed, noise=0.01)
     return okid.identify(u, y, 0.01, **PAPER)
