@@ -7,7 +7,7 @@ import math
 import warnings
 from dataclasses import dataclass
 import os
-from typing import Any, Callable, Dict, Mapping, Optional, Tuple, Union
+from typing import Any, Dict, Mapping, Optional, Tuple, Union
 
 import numpy as np
 
@@ -19,12 +19,9 @@ from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DATA_RANGE, E_RANK_DEFICIEN
 from . import _document
 from ._document import Travelling
 from ._mode import Mode, ModeArrays, WarningFlag, modes_from_dicts
+from ._progress import ProgressArg, phase
 from ._statespace import StateSpaceModel
 
-#: progress(done, total) of a long call: samples fed so far and the most it can take (for a
-#: refinement samples x max_passes: it usually converges sooner), called after each chunk of
-#: some 10-50 ms of work (16384 samples for the paper's case, fewer for larger models).
-ProgressCallback = Callable[[int, int], Any]
 
 _MAX_PASSES, _STEP_TOLERANCE = _core.refine_config_default()
 #: okid_refine_config_default()'s values (docs/cli.md: --max-passes, --step-tolerance).
@@ -140,13 +137,13 @@ def _model(a, b, c, d) -> Tuple[np.ndarray, ...]:
 
 
 def run(model, dt: float, sensing: str, u: Any, y: Any, max_passes: int, step_tolerance: float,
-        noise_std: Optional[np.ndarray] = None, what: str = "refine", progress: Optional[ProgressCallback] = None):
+        noise_std: Optional[np.ndarray] = None, what: str = "refine", progress: ProgressArg = None):
     """okid_refine_* over the record: (RefineCore, Refinement). Ctrl-C raises KeyboardInterrupt
     within one chunk; progress(done, total) follows the samples fed."""
     a, b, c, d = _model(*model)
     ua, ya = _record(u, y, b.shape[1], c.shape[0])
     status, core = _core.refine(a, b, c, d, float(dt), SENSING[sensing], ua, ya, max_passes, step_tolerance,
-                                noise_std, progress)
+                                noise_std, phase(progress, "refinement"))
     check(status, f"{what} (n = {a.shape[0]}, r = {b.shape[1]}, m = {c.shape[0]}, {ua.shape[0]} samples: more "
                   f"output samples than parameters, finite inputs)")
     return core, _refinement(core)

@@ -19,8 +19,8 @@ from ._config import integer
 from ._document import Travelling
 from ._errors import E_BAD_PARAMETER, E_NOT_AVAILABLE, BadParameterError, check, error_for
 from ._mode import Mode, ModeArrays, Pole, SelectedMode, StabilityFlag, WarningFlag, modes_from_dicts
-from ._refine import (REFINE_DEFAULTS, ProgressCallback, Refinement, check_settings, run as _run_refinement,
-                      warn_if_stopped)
+from ._progress import CALLER, ProgressArg, reported
+from ._refine import REFINE_DEFAULTS, Refinement, check_settings, run as _run_refinement, warn_if_stopped
 from ._statespace import StateSpaceModel
 
 #: Result.save()'s file: "format" and "format_version" first, then the members of ``okid identify
@@ -269,9 +269,10 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
             values = replace(values, start=cls.from_dict(start))
         return replace(values, _document=MappingProxyType(document))
 
+    @reported
     def refine(self, u: Any, y: Any, *, max_passes: int = REFINE_DEFAULTS["max_passes"],
                step_tolerance: float = REFINE_DEFAULTS["step_tolerance"],
-               progress: Optional[ProgressCallback] = None) -> "Result":
+               progress: ProgressArg = None) -> "Result":
         """This result with its prediction-error refinement over the record (u, y): the same
         arrays this model describes, (N, r) and (N, m), at its sample interval dt (docs/refinement.md).
 
@@ -284,16 +285,17 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
 
         The record goes in chunks (some 10-50 ms of work each): Ctrl-C raises KeyboardInterrupt
         between two, and progress(done, total), when given, is called after each with the samples
-        fed and samples x max_passes.
+        fed and samples x max_passes; progress=True shows a bar on stderr instead (tqdm's when
+        installed, else a plain line).
         """
         if self.decimation > 1:
             raise BadParameterError(f"refine() of a result with decimation = {self.decimation}: the refinement needs "
                                     f"the record at the model's sample interval; identify without decimation",
                                     E_BAD_PARAMETER)
-        return self._refine(u, y, max_passes, step_tolerance, stacklevel=2, progress=progress)
+        return self._refine(u, y, max_passes, step_tolerance, stacklevel=CALLER, progress=progress)
 
     def _refine(self, u: Any, y: Any, max_passes: Any, step_tolerance: Any, stacklevel: int,
-                progress: Optional[ProgressCallback] = None) -> "Result":
+                progress: ProgressArg = None) -> "Result":
         passes, tol = check_settings(max_passes, step_tolerance)
         core, refined = _run_refinement((self.A, self.B, self.C, self.D), self.dt, self.config["sensing"], u, y,
                                         passes, tol, progress=progress)
