@@ -4,19 +4,18 @@ okid_refine_* API over the caller's arrays, fed once per pass without a copy."""
 from __future__ import annotations
 
 import math
+import os
 import warnings
 from dataclasses import dataclass
-import os
 from typing import Any, Dict, Mapping, Optional, Tuple, Union
 
 import numpy as np
 
-from . import _core
+from . import _core, _document
 from . import model as _model_mod
 from ._config import SENSING, Sensing, integer, real_array, real_number
 from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DATA_RANGE, E_RANK_DEFICIENT, OK, BadParameterError, BadSizeError,
                       check)
-from . import _document
 from ._document import Travelling
 from ._mode import Mode, ModeArrays, WarningFlag, modes_from_dicts
 from ._progress import ProgressArg, phase
