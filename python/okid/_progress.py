@@ -1,10 +1,10 @@
 # SPDX-License-Identifier: Apache-2.0
 """The progress keyword of okid's long calls (identify, Identifier.push, refine): a callback
 progress(done, total), or True for a bar on stderr (tqdm's when tqdm is installed, else one plain
-line), or None. A call decorated with @reported turns the keyword into a Reporter; the code inside
-asks it for each phase's callback (phase()), so the bar says what is running. Also the choice of
-settings from the data, one C call without chunks, run so that Ctrl-C stops the wait
-(run_interruptibly)."""
+line), or None. A call decorated with @reported checks the keyword and turns True into a Reporter;
+the code inside asks for each phase's callback (phase()), so that a bar says what is running.
+Also the choice of settings from the data, one C call without chunks, run so that Ctrl-C stops
+the wait (run_interruptibly)."""
 from __future__ import annotations
 
 import functools
@@ -106,26 +106,17 @@ def _tqdm() -> Any:
 
 
 class Reporter:
-    """The progress keyword of one call: phase(label) gives the callback of each phase (the user's
-    own, or a fresh bar's), close() ends the last bar."""
+    """progress=True for one call: phase(label) gives each phase's callback, a fresh bar's;
+    close() ends the last bar."""
 
-    def __init__(self, progress: ProgressArg, stream: Optional[IO[str]] = None):
-        if not (progress is None or isinstance(progress, bool) or callable(progress)):
-            raise TypeError(f"progress = {progress!r}: a callable progress(done, total), True for a progress bar "
-                            f"on stderr, or None")
-        self.callback = progress if callable(progress) else None
-        self.bars = progress is True
-        self.stream = stream
+    def __init__(self) -> None:
         self.current: Optional[Any] = None
         self.refreshed = 0.0
 
-    def phase(self, label: str) -> Optional[ProgressCallback]:
-        if not self.bars:
-            return self.callback
+    def phase(self, label: str) -> ProgressCallback:
         self.close()
-        stream = self.stream if self.stream is not None else sys.stderr
-        tqdm = _tqdm()
-        self.current = _TqdmBar(label, stream, tqdm) if tqdm is not None else _LineBar(label, stream)
+        tqdm = _tqdm()  # sys.stderr as it is now (a test's capture, a notebook's)
+        self.current = _TqdmBar(label, sys.stderr, tqdm) if tqdm is not None else _LineBar(label, sys.stderr)
         return self.current.update
 
     def refresh(self) -> None:
@@ -142,23 +133,26 @@ class Reporter:
 
 
 def phase(progress: Any, label: str) -> Optional[ProgressCallback]:
-    """The callback for one phase of a call: a Reporter's (a @reported call), a callback given to
-    an internal function as it is, or None."""
+    """The callback for one phase of a call: a Reporter's fresh bar (progress=True), the caller's
+    own callback as it is, or None."""
     if isinstance(progress, Reporter):
         return progress.phase(label)
     return progress if callable(progress) else None
 
 
 def reported(f: F) -> F:
-    """f's progress keyword (ProgressArg) as a Reporter for the call, closed when f returns or raises.
-    A Reporter passed on by another reported call stays that call's."""
+    """f's progress keyword (ProgressArg) checked, and True made a Reporter for the call, its bar
+    closed when f returns or raises. A Reporter passed on by another reported call stays that call's."""
 
     @functools.wraps(f)
     def wrapper(*args: Any, **kwargs: Any) -> Any:
         progress = kwargs.get("progress")
-        if isinstance(progress, Reporter):
+        if progress is not True:
+            if not (progress is None or isinstance(progress, (bool, Reporter)) or callable(progress)):
+                raise TypeError(f"progress = {progress!r}: a callable progress(done, total), True for a progress "
+                                f"bar on stderr, or None")
             return f(*args, **kwargs)
-        kwargs["progress"] = report = Reporter(progress)
+        kwargs["progress"] = report = Reporter()
         try:
             return f(*args, **kwargs)
         finally:
