@@ -282,6 +282,28 @@ def _client(scheduler: Optional[str], scheduler_file: Optional[str], workers: Op
     return Client(cluster), cluster
 
 
+def _dashboard(client) -> str:
+    """The dashboard's address, or why there is none. The scheduler names its HTTP port even
+    without the dashboard (no bokeh, or --no-dashboard: the page is then a 404), so the page is
+    asked for once; a page slow to come (drawn under load) is there."""
+    import urllib.error
+    import urllib.request
+
+    link = client.dashboard_link
+    try:
+        with urllib.request.urlopen(link, timeout=2):
+            pass
+    except urllib.error.HTTPError as exc:
+        return f"no dashboard at {link} (HTTP {exc.code}: the scheduler serves none without bokeh or with --no-dashboard)"
+    except (urllib.error.URLError, ValueError) as exc:
+        if isinstance(getattr(exc, "reason", None), TimeoutError):
+            return f"dashboard {link}"
+        return f"no dashboard at {link} (not reachable from here: {getattr(exc, 'reason', exc)})"
+    except TimeoutError:
+        pass
+    return f"dashboard {link}"
+
+
 def _restart(client, worker: str, progress: Optional[TextIO]) -> None:
     """Restart the worker whose record outlived --record-timeout: its thread, in native code that
     cannot be interrupted, would keep a core busy. A worker without a nanny cannot be restarted:
@@ -392,9 +414,7 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
     client, cluster = _client(scheduler, scheduler_file, workers, connect_timeout, progress, memory_limit)
     try:
         if progress is not None:
-            progress.write(f"okid-fleet: dashboard {client.dashboard_link}\n" if client.dashboard_link else
-                           "okid-fleet: no dashboard (the scheduler serves none: it needs bokeh, or was started "
-                           "with --no-dashboard)\n")
+            progress.write(f"okid-fleet: {_dashboard(client)}\n")
         n_workers = max(1, len(client.scheduler_info().get("workers", {})))
         size = batch_size or batch_size_for(len(todo), n_workers)
         batches = [todo[i:i + size] for i in range(0, len(todo), size)]
