@@ -9,8 +9,8 @@ go to the workers as absolute paths, so they must be reachable under the same pa
 worker (a shared file system), or as fsspec URLs (s3://..., storage.py) that every worker reads
 with its own credentials; every worker needs okid.
 
-Every part is written to a temporary name and renamed when complete, so an interrupted job leaves
-only whole parts; a part holds every record of its batch (a failed record is a status row), so
+Every part is written to a temporary name and renamed when complete (in an object store: one
+upload, seen whole or not at all), so an interrupted job leaves only whole parts; a part holds every record of its batch (a failed record is a status row), so
 ``resume`` finds the records already done from the output alone. The output folder's manifest
 (output.py) keeps the job's settings and the runs that wrote it: nothing else is ever removed.
 
@@ -295,12 +295,10 @@ def _dashboard(client) -> str:
             pass
     except urllib.error.HTTPError as exc:
         return f"no dashboard at {link} (HTTP {exc.code}: the scheduler serves none without bokeh or with --no-dashboard)"
-    except (urllib.error.URLError, ValueError) as exc:
-        if isinstance(getattr(exc, "reason", None), TimeoutError):
-            return f"dashboard {link}"
-        return f"no dashboard at {link} (not reachable from here: {getattr(exc, 'reason', exc)})"
-    except TimeoutError:
-        pass
+    except (urllib.error.URLError, OSError, ValueError) as exc:
+        reason = getattr(exc, "reason", exc)
+        if not isinstance(reason, TimeoutError):
+            return f"no dashboard at {link} (not reachable from here: {reason})"
     return f"dashboard {link}"
 
 
@@ -453,8 +451,8 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
                             pending.add(again)
                             continue
                         status = STATUS_WORKER_DIED if type(exc).__name__ == "KilledWorker" else STATUS_TASK_FAILED
-                        message = (f"the task of this record killed its worker process (a native crash, or the worker "
-                                    f"past its memory limit): {exc}"
+                        message = (f"the task of this record killed its worker process (a native crash, or the "
+                                   f"worker past its memory limit): {exc}"
                                    if status == STATUS_WORKER_DIED else f"{type(exc).__name__}: {exc}")
                         part = part_name(run, i, j if j is not None else 0)
                         write_part([failure_row(batch[0], status, message, options)], out.path, part)
