@@ -538,6 +538,11 @@ def test_records_past_their_limits_fail_alone(cluster, tmp_path, capsys):
     status, _, err = okid_fleet_here(capsys, "identify", tmp_path / "records", "--out", tmp_path / "o2",
                                      "--record-timeout", "0")
     assert status == 2 and "--record-timeout 0.0: a number of seconds > 0" in err, err
+    status, _, err = okid_fleet_here(capsys, "identify", tmp_path / "records", "--out", tmp_path / "o2",
+                                     "--memory-limit", "1GiB", "--scheduler", cluster.address)
+    assert status == 2 and "--memory-limit is the local cluster's" in err, err
+    status, _, err = okid_fleet_here(capsys, "identify", "nosuch://bucket/records", "--out", tmp_path / "o2")
+    assert status == 1 and "nosuch://bucket/records:" in err and len(err.splitlines()) == 1, err
 
 
 def _upload(fs, local_dir, url):
