@@ -32,7 +32,7 @@ import pytest
 
 import okid
 from okid import fleet
-import okid.fleet.cli  # noqa: E402  (okid_fleet_here)
+import okid.fleet.cli  # for okid_fleet_here: fleet/__init__ does not import it
 
 OPTIONS = {"order": 4, "zero_initial_state": 1}
 CLI_OPTIONS = ["--order", "4", "--zero-initial-state"]
