@@ -17,6 +17,7 @@ import os
 os.environ["OPENBLAS_NUM_THREADS"] = "1"
 
 import json
+import logging
 import shutil
 import signal
 import socket
@@ -31,12 +32,23 @@ import pytest
 
 import okid
 from okid import fleet
+import okid.fleet.cli  # for okid_fleet_here: fleet/__init__ does not import it
 
 OPTIONS = {"order": 4, "zero_initial_state": 1}
 CLI_OPTIONS = ["--order", "4", "--zero-initial-state"]
 DASK = os.path.join(os.path.dirname(sys.executable), "dask")
 POISON = os.path.join(os.path.dirname(os.path.abspath(__file__)), "fleet_poison.py")
 POISON_DT = 0.0421  # fleet_poison.py kills the worker that identifies a record sampled so
+HANG_DT = 0.0433    # and hangs the one identifying a record sampled so
+BUCKET = "okid-fleet"
+
+
+def okid_fleet_here(capsys, *args):
+    """okid-fleet's main in this process (no interpreter to start, no imports to repeat): (status, stdout, stderr)."""
+    capsys.readouterr()
+    status = fleet.cli.main([str(a) for a in args])
+    captured = capsys.readouterr()
+    return status, captured.out, captured.err
 
 
 def okid_fleet(*args, check=True, timeout=300, cwd=None):
@@ -55,7 +67,7 @@ class Cluster:
 
     def __init__(self, tmp, workers=2, preload=None, allowed_failures=None):
         self.file = os.path.join(tmp, "scheduler.json")
-        env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
+        env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")  # with the S3 endpoint's, if any
         if allowed_failures is not None:
             env["DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES"] = str(allowed_failures)
         self.scheduler = subprocess.Popen([DASK, "scheduler", "--host", "127.0.0.1", "--port", "0",
@@ -115,9 +127,42 @@ def data(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
-def cluster(tmp_path_factory):
-    """The shared cluster: its workers run in a folder of their own, import fleet_poison.py, and a
-    task is given up after its second worker death (Dask's default is the fourth)."""
+def s3():
+    """A real S3 API on localhost (moto's server) with an empty bucket, its endpoint and made-up
+    credentials in the environment variables that s3fs reads, here and in the cluster's workers
+    (started after this); None without moto or s3fs."""
+    try:
+        import s3fs
+        from moto.server import ThreadedMotoServer
+    except ImportError:
+        yield None
+        return
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    logging.getLogger("werkzeug").setLevel(logging.WARNING)  # not a line per request
+    server = ThreadedMotoServer(ip_address="127.0.0.1", port=port, verbose=False)
+    server.start()
+    env = {"AWS_ENDPOINT_URL": f"http://127.0.0.1:{port}", "AWS_ACCESS_KEY_ID": "okid-test",
+           "AWS_SECRET_ACCESS_KEY": "okid-test", "AWS_DEFAULT_REGION": "us-east-1"}
+    saved = {k: os.environ.get(k) for k in env}
+    os.environ.update(env)
+    fs = s3fs.S3FileSystem()
+    fs.mkdir(BUCKET)
+    yield fs
+    for k, v in saved.items():
+        if v is None:
+            os.environ.pop(k, None)
+        else:
+            os.environ[k] = v
+    server.stop()
+
+
+@pytest.fixture(scope="module")
+def cluster(tmp_path_factory, s3):
+    """The shared cluster: its workers run in a folder of their own, import fleet_poison.py, reach
+    the S3 endpoint, and a task is given up after its second worker death (Dask's default is the
+    fourth)."""
     c = Cluster(str(tmp_path_factory.mktemp("dask")), preload=POISON, allowed_failures=1)
     yield c
     c.close()
@@ -174,8 +219,11 @@ def test_cluster_equals_serial_loop(data, cluster_table):
 
 def test_local_default_gives_the_same_table(data, cluster_table, tmp_path):
     out = str(tmp_path / "modes.parquet")
-    proc = okid_fleet("identify", data["records"], data["extra"], "--out", out, *CLI_OPTIONS, "--workers", "2")
+    proc = okid_fleet("identify", data["records"], data["extra"], "--out", out, *CLI_OPTIONS, "--workers", "2",
+                      "--memory-limit", "1GiB")
     assert "42 records identified (2 failed, 0 already done)" in proc.stdout
+    assert "starting a local cluster of 2 worker process(es), at most 1GiB of memory each" in proc.stderr
+    assert "okid-fleet: dashboard http://" in proc.stderr and "42/42 records, 2 failed" in proc.stderr
     assert_same_table(fleet.read_modes(out), cluster_table)
     again = okid_fleet("identify", data["records"], "--out", out, *CLI_OPTIONS, check=False)
     assert again.returncode == 1 and "--resume" in again.stderr and "Traceback" not in again.stderr
@@ -457,6 +505,98 @@ def test_a_record_that_kills_its_worker_fails_alone(cluster, tmp_path):
         rows = table.loc[[f"asset-p/{name}"]]
         assert (rows["status"] == "ok").all()
         assert list(rows["frequency_hz"]) == [m.frequency_hz for m in expected.modes]
+
+
+def test_records_past_their_limits_fail_alone(cluster, tmp_path, capsys):
+    """One batch of four records: one hangs inside okid.identify (fleet_poison.py), one is larger
+    than --max-record-mb. The hanging one is a timed_out row after --record-timeout, the large one
+    a too_large row, never read; the two others are identified as okid.identify does; 2 of 4
+    failed is not more than --max-failed-fraction 0.5: exit 0. The hanging worker is restarted."""
+    folder = tmp_path / "records" / "asset-l"
+    _csv_record(folder / "a.csv", 0.05, 1)
+    _csv_record(folder / "b.csv", HANG_DT, 2)
+    _csv_record(folder / "c.csv", 0.05, 3)
+    _csv_record(folder / "d.csv", 0.05, 4, samples=6000)
+    sizes = {name: (folder / f"{name}.csv").stat().st_size for name in "abcd"}
+    limit_mb = 2 * sizes["a"] / 1e6  # a, b, c are about 600 samples of 4 columns, d ten times that
+    assert max(sizes["a"], sizes["b"], sizes["c"]) < limit_mb * 1e6 < sizes["d"]
+    # a 600-sample record is identified in milliseconds: 2 s is a margin of a hundred times and more
+    status, out, err = okid_fleet_here(capsys, "identify", tmp_path / "records", "--out", tmp_path / "modes",
+                                       "--scheduler", cluster.address, "--batch-size", "4", "--order", "2",
+                                       "--record-timeout", "2", "--max-record-mb", limit_mb, "--quiet")
+    assert status == 0, err
+    assert "4 records identified (2 failed" in out and "could not restart" not in err, (out, err)
+    assert "1 timed_out, e.g. reading and identifying it took longer than --record-timeout 2 s" in out
+    assert f"1 too_large, e.g. {sizes['d'] / 1e6:.3g} MB, more than --max-record-mb" in out
+    table = fleet.read_modes(str(tmp_path / "modes")).set_index("record")
+    assert table.loc["asset-l/b", "status"] == "timed_out" and table.loc["asset-l/d", "status"] == "too_large"
+    for name in ("a", "c"):
+        rec = okid.read_record(folder / f"{name}.csv")
+        expected = okid.identify(rec.u, rec.y, rec.dt, order=2)
+        rows = table.loc[[f"asset-l/{name}"]]
+        assert list(rows["frequency_hz"]) == [m.frequency_hz for m in expected.modes]
+    status, _, err = okid_fleet_here(capsys, "identify", tmp_path / "records", "--out", tmp_path / "o2",
+                                     "--record-timeout", "0")
+    assert status == 2 and "--record-timeout 0.0: a number of seconds > 0" in err, err
+    status, _, err = okid_fleet_here(capsys, "identify", tmp_path / "records", "--out", tmp_path / "o2",
+                                     "--memory-limit", "1GiB", "--scheduler", cluster.address)
+    assert status == 2 and "--memory-limit is the local cluster's" in err, err
+    status, _, err = okid_fleet_here(capsys, "identify", "nosuch://bucket/records", "--out", tmp_path / "o2")
+    assert status == 1 and "nosuch://bucket/records:" in err and len(err.splitlines()) == 1, err
+
+
+def _upload(fs, local_dir, url):
+    for path in sorted(local_dir.rglob("*")):
+        if path.is_file():
+            fs.put_file(str(path), f"{url}/{path.relative_to(local_dir).as_posix()}")
+
+
+def test_object_storage_gives_the_local_table(data, cluster, cluster_table, s3, tmp_path, capsys):
+    """One asset's Parquet file and the two bad CSV records in a bucket of a real S3 API on
+    localhost (moto's server), the output written there by the cluster's workers (which run in
+    another folder and read the endpoint and the credentials from the environment): the table
+    equals the local run's rows of those records bit for bit, the messages naming the objects
+    instead of the files. The manifest and overwrite rules hold object by object: a foreign object
+    is never removed, an overlapping --out is refused, --overwrite replaces only the parts."""
+    if s3 is None:
+        pytest.skip("needs s3fs and moto[server] (host_tools/requirements.txt)")
+    root = data["root"]
+    s3.put_file(os.path.join(data["records"], "asset-000.parquet"), f"{BUCKET}/small/records/asset-000.parquet")
+    _upload(s3, root / "extra", f"{BUCKET}/extra")
+    inputs = [f"s3://{BUCKET}/small/records", f"s3://{BUCKET}/extra"]
+    out = f"s3://{BUCKET}/modes"
+    status, stdout, stderr = okid_fleet_here(capsys, "identify", *inputs, "--out", out, "--scheduler",
+                                             cluster.address, *CLI_OPTIONS)
+    assert status == 0 and "10 records identified (2 failed, 0 already done)" in stdout, (stdout, stderr)
+    assert f"connecting to {cluster.address}" in stderr and "10/10 records, 2 failed" in stderr
+    assert "okid-fleet: no dashboard at http://" in stderr  # the test's scheduler runs with --no-dashboard
+    expected = cluster_table[cluster_table["asset"].isin(["asset-000", "asset-bad"])].copy()
+    expected["message"] = expected["message"].str.replace(str(root), f"s3://{BUCKET}", regex=False)
+    assert f"s3://{BUCKET}/extra/asset-bad/corrupt.csv" in " ".join(expected["message"])
+    assert_same_table(fleet.read_modes(out), expected)
+
+    written = sorted(s3.ls(f"{BUCKET}/modes"))
+    assert written[0].endswith("/_okid_fleet.json") and all("/part-" in p for p in written[1:]), written
+
+    def refused(**flags):
+        with pytest.raises(fleet.FleetError) as refusal:
+            fleet.identify_fleet(inputs, flags.pop("out", out), options=flags.pop("options", OPTIONS),
+                                 scheduler=cluster.address, progress=None, **flags)
+        return str(refusal.value)
+
+    assert "--resume to finish it" in refused()
+    assert "options.order 4 -> 2" in refused(resume=True, options={"order": 2, "zero_initial_state": 1})
+    assert "overlap" in refused(out=f"s3://{BUCKET}/extra/modes")
+    s3.pipe_file(f"{BUCKET}/modes/notes.txt", b"the user's")
+    assert "did not write (notes.txt)" in refused(overwrite=True)
+    s3.invalidate_cache()
+    assert sorted(s3.ls(f"{BUCKET}/modes")) == sorted(written + [f"{BUCKET}/modes/notes.txt"])
+    s3.rm_file(f"{BUCKET}/modes/notes.txt")
+    fleet.identify_fleet(inputs, out, options=OPTIONS, scheduler=cluster.address, progress=None, overwrite=True)
+    s3.invalidate_cache()
+    rewritten = sorted(s3.ls(f"{BUCKET}/modes"))
+    assert len(rewritten) == len(written) and set(rewritten) & set(written) == {f"{BUCKET}/modes/_okid_fleet.json"}
+    assert_same_table(fleet.read_modes(out), expected)
 
 
 def test_a_port_that_is_not_dask_times_out(data, tmp_path):

@@ -9,7 +9,7 @@
 Install with ``pip install .[fleet]`` (Dask distributed, pyarrow, pandas, matplotlib). The command
 line is ``okid-fleet`` (okid.fleet.cli); docs/fleet.md has the rest.
 """
-from .job import FleetError, Interrupted, Summary, identify_fleet, read_modes, records_done
+from .job import FleetError, Interrupted, Limits, Summary, identify_fleet, read_modes, records_done
 from .records import ChannelSpec, RecordError, RecordRef, discover, read
 from .rows import identify_record
 from .synth import FleetSpec, synthesize
@@ -17,6 +17,6 @@ from . import monitor
 from .track import TrackOptions, drift_summary, mac, track
 from .track import alarms as track_alarms
 
-__all__ = ["identify_fleet", "read_modes", "records_done", "Summary", "FleetError", "Interrupted",
+__all__ = ["identify_fleet", "read_modes", "records_done", "Summary", "Limits", "FleetError", "Interrupted",
            "ChannelSpec", "RecordRef", "RecordError", "discover", "read", "identify_record",
            "FleetSpec", "synthesize", "track", "drift_summary", "track_alarms", "TrackOptions", "mac", "monitor"]

@@ -53,8 +53,10 @@ def _parser() -> argparse.ArgumentParser:
 
     i = sub.add_parser("identify", help="identify every record (one row per record and mode)")
     i.add_argument("records", nargs="+", metavar="RECORDS",
-                   help="CSV files, globs, folders of CSV files, Parquet files or folders")
-    i.add_argument("--out", required=True, help="output folder of Parquet parts (e.g. modes.parquet)")
+                   help="CSV files, globs, folders of CSV files, Parquet files or folders; local or fsspec URLs "
+                   "(s3://bucket/records, gs://...)")
+    i.add_argument("--out", required=True, help="output folder of Parquet parts (e.g. modes.parquet, "
+                   "s3://bucket/modes)")
     i.add_argument("--scheduler", help="tcp://HOST:PORT of a running Dask scheduler (default: a local cluster)")
     i.add_argument("--scheduler-file", help="the JSON file a running Dask scheduler wrote (dask scheduler "
                    "--scheduler-file)")
@@ -69,6 +71,15 @@ def _parser() -> argparse.ArgumentParser:
                    help="skip the records already in --out (refused when --out was written with other settings)")
     i.add_argument("--overwrite", action="store_true",
                    help="remove the parts of an earlier job in --out first (only the files okid-fleet wrote)")
+    i.add_argument("--record-timeout", type=float, metavar="SECONDS",
+                   help="seconds one record may take to read and identify; past it the record is a timed_out row "
+                   "and its worker is restarted (default: no limit)")
+    i.add_argument("--max-record-mb", type=float, metavar="MB",
+                   help="a record larger than this (its CSV file, or its Parquet row groups uncompressed; MB = 1e6 "
+                   "bytes) is a too_large row, never read (default: no limit)")
+    i.add_argument("--memory-limit", metavar="BYTES",
+                   help="memory of each local worker, as Dask takes it (e.g. 2GiB; default: the machine's, shared); "
+                   "a worker past 95 %% of it is restarted and its record ends as worker_died")
     i.add_argument("--quiet", action="store_true", help="no progress")
     _add_okid_options(i)
 
@@ -117,27 +128,41 @@ def _parser() -> argparse.ArgumentParser:
 def _identify(a) -> int:
     import okid
 
-    from .job import FleetError, Interrupted, identify_fleet
+    from .job import FleetError, Interrupted, Limits, identify_fleet
     from .records import ChannelSpec, RecordError
 
     options = {name: getattr(a, name) for name in okid.OPTION_NAMES if getattr(a, name) is not None}
     if a.scheduler and a.scheduler_file:
         print("okid-fleet: --scheduler and --scheduler-file name the same thing: give one", file=sys.stderr)
         return EXIT_USAGE
+    if a.memory_limit and (a.scheduler or a.scheduler_file):
+        print("okid-fleet: --memory-limit is the local cluster's: a running cluster's workers have their own "
+              "(dask worker --memory-limit)", file=sys.stderr)
+        return EXIT_USAGE
     if not 0 <= a.max_failed_fraction <= 1:
         print(f"okid-fleet: --max-failed-fraction {a.max_failed_fraction}: a fraction in [0, 1]", file=sys.stderr)
+        return EXIT_USAGE
+    limits = Limits(a.record_timeout, a.max_record_mb)
+    try:
+        limits.check()
+    except FleetError as exc:
+        print(f"okid-fleet: {exc}", file=sys.stderr)
         return EXIT_USAGE
     try:
         summary = identify_fleet(a.records, a.out, options=options,
                                  channels=ChannelSpec(a.inputs, a.outputs, a.dt, _names(a.covariates)), scheduler=a.scheduler,
                                  scheduler_file=a.scheduler_file, workers=a.workers, batch_size=a.batch_size,
                                  resume=a.resume, overwrite=a.overwrite, connect_timeout=a.connect_timeout,
-                                 progress=None if a.quiet else sys.stderr)
+                                 progress=None if a.quiet else sys.stderr, memory_limit=a.memory_limit,
+                                 limits=limits)
     except Interrupted as exc:
         print(f"okid-fleet: {exc}", file=sys.stderr)
         return EXIT_INTERRUPTED
     except (FleetError, RecordError) as exc:
         print(f"okid-fleet: {exc}", file=sys.stderr)
+        return EXIT_ERROR
+    except OSError as exc:  # storage that refuses (no credentials, no bucket, no permission)
+        print(f"okid-fleet: {type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}", file=sys.stderr)
         return EXIT_ERROR
     rate = summary.records / summary.seconds if summary.seconds > 0 else float("nan")
     print(f"okid-fleet: {summary.records} records identified ({summary.failed} failed, {summary.skipped} already "

@@ -6,15 +6,18 @@ No scheduler given: a LocalCluster of single-threaded worker processes, one per 
 sets OMP/OPENBLAS/MKL_NUM_THREADS=1 in each, so BLAS does not oversubscribe). A scheduler address
 (or its scheduler file): the same code on an existing cluster; the records and the output folder
 go to the workers as absolute paths, so they must be reachable under the same paths from every
-worker (a shared file system), and every worker needs okid.
+worker (a shared file system), or as fsspec URLs (s3://..., storage.py) that every worker reads
+with its own credentials; every worker needs okid.
 
-Every part is written to a temporary name and renamed when complete, so an interrupted job leaves
-only whole parts; a part holds every record of its batch (a failed record is a status row), so
+Every part is written to a temporary name and renamed when complete (in an object store: one
+upload, seen whole or not at all), so an interrupted job leaves only whole parts; a part holds every record of its batch (a failed record is a status row), so
 ``resume`` finds the records already done from the output alone. The output folder's manifest
 (output.py) keeps the job's settings and the runs that wrote it: nothing else is ever removed.
 
 A task that fails or kills its worker (Dask's KilledWorker) is retried record by record, so one
-poison record costs its batch a retry and ends as its own status row; the others are kept.
+poison record costs its batch a retry and ends as its own status row; the others are kept. A
+record past its Limits (time, size) is a status row too, and a worker left busy by a record that
+timed out is restarted.
 """
 from __future__ import annotations
 
@@ -31,12 +34,16 @@ import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Mapping, Optional, Sequence, Set, TextIO, Tuple
 
+from . import storage
+from .storage import StorageError
 from .output import Output, OutputError, part_name, settings, write_part
 from .records import ChannelSpec, RecordRef, RowGroupCache, discover, expand
-from .rows import STATUS_OK, STATUS_TASK_FAILED, STATUS_WORKER_DIED, failure_row, identify_record
+from .rows import (STATUS_OK, STATUS_TASK_FAILED, STATUS_TIMED_OUT, STATUS_TOO_LARGE, STATUS_WORKER_DIED, failure_row,
+                   identify_record)
 
-if TYPE_CHECKING:  # for the annotations only: pandas is the fleet extra's
+if TYPE_CHECKING:  # for the annotations only: pandas and pyarrow are the fleet extra's
     import pandas as pd
+    import pyarrow as pa
 
 MAX_BATCH: int = 50  # records per task at most: the scheduler's ~1 ms per task stays small against them
 
@@ -65,51 +72,117 @@ class Summary:
         return self.records > 0 and (self.failed == self.records or self.failed > max_failed_fraction * self.records)
 
 
+@dataclass(frozen=True)
+class Limits:
+    """What one record may cost; past a limit it is a status row and the job goes on."""
+    record_timeout: Optional[float] = None  #: seconds to read and identify one record (None: no limit)
+    max_record_mb: Optional[float] = None   #: MB (1e6 bytes) of a record, refused unread past it (None: no limit)
+
+    def check(self) -> None:
+        for name, value in (("record_timeout", self.record_timeout), ("max_record_mb", self.max_record_mb)):
+            if value is not None and not (value > 0 and math.isfinite(value)):
+                raise FleetError(f"--{name.replace('_', '-')} {value}: a number of "
+                                 f"{'seconds' if name == 'record_timeout' else 'MB'} > 0")
+
+
+def _within(seconds: float, work) -> Optional[List[Dict[str, Any]]]:
+    """WORK() in a thread of its own, its result if it ends within SECONDS, else None (the thread,
+    deep in native code that cannot be interrupted, is left running: the client restarts the worker)."""
+    box: Dict[str, Any] = {}
+
+    def run() -> None:
+        try:
+            box["rows"] = work()
+        except BaseException as exc:  # handed to the task's thread, raised there
+            box["error"] = exc
+
+    thread = threading.Thread(target=run, name="okid-fleet-record", daemon=True)
+    thread.start()
+    thread.join(seconds)
+    if thread.is_alive():
+        return None
+    if "error" in box:
+        raise box["error"]
+    return box["rows"]
+
+
 def identify_batch(refs: Sequence[RecordRef], channels: ChannelSpec, options: Mapping[str, Any], out_dir: str,
-                   part: str) -> Dict[str, Any]:
-    """A task: identify REFS, write their rows to OUT_DIR/PART.parquet (atomically)."""
+                   part: str, limits: Limits = Limits()) -> Dict[str, Any]:
+    """A task: identify REFS, write their rows to OUT_DIR/PART.parquet (atomically). A record past
+    LIMITS is a status row; "stuck" names this worker when a record outlived its time limit."""
     rows: List[Dict[str, Any]] = []
     statuses: List[Tuple[str, str]] = []
     cache = RowGroupCache()
+    stuck = None
     for ref in refs:
-        record_rows = identify_record(ref, channels, options, cache)
+        if limits.max_record_mb is not None and ref.size is not None and ref.size > limits.max_record_mb * 1e6:
+            record_rows = [failure_row(ref, STATUS_TOO_LARGE, f"{ref.size / 1e6:.3g} MB, more than --max-record-mb "
+                                       f"{limits.max_record_mb:g}", options)]
+        elif limits.record_timeout is not None:
+            record_rows = _within(limits.record_timeout, lambda: identify_record(ref, channels, options, cache))
+            if record_rows is None:
+                record_rows = [failure_row(ref, STATUS_TIMED_OUT, f"reading and identifying it took longer than "
+                                           f"--record-timeout {limits.record_timeout:g} s", options)]
+                cache = RowGroupCache()  # the thread left running may still use the old one
+                stuck = _worker_address()
+        else:
+            record_rows = identify_record(ref, channels, options, cache)
         statuses.append((record_rows[0]["status"], record_rows[0]["message"]))
         rows.extend(record_rows)
     write_part(rows, out_dir, part)
-    return {"part": part, "records": len(refs), "rows": len(rows), "statuses": statuses}
+    return {"part": part, "records": len(refs), "rows": len(rows), "statuses": statuses, "stuck": stuck}
+
+
+def _worker_address() -> Optional[str]:
+    try:
+        from distributed import get_worker
+
+        return get_worker().address
+    except (ImportError, ValueError):  # not inside a Dask worker
+        return None
 
 
 def parts(out_dir: str) -> List[str]:
-    """The whole parts of OUT_DIR: those its manifest's runs wrote; a folder without a manifest
-    (a table written by other means) gives all its Parquet files."""
+    """The whole parts of OUT_DIR (a path or URL; the parts as paths inside its file system): those
+    its manifest's runs wrote; a folder without a manifest (a table written by other means) gives
+    all its Parquet files."""
     out = Output(out_dir)
     if out.manifest() is not None:
         return out.parts()
-    if not os.path.isdir(out_dir):
-        return []
-    return sorted(os.path.join(out_dir, f) for f in os.listdir(out_dir)
-                  if f.endswith(".parquet") and not f.startswith((".", "_")))
+    return [storage.paths(out.fs).join(out.folder, f) for f in storage.listing(out.fs, out.folder)
+            if f.endswith(".parquet") and not f.startswith((".", "_"))]
+
+
+def _read_parts(out_dir: str, **read_options) -> List[pa.Table]:
+    import pyarrow.parquet as pq
+
+    fs = Output(out_dir).fs
+    if storage.is_local(fs):
+        return [pq.read_table(p, **read_options) for p in parts(out_dir)]
+    tables = []
+    for p in parts(out_dir):
+        with fs.open(p, "rb") as f:
+            tables.append(pq.read_table(f, **read_options))
+    return tables
 
 
 def records_done(out_dir: str) -> Set[str]:
     """The records present in the output's whole parts."""
-    import pyarrow.parquet as pq
-
     done: Set[str] = set()
-    for path in parts(out_dir):
-        done.update(pq.read_table(path, columns=["record"]).column("record").to_pylist())
+    for table in _read_parts(out_dir, columns=["record"]):
+        done.update(table.column("record").to_pylist())
     return done
 
 
 def read_modes(out_dir: str) -> pd.DataFrame:
-    """The mode table of a job's output as a pandas DataFrame, sorted by asset, start, record, mode."""
+    """The mode table of a job's output (a path or URL) as a pandas DataFrame, sorted by asset,
+    start, record, mode."""
     import pandas as pd
     import pyarrow as pa
-    import pyarrow.parquet as pq
 
     from .rows import schema
 
-    tables = [pq.read_table(p, schema=schema()) for p in parts(out_dir)]
+    tables = _read_parts(out_dir, schema=schema())
     table = pa.concat_tables(tables) if tables else schema().empty_table()
     frame = table.to_pandas()
     frame = frame.sort_values(["asset", "start", "record", "mode"], na_position="last", kind="stable")
@@ -170,7 +243,7 @@ async def _identity(address: str, timeout: float) -> dict:
 
 
 def _client(scheduler: Optional[str], scheduler_file: Optional[str], workers: Optional[int],
-            connect_timeout: float, progress: Optional[TextIO]):
+            connect_timeout: float, progress: Optional[TextIO], memory_limit: Optional[str] = None):
     import dask
     from distributed import Client, LocalCluster
 
@@ -196,13 +269,48 @@ def _client(scheduler: Optional[str], scheduler_file: Optional[str], workers: Op
             raise FleetError(f"no Dask scheduler answered at {scheduler} within {connect_timeout:g} s "
                              f"({reason})") from None
     n = workers or os.cpu_count() or 1
-    say(f"starting a local cluster of {n} worker process(es)")
+    say(f"starting a local cluster of {n} worker process(es)"
+        + (f", at most {memory_limit} of memory each" if memory_limit else ""))
     # A task whose worker dies twice is lost (KilledWorker) and its records are retried one by one:
     # poison records cost two worker restarts each instead of Dask's default four.
     with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
-                               silence_logs=logging.ERROR)
+        try:
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
+                                   silence_logs=logging.ERROR, memory_limit=memory_limit or "auto")
+        except ValueError as exc:  # a memory limit Dask cannot parse
+            raise FleetError(f"--memory-limit {memory_limit}: {exc}") from None
     return Client(cluster), cluster
+
+
+def _dashboard(client) -> str:
+    """The dashboard's address, or why there is none. The scheduler names its HTTP port even
+    without the dashboard (no bokeh, or --no-dashboard: the page is then a 404), so the page is
+    asked for once; a page slow to come (drawn under load) is there."""
+    import urllib.error
+    import urllib.request
+
+    link = client.dashboard_link
+    try:
+        with urllib.request.urlopen(link, timeout=2):
+            pass
+    except urllib.error.HTTPError as exc:
+        return f"no dashboard at {link} (HTTP {exc.code}: the scheduler serves none without bokeh or with --no-dashboard)"
+    except (urllib.error.URLError, OSError, ValueError) as exc:
+        reason = getattr(exc, "reason", exc)
+        if not isinstance(reason, TimeoutError):
+            return f"no dashboard at {link} (not reachable from here: {reason})"
+    return f"dashboard {link}"
+
+
+def _restart(client, worker: str, progress: Optional[TextIO]) -> None:
+    """Restart the worker whose record outlived --record-timeout: its thread, in native code that
+    cannot be interrupted, would keep a core busy. A worker without a nanny cannot be restarted:
+    said, and the job goes on."""
+    try:
+        client.restart_workers([worker], timeout=60)
+    except Exception as exc:  # the worker already gone, or no nanny
+        if progress is not None:
+            progress.write(f"okid-fleet: could not restart {worker}, whose record timed out ({exc})\n")
 
 
 def _silence_shutdown_logs() -> None:
@@ -267,7 +375,8 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
                    scheduler_file: Optional[str] = None, workers: Optional[int] = None,
                    batch_size: Optional[int] = None, resume: bool = False, overwrite: bool = False,
                    connect_timeout: float = 20.0, progress: Optional[TextIO] = sys.stderr,
-                   live: Optional[bool] = None) -> Summary:
+                   live: Optional[bool] = None, limits: Limits = Limits(),
+                   memory_limit: Optional[str] = None) -> Summary:
     """Identify every record of PATHS on Dask and write the mode table to the Parquet folder OUT_DIR.
 
     options: okid.identify's keywords (the okid_config names); channels: which columns are inputs
@@ -275,27 +384,35 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
     file), else a local one with ``workers`` processes (default: one per core); connect_timeout
     [s]: how long a scheduler may take to answer; resume: skip the records already in OUT_DIR
     (refused when OUT_DIR was written with other settings); overwrite: remove the parts of the
-    earlier runs in OUT_DIR (and nothing else). A task that kills its worker is retried record by
-    record; the record that still kills it is a status row ``worker_died``. Raises Interrupted on
-    Ctrl-C (the parts written stay whole), FleetError when the job cannot start.
+    earlier runs in OUT_DIR (and nothing else). PATHS and OUT_DIR may be fsspec URLs (s3://...).
+    A task that kills its worker is retried record by record; the record that still kills it is a
+    status row ``worker_died``. limits: the time and size one record may take (a status row
+    ``timed_out`` or ``too_large`` past them; the worker of a record that timed out is restarted);
+    memory_limit: each local worker's (Dask's, e.g. "2GiB"; the nanny restarts a worker past 95 %
+    of it, and its record ends as ``worker_died``). Raises Interrupted on Ctrl-C (the parts written
+    stay whole), FleetError when the job cannot start.
     """
     options = dict(options or {})
-    inputs = expand(paths)
-    refs = discover(inputs)
+    limits.check()
+    try:
+        inputs = expand(paths)
+        refs = discover(inputs)
+        out = Output(out_dir)
+    except StorageError as exc:
+        raise FleetError(str(exc)) from None
     if not refs:
         raise FleetError("no records found")
-    out = Output(out_dir)
     try:
         out.check_inputs(inputs)
         run = out.prepare(settings(options, channels), resume=resume, overwrite=overwrite)
-    except OutputError as exc:
+    except (OutputError, StorageError) as exc:
         raise FleetError(str(exc)) from None
     done = records_done(out.path) if resume else set()
     todo = [r for r in refs if r.record not in done]
-    client, cluster = _client(scheduler, scheduler_file, workers, connect_timeout, progress)
+    client, cluster = _client(scheduler, scheduler_file, workers, connect_timeout, progress, memory_limit)
     try:
-        if progress is not None and client.dashboard_link:
-            progress.write(f"okid-fleet: dashboard {client.dashboard_link}\n")
+        if progress is not None:
+            progress.write(f"okid-fleet: {_dashboard(client)}\n")
         n_workers = max(1, len(client.scheduler_info().get("workers", {})))
         size = batch_size or batch_size_for(len(todo), n_workers)
         batches = [todo[i:i + size] for i in range(0, len(todo), size)]
@@ -303,7 +420,7 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
         t0 = time.monotonic()
 
         def submit(refs_: Sequence[RecordRef], part: str, attempt: int = 0):
-            return client.submit(identify_batch, list(refs_), channels, options, out.path, part,
+            return client.submit(identify_batch, list(refs_), channels, options, out.path, part, limits,
                                  key=f"okid-fleet-{part}" + (f"-again{attempt}" if attempt else ""),
                                  retries=1, pure=False)
 
@@ -334,13 +451,16 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
                             pending.add(again)
                             continue
                         status = STATUS_WORKER_DIED if type(exc).__name__ == "KilledWorker" else STATUS_TASK_FAILED
-                        message = (f"the task of this record killed its worker process: {exc}"
+                        message = (f"the task of this record killed its worker process (a native crash, or the "
+                                   f"worker past its memory limit): {exc}"
                                    if status == STATUS_WORKER_DIED else f"{type(exc).__name__}: {exc}")
                         part = part_name(run, i, j if j is not None else 0)
                         write_part([failure_row(batch[0], status, message, options)], out.path, part)
                         result = {"records": 1, "rows": 1, "statuses": [(status, message)]}
                     else:
                         result = future.result()
+                        if result["stuck"]:
+                            _restart(client, result["stuck"], progress)
                     records += result["records"]
                     rows += result["rows"]
                     failed = _count(result["statuses"], failures)

@@ -17,7 +17,8 @@ are found from the row groups' statistics (one record per row group is the fast 
 them, from the ``record`` column of each row group; a task reads each row group once.
 
 A folder is searched recursively for both kinds; a Parquet file that cannot be opened is a failed
-record (status ``unreadable``), never a traceback.
+record (status ``unreadable``), never a traceback. Paths may be fsspec URLs (``s3://bucket/records``,
+storage.py): a RecordRef's path is then the object's URL, and each task reads it from there.
 """
 from __future__ import annotations
 
@@ -25,12 +26,16 @@ import glob
 import math
 import os
 import re
+import tempfile
+from contextlib import nullcontext
 from dataclasses import dataclass
 from datetime import datetime, timezone
 from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Optional, Sequence, Tuple
 from urllib.parse import unquote
 
 import numpy as np
+
+from . import storage
 
 if TYPE_CHECKING:  # for the annotations only: pyarrow is the fleet extra's
     import pyarrow as pa
@@ -51,6 +56,7 @@ class RecordRef:
     row_groups: Optional[Tuple[int, ...]] = None  #: Parquet row groups holding it
     partition: Tuple[Tuple[str, str], ...] = ()   #: Hive partition keys of its folders
     error: Optional[str] = None      #: source "broken": why the file could not be opened
+    size: Optional[int] = None       #: bytes: the CSV file, or the Parquet row groups uncompressed
 
 
 @dataclass(frozen=True)
@@ -127,43 +133,51 @@ def _hidden(name: str) -> bool:
     return name.startswith((".", "_"))
 
 
-def _walk(root: str) -> List[str]:
-    """Every CSV and Parquet file under ROOT (recursively, sorted), hidden files aside."""
+def _walk(fs, root: str) -> List[Tuple[str, Optional[int]]]:
+    """Every CSV and Parquet file under ROOT (recursively, sorted) with its size [bytes], hidden
+    files and folders aside: one listing, also of an object store."""
+    pm = storage.paths(fs)
     found = []
-    for folder, dirs, files in os.walk(root):
-        dirs[:] = sorted(d for d in dirs if not _hidden(d))
-        found.extend(os.path.join(folder, f) for f in files if f.endswith(DATA_SUFFIXES) and not _hidden(f))
+    for file, info in fs.find(root, detail=True).items():
+        parts = pm.relpath(file, root).split(pm.sep)
+        if file.endswith(DATA_SUFFIXES) and not any(_hidden(part) for part in parts):
+            found.append((file, info.get("size")))
     return sorted(found)
 
 
 def expand(paths: Iterable[str]) -> List[str]:
-    """The absolute paths that PATHS name (globs expanded), in order."""
+    """The absolute paths or URLs that PATHS name (globs expanded), in order."""
     out: List[str] = []
     for given in paths:
-        matches = sorted(glob.glob(given, recursive=True)) if glob.has_magic(given) else [given]
-        if not matches:
-            raise RecordError(f"{given}: no file matches")
-        out.extend(os.path.abspath(m) for m in matches)
+        fs, path = storage.resolve(given)
+        if glob.has_magic(path):
+            matches = sorted(glob.glob(path, recursive=True)) if storage.is_local(fs) else sorted(fs.glob(path))
+            if not matches:
+                raise RecordError(f"{given}: no file matches")
+        else:
+            matches = [path]
+        out.extend(storage.url(fs, m) for m in matches)
     return out
 
 
 def discover(paths: Iterable[str]) -> List[RecordRef]:
     """Every record named by PATHS: CSV files, globs, folders (searched recursively for CSV and
-    Parquet files alike, Hive partitions ``key=value/`` included) and Parquet files. Every path is
-    made absolute here, on the client, so that workers started elsewhere find the files. Sorted by
-    asset, start, record; names must be unique."""
+    Parquet files alike, Hive partitions ``key=value/`` included) and Parquet files, local or fsspec
+    URLs (storage.py). Every path is made absolute here, on the client, so that workers started
+    elsewhere find the files. Sorted by asset, start, record; names must be unique."""
     refs: List[RecordRef] = []
-    for path in expand(paths):
-        if os.path.isdir(path):
-            files = _walk(path)
+    for given in expand(paths):
+        fs, path = storage.resolve(given)
+        if fs.isdir(path):
+            files = _walk(fs, path)
             if not files:
-                raise RecordError(f"{path}: no CSV or Parquet file in this folder")
-            for file in files:
-                refs.extend(_file_records(file, path))
-        elif os.path.exists(path):
-            refs.extend(_file_records(path, os.path.dirname(path)))
+                raise RecordError(f"{given}: no CSV or Parquet file in this folder")
+            for file, size in files:
+                refs.extend(_file_records(fs, file, path, size))
+        elif fs.exists(path):
+            refs.extend(_file_records(fs, path, storage.paths(fs).dirname(path), fs.size(path)))
         else:
-            raise RecordError(f"{path}: no such file or folder")
+            raise RecordError(f"{given}: no such file or folder")
     seen = {}
     for ref in refs:
         if ref.record in seen:
@@ -172,35 +186,35 @@ def discover(paths: Iterable[str]) -> List[RecordRef]:
     return sorted(refs, key=lambda r: (r.asset, r.start if r.start is not None else math.inf, r.record))
 
 
-def _file_records(file: str, root: str) -> List[RecordRef]:
+def _file_records(fs, file: str, root: str, size: Optional[int]) -> List[RecordRef]:
     if file.endswith(".parquet"):
-        return _parquet_records(file, root)
-    return [_csv_record(file, root)]
+        return _parquet_records(fs, file, root)
+    return [_csv_record(fs, file, root, size)]
 
 
-def partition_keys(file: str, root: str) -> Dict[str, str]:
+def partition_keys(file: str, root: str, pm=os.path) -> Dict[str, str]:
     """The Hive partition keys of FILE below ROOT: ``root/asset=a1/day=3/x.parquet`` -> asset, day."""
-    rel = os.path.relpath(os.path.dirname(file), root)
+    rel = pm.relpath(pm.dirname(file), root)
     keys = {}
-    for part in ([] if rel == "." else rel.split(os.sep)):
+    for part in ([] if rel == "." else rel.split(pm.sep)):
         key, sep, value = part.partition("=")
         if sep and key:
             keys[key] = unquote(value)
     return keys
 
 
-def _record_name(path: str, root: str) -> Tuple[str, str]:
+def _record_name(path: str, root: str, pm=os.path) -> Tuple[str, str]:
     """(record, asset) of a file found below ROOT: the record is its path from ROOT's folder level
     (the file's folder and name for a file at ROOT's top), the asset its folder's name."""
-    rel = os.path.relpath(path, root)
-    folder = os.path.basename(os.path.dirname(path))
-    record = os.path.splitext(os.path.join(folder, rel) if os.path.dirname(rel) == "" else rel)[0]
-    return record.replace(os.sep, "/"), folder
+    rel = pm.relpath(path, root)
+    folder = pm.basename(pm.dirname(path))
+    record = pm.splitext(pm.join(folder, rel) if pm.dirname(rel) == "" else rel)[0]
+    return record.replace(pm.sep, "/"), folder
 
 
-def _csv_record(path: str, root: str) -> RecordRef:
-    record, asset = _record_name(path, root)
-    return RecordRef("csv", path, record, asset, start_from_name(path))
+def _csv_record(fs, path: str, root: str, size: Optional[int]) -> RecordRef:
+    record, asset = _record_name(path, root, storage.paths(fs))
+    return RecordRef("csv", storage.url(fs, path), record, asset, start_from_name(path), size=size)
 
 
 def _stat(rg, index: Optional[int]):
@@ -225,24 +239,24 @@ def _timestamp_seconds(value) -> Optional[float]:
         return None
 
 
-def _parquet_records(file: str, root: str) -> List[RecordRef]:
+def _parquet_records(fs, file: str, root: str) -> List[RecordRef]:
     """The records of one Parquet file. Partition keys of its folders (``asset=.../``) stand in for
     the asset and record columns a Hive-partitioned dataset leaves out of its files. A file that
     cannot be opened is one failed record (status row), not the end of the job."""
-    import pyarrow.parquet as pq
-
-    keys = partition_keys(file, root)
+    pm = storage.paths(fs)
+    keys = partition_keys(file, root, pm)
+    where = storage.url(fs, file)
     try:
-        pf = pq.ParquetFile(file)
+        pf = parquet_file(fs, file)
         meta = pf.metadata
     except Exception as exc:
-        record, asset = _record_name(file, root)
-        return [RecordRef("broken", file, keys.get("record", record), keys.get("asset", asset),
+        record, asset = _record_name(file, root, pm)
+        return [RecordRef("broken", where, keys.get("record", record), keys.get("asset", asset),
                           error=f"{type(exc).__name__}: {exc}")]
     names = [meta.schema.column(i).name for i in range(meta.num_columns)]
     missing = [c for c in ("asset", "record", "dt") if c not in names and c not in keys]
     if missing:
-        raise RecordError(f"{file}: a record dataset needs the column(s) {', '.join(missing)}")
+        raise RecordError(f"{where}: a record dataset needs the column(s) {', '.join(missing)}")
     col = {name: names.index(name) for name in META_COLUMNS if name in names}
     partition = tuple(sorted(keys.items()))
     groups: Dict[str, list] = {}
@@ -268,8 +282,16 @@ def _parquet_records(file: str, root: str) -> List[RecordRef]:
                 entry = groups.setdefault(str(records[i]), [str(assets[i]), _timestamp_seconds(starts[i]), []])
                 if g not in entry[2]:
                     entry[2].append(g)
-    return [RecordRef("parquet", file, record, asset, start, tuple(rgs), partition)
+    return [RecordRef("parquet", where, record, asset, start, tuple(rgs), partition,
+                      size=sum(meta.row_group(g).total_byte_size for g in rgs))
             for record, (asset, start, rgs) in groups.items()]
+
+
+def parquet_file(fs, path: str):
+    """A pyarrow ParquetFile of PATH in FS (a local path read by pyarrow itself)."""
+    import pyarrow.parquet as pq
+
+    return pq.ParquetFile(path if storage.is_local(fs) else fs.open(path, "rb"))
 
 
 def _first_of_each(values: list) -> List[int]:
@@ -302,13 +324,12 @@ class RowGroupCache:
     def read(self, path: str, row_groups: Sequence[int]) -> pa.Table:
         """The row groups ROW_GROUPS of the Parquet file PATH as one table."""
         import pyarrow as pa
-        import pyarrow.parquet as pq
 
         if path != self.path:
             self.path, self.groups = path, {}
         missing = [g for g in row_groups if g not in self.groups]
         if missing:
-            pf = pq.ParquetFile(path)
+            pf = parquet_file(*storage.resolve(path))
             self.groups.update({g: pf.read_row_group(g) for g in missing})
         return pa.concat_tables([self.groups[g] for g in row_groups])
 
@@ -351,11 +372,15 @@ def _read_csv(ref: RecordRef, channels: ChannelSpec) -> RecordData:
     import okid
 
     inputs = None if channels.inputs.strip() == "1" else channels.inputs  # the CLI's default: a count, never a name
-    try:
-        outputs = None if channels.covariates else channels.outputs  # covariates are taken out below
-        rec = okid.read_record(ref.path, inputs, outputs, channels.dt)
-    except okid.RecordError as exc:
-        raise RecordError(str(exc)) from None
+    outputs = None if channels.covariates else channels.outputs  # covariates are taken out below
+    fs, path = storage.resolve(ref.path)
+    # the CLI's reader takes a file name: a record in an object store is copied to a local file first
+    with tempfile.TemporaryDirectory(prefix="okid-fleet-") if not storage.is_local(fs) else nullcontext() as folder:
+        local = storage.local_copy(fs, path, folder)
+        try:
+            rec = okid.read_record(local, inputs, outputs, channels.dt)
+        except okid.RecordError as exc:
+            raise RecordError(str(exc).replace(local, ref.path)) from None
     start = ref.start
     if start is None and rec.start is not None and rec.start > 1e8:  # absolute time stamps: epoch seconds
         start = float(rec.start)

@@ -21,6 +21,8 @@ STATUS_OK: str = "ok"
 STATUS_UNREADABLE: str = "unreadable"
 STATUS_WORKER_DIED: str = "worker_died"   # the record's task killed its worker process, alone, twice
 STATUS_TASK_FAILED: str = "task_failed"   # the record's task raised outside the identification
+STATUS_TIMED_OUT: str = "timed_out"       # reading and identifying it took longer than --record-timeout
+STATUS_TOO_LARGE: str = "too_large"       # the record is larger than --max-record-mb: refused unread
 
 
 def _schema():
