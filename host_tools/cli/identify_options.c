@@ -29,7 +29,8 @@
 
 /* CLI_ENUM and CLI_SWITCH store an int */
 _Static_assert(sizeof(okid_sensing) == sizeof(int) && sizeof(okid_realization) == sizeof(int) &&
-                   sizeof(okid_scaling) == sizeof(int) && sizeof(okid_estimator) == sizeof(int),
+                   sizeof(okid_scaling) == sizeof(int) && sizeof(okid_estimator) == sizeof(int) &&
+                   sizeof(okid_refine_model) == sizeof(int),
                "okid_config's enumerations are stored as int");
 
 #define AT(member) offsetof(identify_options, member)
@@ -92,6 +93,10 @@ static const cli_option identify_table[] = {
     {"step-tolerance", NULL, CLI_REAL, REFINE(step_tolerance), 0, 0, CLI_MIN_OPEN | CLI_NO_MAX, NULL, NULL, "T", NULL, NULL,
      "with --refine: converged when the Gauss-Newton decrement (about the\n"
      "squared step in standard deviations) is below T"},
+    {"refine-model", NULL, CLI_ENUM, REFINE(model), 0, 0, 0, cli_refine_model_names, NULL, "KIND", NULL, NULL,
+     "with --refine: the predictor fitted; innovation also fits the gain K of\n"
+     "x(k+1) = A x + B u + K e, the maximum-likelihood one when forces nobody\n"
+     "measured act (white residuals where output_error's are not; docs/refinement.md)"},
     /* the command's own options */
     {"observer-seconds", NULL, CLI_REAL, OWN(observer_seconds), 0, 0, CLI_MIN_OPEN | CLI_NO_MAX, NULL, NULL, "S", NULL,
      "--observer-order", "observer order p = round(S / (K dt)) (after --dt, --decimation)"},

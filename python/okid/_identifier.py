@@ -18,7 +18,7 @@ from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DECOMPOSITION_FAILED, E_NON
                       E_NOT_ENOUGH_DATA, OK, BadParameterError, BadSizeError, DecompositionError, NonFiniteSampleWarning,
                       NotEnoughDataError, OkidError, check, error_for)
 from ._mode import Mode, Pole, SelectedMode, WarningFlag
-from ._refine import REFINE_DEFAULTS, ProgressCallback, check_settings
+from ._refine import REFINE_DEFAULTS, ProgressCallback, check_refine_model, check_settings
 from ._result import Result
 from ._start_search import choose_start
 
@@ -134,14 +134,16 @@ class Identifier:
 
     def refine(self, u: Any, y: Any, *, max_passes: int = REFINE_DEFAULTS["max_passes"],
                step_tolerance: float = REFINE_DEFAULTS["step_tolerance"],
-               progress: Optional[ProgressCallback] = None) -> Result:
+               progress: Optional[ProgressCallback] = None,
+               refine_model: str = REFINE_DEFAULTS["refine_model"]) -> Result:
         """The last identify()'s result refined over the record (u, y) the caller gives: the
         samples that model describes, (N, r) and (N, m) at dt (the identifier keeps no record).
         See :meth:`okid.Result.refine`; a refinement that stops without converging warns
         (okid.RefinementWarning)."""
         if self._last is None:
             raise error_for(E_NOT_AVAILABLE, "refine() before identify(): nothing to refine")
-        return self._last._refine(u, y, max_passes, step_tolerance, stacklevel=2, progress=progress)
+        return self._last._refine(u, y, max_passes, step_tolerance, stacklevel=2, progress=progress,
+                                  refine_model=refine_model)
 
     def predict(self, u: Any) -> np.ndarray:
         """One-step-ahead prediction of y(k) (m values) from u(k) and the last observer_order samples,
@@ -200,7 +202,8 @@ def identify(u: Any, y: Any, dt: float, *,
              refine: bool = False,
              max_passes: int = REFINE_DEFAULTS["max_passes"],
              step_tolerance: float = REFINE_DEFAULTS["step_tolerance"],
-             progress: Optional[ProgressCallback] = None) -> Result:
+             progress: Optional[ProgressCallback] = None,
+             refine_model: str = REFINE_DEFAULTS["refine_model"]) -> Result:
     """Identify a state-space model and its modes from one record (OKID/ERA).
 
     u: forces, (N, r) or (N,) for one input; y: responses, (N, m) or (N,); time along axis 0.
@@ -240,6 +243,9 @@ def identify(u: Any, y: Any, dt: float, *,
     max_passes: with refine, passes over the record at most (2..1000, default 30)
     step_tolerance: with refine, converged when the Gauss-Newton decrement (about the squared step
     in standard deviations) falls below it (> 0, default 1e-6)
+    refine_model: with refine, the predictor fitted: "output_error" (default, the simulation from
+    the inputs) or "innovation" (the one-step predictor with its gain K free, the
+    maximum-likelihood one when forces nobody measured act; ``--refine-model``, docs/refinement.md)
 
     progress: called as progress(done, total) after each chunk (some 10-50 ms of work: 16384
     samples for the paper's case, fewer for larger problems), first of the push
@@ -264,6 +270,7 @@ def identify(u: Any, y: Any, dt: float, *,
         decimation = DEFAULTS["decimation"]
     if _config.check_bool("refine", refine):
         max_passes, step_tolerance = check_settings(max_passes, step_tolerance)
+        refine_model = check_refine_model(refine_model)
         if decimation > 1:
             raise BadParameterError(f"refine=True with decimation = {decimation}: the refinement needs the record "
                                     f"at the model's sample interval; identify without decimation", E_BAD_PARAMETER)
@@ -308,7 +315,8 @@ def identify(u: Any, y: Any, dt: float, *,
             except OkidError:
                 return None, None
             try:
-                return result, result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2).refinement
+                return result, result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2,
+                                              refine_model=refine_model).refinement
             except OkidError:
                 return result, None
         options, search = choose_start(trial, options)
@@ -352,8 +360,8 @@ def identify(u: Any, y: Any, dt: float, *,
         return _with_choices(result, *auto)
     if not refine:
         return result
-    return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2, progress=progress),
-                   start_search=search)
+    return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2, progress=progress,
+                                  refine_model=refine_model), start_search=search)
 
 
 def _with_choices(result: Result, user_order: int, auto_json: str, selected, verdicts) -> Result:
