@@ -138,6 +138,55 @@ def test_refine_model_refusal(record):
     assert proc.returncode == 2 and proc.stderr.count("\n") == 1 and "output_error|innovation" in proc.stderr
 
 
+def test_decimation_method_lift_is_exact(tmp_path):
+    """--decimation-method lift (okid_lift) on noise-free data at K = 2..8: the modes of the lifted
+    record are the exact ones (numpy, tests/python/reference.py) to 1e-9 relative, where the
+    filter of --decimation misses them by 1e-3..1e-1; Python's decimation_method="lift" gives the
+    CLI's modes. 3001 kept samples at each K, p = alpha = beta = 20, n = 4."""
+    freq, zeta = exact_modes()
+    okid = pytest.importorskip("okid")
+    fixed = ("--order", 4, "--observer-order", 20, "--hankel-rows", 20, "--hankel-cols", 20, "--json")
+    for k in range(2, 9):
+        path = tmp_path / f"clean{k}.csv"
+        assert run("simulate", "--samples", 3001 * k, "--dt", 0.01, "--noise", 0, "--output", path).returncode == 0
+        proc = run("identify", *fixed, "--decimation", k, "--decimation-method", "lift", path)
+        assert proc.returncode == 0, proc.stderr
+        out = json.loads(proc.stdout)
+        assert out["decimation_method"] == "lift" and out["lift_factor"] == k
+        assert out["config"]["num_inputs"] == k and out["config"]["decimation"] == 1
+        assert out["inputs"] == [f"force[{j}]" for j in range(k)]
+        pairs = [m for m in out["modes"] if m["is_pair"]]
+        got = np.array([[m["frequency_hz"] for m in pairs], [m["damping_ratio"] for m in pairs]])
+        # round-off of a 3000-row least squares through ERA: measured 1e-14..1e-12; 1e-9 is the issue's target
+        assert got.shape == (2, 2) and np.all(abs(got - [freq, zeta]) <= 1e-9 * np.array([freq, zeta])), (k, got)
+        filtered = json.loads(run("identify", *fixed, "--decimation", k, path).stdout)
+        assert "decimation_method" not in filtered  # the filter's JSON is as before
+        fp = [m for m in filtered["modes"] if m["is_pair"]]
+        assert len(fp) < 2 or np.max(abs(np.array([m["damping_ratio"] for m in fp]) - zeta) / zeta) > 1e-3
+        if k in (2, 5, 8):
+            data = np.loadtxt(path, delimiter=",", skiprows=1)
+            py = okid.identify(data[:, 1:2], data[:, 2:], 0.01, order=4, observer_order=20, hankel_rows=20,
+                               hankel_cols=20, decimation=k, decimation_method="lift")
+            assert py.config["num_inputs"] == k and py.config["dt"] == pytest.approx(0.01 * k)
+            assert np.allclose([m.frequency_hz for m in py.modes if m.is_pair], got[0], rtol=1e-12, atol=0)
+            assert np.allclose([m.damping_ratio for m in py.modes if m.is_pair], got[1], rtol=1e-12, atol=0)
+
+
+def test_decimation_method_refusals(record):
+    proc = run("identify", "--order", 4, "--decimation-method", "lift", record)
+    assert proc.returncode == 2 and proc.stderr.count("\n") == 1 and "needs --decimation" in proc.stderr
+    proc = run("identify", "--order", 4, "--decimation", 2, "--decimation-method", "exact", record)
+    assert proc.returncode == 2 and proc.stderr.count("\n") == 1 and "filter|lift" in proc.stderr
+    okid = pytest.importorskip("okid")
+    u, y = np.zeros((100, 1)), np.zeros((100, 2))
+    with pytest.raises(okid.BadParameterError, match="needs decimation"):
+        okid.identify(u, y, 0.01, order=4, decimation_method="lift")
+    with pytest.raises(okid.BadParameterError, match="'filter' or 'lift'"):
+        okid.identify(u, y, 0.01, order=4, decimation=2, decimation_method="exact")
+    with pytest.raises(okid.BadParameterError, match="at most 64"):
+        okid.identify(np.zeros((1000, 2)), y[:1].repeat(1000, 0), 0.01, order=4, decimation=40, decimation_method="lift")
+
+
 def read_bound(text):
     rows = [line.split(",") for line in text.splitlines() if line and line[0].isdigit()]
     return np.array([[float(r[2]), float(r[4])] for r in rows])  # [mode] -> (frequency_std, damping_std)
