@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /*
- * The refinement tests' simulated case (test_refine_residuals, test_refine_innovation): the
+ * The refinement tests' simulated case (test_refine_residuals, test_refine_innovation; test_refine
+ * shares refine_run): the
  * paper's system with a measured white force on mass 1, optionally an unmeasured one on mass 2 and
  * white output noise; OKID/ERA and the refinement of the result over the record.
  */
@@ -17,6 +18,7 @@ typedef struct refine_run {
     void *id_ws, *rf_ws;
     okid_refiner rf;
     okid_refine_result out;
+    okid_status init_status; /* test_refine's okid_refine_init() */
 } refine_run;
 
 /*
