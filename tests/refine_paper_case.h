@@ -1,9 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The refinement tests' simulated case (test_refine_residuals, test_refine_innovation; test_refine
- * shares refine_run): the
- * paper's system with a measured white force on mass 1, optionally an unmeasured one on mass 2 and
- * white output noise; OKID/ERA and the refinement of the result over the record.
+ * shares refine_run): the paper's system with a measured white force on mass 1, optionally an
+ * unmeasured one on mass 2 and white output noise; OKID/ERA and the refinement over the record.
  */
 #ifndef OKID_TEST_REFINE_PAPER_CASE_H
 #define OKID_TEST_REFINE_PAPER_CASE_H
