@@ -6,9 +6,10 @@
  * output, V = (N/2) sum_i log(s_i / N), s_i the output's residual sum of squares; its Gauss-Newton
  * matrix weighs output i by N / s_i. A pass only knows s_i at its end, so the normal matrix it
  * accumulates uses the weights of the last accepted pass, while the gradient is accumulated per
- * output and weighed exactly: the fixed point is the maximum-likelihood estimate. The innovation form feeds
- * the residual back through K, so every parameter moves the whole state: its sensitivities are
- * n-vectors, psi(k+1) = A psi + (dA x + dB u + dK e) - K dyhat, dyhat = C psi + dC x + dD u.
+ * output and weighed exactly: the fixed point is the maximum-likelihood estimate. The innovation
+ * form feeds the residual back through K, so every parameter moves the whole state: its
+ * sensitivities are n-vectors, psi(k+1) = A psi + (dA x + dB u + dK e) - K dyhat, with
+ * dyhat = C psi + dC x + dD u.
  */
 #include "analysis/refine_internal.h"
 
