@@ -58,7 +58,7 @@ def record(args, k):
     return header, np.column_stack([a[:, :2], y])
 
 
-def main():
+def parse(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--case", choices=["white", "unmeasured", "drift"], default="unmeasured")
     ap.add_argument("--records", type=int, default=50)
@@ -68,7 +68,12 @@ def main():
     ap.add_argument("--unmeasured", type=float, default=0.3)
     ap.add_argument("--refine-model", choices=["output_error", "innovation"], default="output_error")
     ap.add_argument("--max-passes", type=int, default=30)
-    args = ap.parse_args()
+    return ap.parse_args(argv)
+
+
+def study(args):
+    """The records of args through `okid identify --refine`: (errors, sigmas) as (records, 4)
+    arrays of f1, f2, zeta1, zeta2, the warning counts and the outputs flagged not white."""
     truth = exact_modes(args)
     err, sig, flags = [], [], {"not_white": 0, "not_explained": 0, "sandwich": 0, "converged": 0}
     outputs_flagged = np.zeros(2, dtype=int)
@@ -96,7 +101,12 @@ def main():
             flags["not_explained"] += bool(d["warning_bits"] & (1 << 10))
             flags["sandwich"] += d["std_covariance"] == "sandwich"
             flags["converged"] += d["refinement"]["state"] == "converged"
-    err, sig = np.array(err), np.array(sig)
+    return np.array(err), np.array(sig), flags, outputs_flagged
+
+
+def main():
+    args = parse()
+    err, sig, flags, outputs_flagged = study(args)
     n = len(err)
     print(f"case {args.case}, refine_model {args.refine_model}: {n} records of {args.samples} samples at dt "
           f"{args.dt} s, noise {args.noise:g}"
