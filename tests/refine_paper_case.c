@@ -57,7 +57,7 @@ okid_refine_state paper_identify_and_refine(refine_run *rn, double dt, size_t co
     assert_int_equal(okid_identify(&rn->id, &rn->start), OKID_OK);
     okid_refine_config rc;
     okid_refine_config_default(&rc);
-    rc.model = model;
+    rc.refine_model = model;
     /* the innovation form took 18-30 passes on these records (a non-convex start, then the tail
        of one-pass-late weights): room for round-off to add a few */
     rc.max_passes = model == OKID_REFINE_INNOVATION ? 60 : rc.max_passes;

@@ -92,7 +92,7 @@ static void test_unmeasured_force_innovation_beats_output_error(void **state)
                       (double)oe.out.residual_rms[1], okid_refine_state_str(st_inn), inn.out.passes, e_inn,
                       (double)inn.out.residual_rms[0], (double)inn.out.residual_rms[1], (double)inn.out.whiteness[0],
                       (double)inn.out.whiteness[1], (int)inn.out.covariance, predictor_power_norm(&inn.out, 1000));
-        assert_int_equal(inn.out.model, OKID_REFINE_INNOVATION);
+        assert_int_equal(inn.out.refine_model, OKID_REFINE_INNOVATION);
         assert_int_equal(inn.out.K.rows, PAPER_STATES);
         assert_int_equal(inn.out.K.cols, PAPER_OUTPUTS);
         assert_int_equal(oe.out.K.cols, 0);
@@ -148,14 +148,14 @@ static void test_innovation_arguments(void **state)
     (void)paper_identify_and_refine(&rn, 0.05, 400, u, y, OKID_REFINE_OUTPUT_ERROR, 1);
     okid_refine_config rc;
     okid_refine_config_default(&rc);
-    assert_int_equal(rc.model, OKID_REFINE_OUTPUT_ERROR);
+    assert_int_equal(rc.refine_model, OKID_REFINE_OUTPUT_ERROR);
     void *ws = aligned_alloc(OKID_WORKSPACE_ALIGN, inn);
     assert_non_null(ws);
     okid_refiner rf;
-    rc.model = (okid_refine_model)2;
+    rc.refine_model = (okid_refine_model)2;
     assert_int_equal(okid_refine_init(&rf, &rc, &rn.start, OKID_SENSING_ACCELERATION, ws, inn, NULL),
                      OKID_E_BAD_PARAMETER);
-    rc.model = OKID_REFINE_INNOVATION;
+    rc.refine_model = OKID_REFINE_INNOVATION;
     need = 0;
     assert_int_equal(okid_refine_init(&rf, &rc, &rn.start, OKID_SENSING_ACCELERATION, ws, oe, &need),
                      OKID_E_WORKSPACE_TOO_SMALL);

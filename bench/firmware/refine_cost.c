@@ -74,7 +74,7 @@ int main(void)
     }
     okid_refine_config rc;
     okid_refine_config_default(&rc);
-    rc.model = OKID_REFINE_COST_MODEL;
+    rc.refine_model = OKID_REFINE_COST_MODEL;
     rc.max_passes = OKID_REFINE_COST_MODEL == OKID_REFINE_INNOVATION ? 100 : rc.max_passes; /* 18-45 passes */
     if (okid_refine_init(&refiner, &rc, &start, OKID_SENSING_ACCELERATION, rf_workspace, sizeof rf_workspace, NULL) !=
         OKID_OK) {

@@ -99,7 +99,7 @@ static const cli_option identify_table[] = {
     {"step-tolerance", NULL, CLI_REAL, REFINE(step_tolerance), 0, 0, CLI_MIN_OPEN | CLI_NO_MAX, NULL, NULL, "T", NULL, NULL,
      "with --refine: converged when the Gauss-Newton decrement (about the\n"
      "squared step in standard deviations) is below T"},
-    {"refine-model", NULL, CLI_ENUM, REFINE(model), 0, 0, 0, cli_refine_model_names, NULL, "KIND", NULL, NULL,
+    {"refine-model", NULL, CLI_ENUM, REFINE(refine_model), 0, 0, 0, cli_refine_model_names, NULL, "KIND", NULL, NULL,
      "with --refine: the predictor fitted; innovation also fits the gain K of\n"
      "x(k+1) = A x + B u + K e, the maximum-likelihood one when forces nobody\n"
      "measured act (white residuals where output_error's are not; docs/refinement.md)"},

@@ -16,7 +16,7 @@ typedef struct cli_name {
 
 /* The enumerations of okid_config, each ended by a {NULL} entry. */
 extern const cli_name cli_sensing_names[], cli_realization_names[], cli_scaling_names[], cli_estimator_names[];
-/* okid_refine_config::model: refine_model on every surface (docs/refinement.md) */
+/* okid_refine_config::refine_model, on every surface (docs/refinement.md) */
 extern const cli_name cli_refine_model_names[];
 /* okid identify --decimation-method, Python decimation_method: 0 filter (okid_config::decimation), 1 lift (okid_lift) */
 extern const cli_name cli_decimation_method_names[];

@@ -369,7 +369,7 @@ void json_refinement(FILE *out, const okid_refine_config *cfg, const okid_refine
 {
     fprintf(out, ",\n  \"refinement\": {\"config\": {\"max_passes\": %d, \"step_tolerance\": ", cfg->max_passes);
     json_number(out, (double)cfg->step_tolerance);
-    fprintf(out, ", \"refine_model\": \"%s\"},\n    \"state\": \"%s\", \"message\": ", cli_name_of(cli_refine_model_names, (int)cfg->model),
+    fprintf(out, ", \"refine_model\": \"%s\"},\n    \"state\": \"%s\", \"message\": ", cli_name_of(cli_refine_model_names, (int)cfg->refine_model),
             json_refine_state_name(res->state));
     json_string(out, okid_refine_state_str(res->state));
     fprintf(out, ", \"passes\": %d, \"iterations\": %d, \"num_parameters\": %d, \"samples\": %llu,\n",

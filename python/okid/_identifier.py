@@ -203,8 +203,8 @@ def identify(u: Any, y: Any, dt: float, *,
              refine: bool = False,
              max_passes: int = REFINE_DEFAULTS["max_passes"],
              step_tolerance: float = REFINE_DEFAULTS["step_tolerance"],
-             progress: Optional[ProgressCallback] = None,
              refine_model: str = REFINE_DEFAULTS["refine_model"],
+             progress: Optional[ProgressCallback] = None,
              decimation_method: str = "filter") -> Result:
     """Identify a state-space model and its modes from one record (OKID/ERA).
 

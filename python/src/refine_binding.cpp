@@ -73,7 +73,7 @@ struct RefineCore {
         f["std_status"] = (int)out.std_status;
         f["max_passes"] = cfg.max_passes;
         f["step_tolerance"] = (double)cfg.step_tolerance;
-        f["refine_model"] = cli_name_of(cli_refine_model_names, (int)cfg.model);
+        f["refine_model"] = cli_name_of(cli_refine_model_names, (int)cfg.refine_model);
         if (out.K.data != nullptr) {
             f["K"] = matrix_array(out.K);
         } else {
@@ -135,9 +135,9 @@ void bind_refine(nb::module_ &m)
             core->m = mo;
             core->cfg.max_passes = max_passes;
             core->cfg.step_tolerance = (okid_real)step_tolerance;
-            core->cfg.model = (okid_refine_model)refine_model;
+            core->cfg.refine_model = (okid_refine_model)refine_model;
             size_t bytes = 0;
-            int s = okid_refine_model_workspace_size(core->cfg.model, n, r, mo, &bytes);
+            int s = okid_refine_model_workspace_size(core->cfg.refine_model, n, r, mo, &bytes);
             if (s != OKID_OK) return nb::make_tuple(s, nb::none());
             core->ws.reset(std::aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16));
             if (!core->ws) throw std::bad_alloc();

@@ -103,7 +103,7 @@ typedef struct okid_refine_config {
      */
     okid_real step_tolerance;
     /** The predictor fitted: OKID_REFINE_OUTPUT_ERROR (the default) or OKID_REFINE_INNOVATION. */
-    okid_refine_model model;
+    okid_refine_model refine_model;
 } okid_refine_config;
 
 /** The default step_tolerance for the working precision. */
@@ -166,7 +166,7 @@ typedef struct okid_refine_result {
     const okid_mode *modes;     /**< sorted by frequency, then damping; indicators other than mpc are -1 */
     const okid_mode_std *mode_std; /**< num_modes entries, in the order of modes */
     okid_matrix A, B, C, D;     /**< the model in real modal form */
-    okid_refine_model model;    /**< the predictor fitted (okid_refine_config::model) */
+    okid_refine_model refine_model; /**< the predictor fitted (okid_refine_config::refine_model) */
     /** the innovation gain (n x m, modal form) of OKID_REFINE_INNOVATION; data NULL, 0 columns otherwise */
     okid_matrix K;
     const okid_real *initial_state; /**< n values: the estimated x(0) */
@@ -233,7 +233,7 @@ typedef struct okid_refiner okid_refiner;
 
 /**
  * Fill the settings with their defaults: max_passes 30, step_tolerance OKID_REFINE_STEP_TOLERANCE,
- * model OKID_REFINE_OUTPUT_ERROR.
+ * refine_model OKID_REFINE_OUTPUT_ERROR.
  * \return OKID_OK, OKID_E_NULL_POINTER
  */
 okid_status okid_refine_config_default(okid_refine_config *cfg);

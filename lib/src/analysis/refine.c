@@ -30,7 +30,7 @@ okid_status okid_refine_config_default(okid_refine_config *cfg)
     }
     cfg->max_passes = 30;
     cfg->step_tolerance = OKID_REFINE_STEP_TOLERANCE;
-    cfg->model = OKID_REFINE_OUTPUT_ERROR;
+    cfg->refine_model = OKID_REFINE_OUTPUT_ERROR;
     return OKID_OK;
 }
 
@@ -152,7 +152,7 @@ okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, co
         return OKID_E_NULL_POINTER;
     }
     const int n = start->order, r = start->B.cols, m = start->C.rows;
-    const int inn = cfg->model == OKID_REFINE_INNOVATION;
+    const int inn = cfg->refine_model == OKID_REFINE_INNOVATION;
     if (n < 1 || n > OKID_MAX_ORDER || r < 1 || r > OKID_MAX_DIMENSION || m < 1 || m > OKID_MAX_DIMENSION ||
         start->A.rows != n || start->A.cols != n || start->B.rows != n || start->C.cols != n ||
         start->D.rows != m || start->D.cols != r || start->A.ld < n || start->B.ld < n || start->C.ld < m ||
@@ -163,7 +163,7 @@ okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, co
         !okid_is_finite(cfg->step_tolerance) || cfg->step_tolerance < 0 || !okid_is_finite(start->dt) ||
         start->dt <= 0 || (unsigned)sensing > 2u || !okid_all_finite(n, n, start->A.data, start->A.ld) ||
         !okid_all_finite(n, r, start->B.data, start->B.ld) || !okid_all_finite(m, n, start->C.data, start->C.ld) ||
-        !okid_all_finite(m, r, start->D.data, start->D.ld) || (unsigned)cfg->model > (unsigned)OKID_REFINE_INNOVATION) {
+        !okid_all_finite(m, r, start->D.data, start->D.ld) || (unsigned)cfg->refine_model > (unsigned)OKID_REFINE_INNOVATION) {
         return OKID_E_BAD_PARAMETER;
     }
     /* the observer gain starts the innovation form: one of the right shape must be finite */
@@ -760,7 +760,7 @@ okid_status okid_refine_get_result(const okid_refiner *rf, okid_refine_result *r
     result->B = (okid_matrix){rf->b_, n, r, n};
     result->C = (okid_matrix){rf->c_, m, n, m};
     result->D = (okid_matrix){rf->d_, m, r, m};
-    result->model = rf->cfg_.model;
+    result->refine_model = rf->cfg_.refine_model;
     result->K = (okid_matrix){rf->k_, n, rf->k_ != NULL ? m : 0, n};
     result->initial_state = rf->x0_;
     result->residual_rms_start = rf->rms_start_;

@@ -17,7 +17,7 @@ enum {
 };
 
 /* 1 when the refiner fits the innovation form. */
-#define OKID_REFINE_IS_INNOVATION(rf) ((rf)->cfg_.model == OKID_REFINE_INNOVATION)
+#define OKID_REFINE_IS_INNOVATION(rf) ((rf)->cfg_.refine_model == OKID_REFINE_INNOVATION)
 
 /* Block table okid_refiner::blk_[OKID_RB_INTS b + field]. */
 #define OKID_RB_INTS 4
