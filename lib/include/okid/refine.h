@@ -10,7 +10,10 @@
  * e(k) = y(k) - C x(k) - D u(k), x(k+1) = A x(k) + B u(k), by Levenberg-Marquardt on the real
  * modal form: A block diagonal with one 2 x 2 block [Re l, Im l; -Im l, Re l] per complex pair
  * and a 1 x 1 block per real eigenvalue, one entry of B per mode fixed (the mode's coordinate
- * scale), C, D and the initial state free. Parameters: n (r + m + 1) + m r at most.
+ * scale), C, D and the initial state free. Parameters: n (r + m + 1) + m r at most. With
+ * okid_refine_config::refine_model = OKID_REFINE_INNOVATION the predictor is the innovation form
+ * x(k+1) = A x + B u + K e with K free as well (n m more parameters): the maximum-likelihood
+ * estimate when forces nobody measures act (okid_refine_model).
  *
  * The identifier keeps no record, so the caller feeds it once per pass in blocks of any size
  * (from RAM, flash, a file): okid_refine_begin_pass(), okid_refine_push_block() ...,
