@@ -5,12 +5,13 @@ For each record: `okid simulate` (the paper's 2-DOF chain, unit white force on m
 the unmeasured-force case, a second `okid simulate` with a white force on mass 2 (another seed)
 scaled to --unmeasured x the measured force's RMS and added (the chain is linear); a drift case
 adds an offset and a ramp to output 2; then white output noise of --noise x each output's RMS;
-then `okid identify --order 4 --refine --json` (the start search included). Prints per quantity
+then `okid identify --order 4 --refine --refine-model M --json` (the start search included). Prints per quantity
 (f1, f2, zeta1, zeta2) the RMS error, the RMS stated sigma and the +-2 sigma coverage against the
 exact modes (`okid crlb` prints them), and how often the residual warnings fired.
 
     .venv/bin/python scripts/refine_coverage.py --case unmeasured --records 50
     .venv/bin/python scripts/refine_coverage.py --case white --records 200      # false alarms
+    .venv/bin/python scripts/refine_coverage.py --case unmeasured --records 50 --refine-model innovation --max-passes 100
 """
 from __future__ import annotations
 
@@ -57,7 +58,7 @@ def record(args, k):
     return header, np.column_stack([a[:, :2], y])
 
 
-def main():
+def parse(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--case", choices=["white", "unmeasured", "drift"], default="unmeasured")
     ap.add_argument("--records", type=int, default=50)
@@ -65,7 +66,14 @@ def main():
     ap.add_argument("--dt", type=float, default=0.05)
     ap.add_argument("--noise", type=float, default=0.02)
     ap.add_argument("--unmeasured", type=float, default=0.3)
-    args = ap.parse_args()
+    ap.add_argument("--refine-model", choices=["output_error", "innovation"], default="output_error")
+    ap.add_argument("--max-passes", type=int, default=30)
+    return ap.parse_args(argv)
+
+
+def study(args):
+    """The records of args through `okid identify --refine`: (errors, sigmas) as (records, 4)
+    arrays of f1, f2, zeta1, zeta2, the warning counts and the outputs flagged not white."""
     truth = exact_modes(args)
     err, sig, flags = [], [], {"not_white": 0, "not_explained": 0, "sandwich": 0, "converged": 0}
     outputs_flagged = np.zeros(2, dtype=int)
@@ -74,8 +82,8 @@ def main():
         for k in range(args.records):
             header, data = record(args, k)
             np.savetxt(path, data, delimiter=",", header=",".join(header), comments="", fmt="%.17g")
-            run = subprocess.run([OKID, "identify", "--order", "4", "--refine", "--json", path], capture_output=True,
-                                 text=True)
+            run = subprocess.run([OKID, "identify", "--order", "4", "--refine", "--refine-model", args.refine_model,
+                                  "--max-passes", str(args.max_passes), "--json", path], capture_output=True, text=True)
             if run.returncode != 0:
                 print(f"record {k}: exit {run.returncode}: {run.stderr.strip()}", file=sys.stderr)
                 continue
@@ -93,9 +101,15 @@ def main():
             flags["not_explained"] += bool(d["warning_bits"] & (1 << 10))
             flags["sandwich"] += d["std_covariance"] == "sandwich"
             flags["converged"] += d["refinement"]["state"] == "converged"
-    err, sig = np.array(err), np.array(sig)
+    return np.array(err), np.array(sig), flags, outputs_flagged
+
+
+def main():
+    args = parse()
+    err, sig, flags, outputs_flagged = study(args)
     n = len(err)
-    print(f"case {args.case}: {n} records of {args.samples} samples at dt {args.dt} s, noise {args.noise:g}"
+    print(f"case {args.case}, refine_model {args.refine_model}: {n} records of {args.samples} samples at dt "
+          f"{args.dt} s, noise {args.noise:g}"
           + (f", unmeasured force {args.unmeasured:g}" if args.case == "unmeasured" else ""))
     print(f"  converged {flags['converged']}, residual not white {flags['not_white']} (per output "
           f"{outputs_flagged.tolist()}), output not explained {flags['not_explained']}, sandwich stds {flags['sandwich']}")

@@ -4,22 +4,13 @@
  * sharper than OKID/ERA under noise, error bars calibrated over 200 noise realisations against
  * the exact modes of the paper's system (numpy/scipy, reference_data.h), and the API's refusals.
  */
-#include "test_support.h"
+#include "refine_paper_case.h" /* refine_run */
 
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* One identification plus refinement of a paper record, everything on the heap of the test. */
-typedef struct refine_run {
-    okid_identifier id;
-    okid_result start;
-    void *id_ws, *rf_ws;
-    okid_refiner rf;
-    okid_refine_result out;
-    okid_status init_status;
-} refine_run;
 
 /* OKID/ERA of a paper record: observer order p, Hankel h x h, n = 4. */
 static void identify_record_h(refine_run *run, double dt, size_t count, const okid_real *u, const okid_real *y, int p,

@@ -7,102 +7,26 @@
  * replaces the Fisher one and its +-2 sigma intervals hold the exact modes (a small Monte Carlo:
  * the coverage study over many records is scripts/refine_coverage.py).
  */
-#include "test_support.h"
+#include "refine_paper_case.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-enum { N_STATES = 4, M_OUT = 2 };
+enum { M_OUT = PAPER_OUTPUTS };
 
 /* Entry (i, j) of a column-major matrix. */
 #define AT(mat, i, j) ((mat).data[(size_t)(j) * (size_t)(mat).ld + (size_t)(i)])
 
-typedef struct run {
-    okid_identifier id;
-    okid_result start;
-    void *id_ws, *rf_ws;
-    okid_refiner rf;
-    okid_refine_result out;
-} run;
+typedef refine_run run;
 
-/*
- * A paper record at dt with a measured unit white force on mass 1 (u) and, when unmeasured > 0, an
- * unmeasured white force of that RMS on mass 2 (the issue's "30 %"), then white output noise of
- * noise x each output's RMS.
- */
-static void paper_record(double dt, size_t count, uint64_t seed, double unmeasured, double noise, okid_real **u,
-                         okid_real **y)
-{
-    const okid_real m2 = REF_PAPER.mass[3];
-    const okid_real bc[8] = {REF_PAPER.bc[0], REF_PAPER.bc[1], REF_PAPER.bc[2], REF_PAPER.bc[3], 0, 0, 0, 1 / m2};
-    const okid_real d[4] = {REF_PAPER.d[0], REF_PAPER.d[1], 0, 1 / m2};
-    okid_real a[16], b[8], work[OKID_ZOH_WORK_REALS(4, 2)], state[4] = {0}, scratch[4];
-    assert_int_equal(okid_discretize_zoh(N_STATES, 2, REF_PAPER.ac, bc, (okid_real)dt, a, b, work,
-                                         sizeof work / sizeof work[0]), OKID_OK);
-    okid_simulator sim;
-    assert_int_equal(okid_simulator_init(&sim, N_STATES, 2, M_OUT, a, b, REF_PAPER.c, d, state, scratch), OKID_OK);
-    okid_real *forces = test_white_noise(2, count, seed);
-    *u = malloc(sizeof(okid_real) * count);
-    *y = malloc(sizeof(okid_real) * M_OUT * count);
-    assert_non_null(*u);
-    assert_non_null(*y);
-    for (size_t k = 0; k < count; ++k) {
-        (*u)[k] = forces[2 * k];
-        forces[2 * k + 1] *= (okid_real)unmeasured;
-    }
-    assert_int_equal(okid_simulate(&sim, count, forces, 2, *y, M_OUT), OKID_OK);
-    free(forces);
-    okid_real *e = test_white_noise(M_OUT, count, seed ^ 0xA5A5u);
-    for (int i = 0; i < M_OUT; ++i) {
-        double power = 0;
-        for (size_t k = 0; k < count; ++k) power += (double)(*y)[M_OUT * k + i] * (double)(*y)[M_OUT * k + i];
-        const double std = noise * sqrt(power / (double)count);
-        for (size_t k = 0; k < count; ++k) (*y)[M_OUT * k + i] += (okid_real)(std * e[M_OUT * k + i]);
-    }
-    free(e);
-}
-
-/* OKID/ERA (p = h = 20, n = 4) and the refinement over the record, fed in blocks of 333. */
+/* OKID/ERA (p = h = 20, n = 4) and the output-error refinement over the record. */
 static okid_refine_state identify_and_refine(run *rn, double dt, size_t count, const okid_real *u, const okid_real *y)
 {
-    okid_config cfg;
-    okid_config_default(&cfg, 1, M_OUT);
-    cfg.dt = (okid_real)dt;
-    cfg.observer_order = 20;
-    cfg.order = N_STATES;
-    cfg.hankel_rows = cfg.hankel_cols = 20;
-    size_t bytes = 0;
-    rn->id_ws = test_workspace(&cfg, &bytes);
-    assert_int_equal(okid_init(&rn->id, &cfg, rn->id_ws, bytes, NULL), OKID_OK);
-    assert_int_equal(okid_push_block(&rn->id, count, u, 1, y, M_OUT, NULL), OKID_OK);
-    assert_int_equal(okid_identify(&rn->id, &rn->start), OKID_OK);
-    okid_refine_config rc;
-    okid_refine_config_default(&rc);
-    assert_int_equal(okid_refine_workspace_size(N_STATES, 1, M_OUT, &bytes), OKID_OK);
-    assert_int_equal(bytes, OKID_REFINE_WORKSPACE_BYTES(N_STATES, 1, M_OUT));
-    rn->rf_ws = aligned_alloc(OKID_WORKSPACE_ALIGN, bytes);
-    assert_non_null(rn->rf_ws);
-    assert_int_equal(okid_refine_init(&rn->rf, &rc, &rn->start, OKID_SENSING_ACCELERATION, rn->rf_ws, bytes, NULL),
-                     OKID_OK);
-    okid_refine_state st = OKID_REFINE_NEED_PASS;
-    while (st == OKID_REFINE_NEED_PASS) {
-        assert_int_equal(okid_refine_begin_pass(&rn->rf), OKID_OK);
-        for (size_t k = 0; k < count; k += 333) {
-            const size_t len = count - k < 333 ? count - k : 333;
-            assert_int_equal(okid_refine_push_block(&rn->rf, len, u + k, 1, y + M_OUT * k, M_OUT), OKID_OK);
-        }
-        assert_int_equal(okid_refine_end_pass(&rn->rf, &st), OKID_OK);
-    }
-    assert_int_equal(okid_refine_get_result(&rn->rf, &rn->out), OKID_OK);
-    return st;
+    return paper_identify_and_refine(rn, dt, count, u, y, OKID_REFINE_OUTPUT_ERROR, 0);
 }
 
-static void free_run(run *rn)
-{
-    free(rn->id_ws);
-    free(rn->rf_ws);
-}
+#define free_run refine_run_free
 
 /*
  * The residual tests recomputed here, in double, from the refined model (A, B, C, D, x0) run over

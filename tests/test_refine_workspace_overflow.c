@@ -14,11 +14,17 @@
 
 #include "okid/refine.h"
 
-/* The two normal matrices alone: 2 P^2 reals, P = n (r + m + 1) + m r. */
+/* The two normal matrices alone: 2 P^2 reals, P = n (r + m + 1) + m r (+ n m: the innovation form's K). */
+static unsigned long long model_lower_bound(int inn, int n, int r, int m)
+{
+    const unsigned long long p = (unsigned long long)n * (unsigned long long)(r + m + 1) + (unsigned long long)m * (unsigned long long)r +
+                                 (unsigned long long)inn * (unsigned long long)n * (unsigned long long)m;
+    return 2ull * sizeof(okid_real) * p * p;
+}
+
 static unsigned long long lower_bound(int n, int r, int m)
 {
-    const unsigned long long p = (unsigned long long)n * (unsigned long long)(r + m + 1) + (unsigned long long)m * (unsigned long long)r;
-    return 2ull * sizeof(okid_real) * p * p;
+    return model_lower_bound(0, n, r, m);
 }
 
 static void test_largest_dimensions(void **state)
@@ -75,28 +81,32 @@ static void test_largest_dimensions(void **state)
     free(ws), free(a), free(b), free(c), free(d);
 }
 
-/* Every accepted (n, r, m) on a grid: refused exactly when the 64-bit size exceeds SIZE_MAX,
- * otherwise equal to the macro and at least the lower bound. */
-static void test_grid(void **state)
+/* Every accepted (n, r, m) on a grid, for one model: refused exactly when the 64-bit size
+ * exceeds SIZE_MAX, otherwise equal to the macro and at least the lower bound. */
+static void grid_of_model(int inn, int *fitted, int *refused)
 {
-    (void)state;
     static const int orders[] = {1, 2, 4, 16, 64, 128, 200, 256, 384, 512};
     static const int dims[] = {1, 2, 8, 16, 32, 48, 64};
-    int refused = 0, fitted = 0;
+    const okid_refine_model model = inn ? OKID_REFINE_INNOVATION : OKID_REFINE_OUTPUT_ERROR;
     for (size_t i = 0; i < sizeof orders / sizeof orders[0]; ++i) {
         for (size_t j = 0; j < sizeof dims / sizeof dims[0]; ++j) {
             for (size_t k = 0; k < sizeof dims / sizeof dims[0]; ++k) {
                 const int n = orders[i], r = dims[j], m = dims[k];
-                const unsigned long long bound = lower_bound(n, r, m);
+                const unsigned long long bound = model_lower_bound(inn, n, r, m);
                 size_t bytes = 0;
-                const okid_status st = okid_refine_workspace_size(n, r, m, &bytes);
-                const size_t macro = OKID_REFINE_WORKSPACE_BYTES(n, r, m);
+                const okid_status st = okid_refine_model_workspace_size(model, n, r, m, &bytes);
+                const size_t macro = OKID_REFINE_MODEL_WORKSPACE_BYTES(model, n, r, m);
+                if (!inn) {
+                    size_t plain = 0; /* the output-error size function and macro are these */
+                    assert_int_equal(okid_refine_workspace_size(n, r, m, &plain), st);
+                    assert_true(OKID_REFINE_WORKSPACE_BYTES(n, r, m) == macro && (st != OKID_OK || plain == bytes));
+                }
                 if (st == OKID_E_BAD_SIZE) {
-                    ++refused;
+                    ++*refused;
                     assert_true(sizeof(size_t) < 8);
                     assert_true(macro == (size_t)-1);
                 } else {
-                    ++fitted;
+                    ++*fitted;
                     assert_int_equal(st, OKID_OK);
                     assert_true(bytes == macro);
                     assert_true((unsigned long long)bytes >= bound);
@@ -106,9 +116,19 @@ static void test_grid(void **state)
             }
         }
     }
-    print_message("%d (n, r, m) fitted, %d refused as above SIZE_MAX\n", fitted, refused);
-    assert_true(fitted > 0);
-    if (sizeof(size_t) < 8) assert_true(refused > 0);
+}
+
+static void test_grid(void **state)
+{
+    (void)state;
+    for (int inn = 0; inn < 2; ++inn) {
+        int refused = 0, fitted = 0;
+        grid_of_model(inn, &fitted, &refused);
+        print_message("%s: %d (n, r, m) fitted, %d refused as above SIZE_MAX\n", inn ? "innovation" : "output error",
+                      fitted, refused);
+        assert_true(fitted > 0);
+        if (sizeof(size_t) < 8) assert_true(refused > 0);
+    }
 }
 
 int main(void)

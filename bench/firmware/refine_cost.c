@@ -5,6 +5,7 @@
  * alpha = beta = 20, n = 4) as the start; workspace bytes, instructions of the residual pass and
  * of a Jacobian pass per sample, of each end of pass (the step), passes, total, and the stack
  * used. Run under qemu-system-arm -icount shift=OKID_ICOUNT_SHIFT,align=off (see cost_report.c).
+ * OKID_REFINE_COST_MODEL picks the predictor (okid_refine_innovation_cost: the innovation form).
  */
 #include <stdint.h>
 #include <stdio.h>
@@ -16,6 +17,9 @@
 #ifndef OKID_ICOUNT_SHIFT
 #define OKID_ICOUNT_SHIFT 5
 #endif
+#ifndef OKID_REFINE_COST_MODEL
+#define OKID_REFINE_COST_MODEL OKID_REFINE_OUTPUT_ERROR
+#endif
 
 enum { SAMPLES = 1001 };
 #define DT ((okid_real)0.05)
@@ -25,7 +29,7 @@ static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char
     id_workspace[OKID_WORKSPACE_BYTES(PLANT_INPUTS, PLANT_OUTPUTS, PLANT_OBSERVER_ORDER, PLANT_HANKEL_ROWS,
                                       PLANT_HANKEL_COLS, PLANT_STATES, 32, 0)];
 static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char
-    rf_workspace[OKID_REFINE_WORKSPACE_BYTES(PLANT_STATES, PLANT_INPUTS, PLANT_OUTPUTS)];
+    rf_workspace[OKID_REFINE_MODEL_WORKSPACE_BYTES(OKID_REFINE_COST_MODEL, PLANT_STATES, PLANT_INPUTS, PLANT_OUTPUTS)];
 static okid_real force[SAMPLES], accelerations[PLANT_OUTPUTS * SAMPLES], noise[SAMPLES];
 static okid_identifier identifier;
 static okid_refiner refiner;
@@ -56,7 +60,8 @@ static int make_data(void)
 int main(void)
 {
     board_counter_start();
-    printf("real %s\n", OKID_REAL_IS_FLOAT ? "float" : "double");
+    printf("real %s, refine_model %s\n", OKID_REAL_IS_FLOAT ? "float" : "double",
+           okid_refine_model_str(OKID_REFINE_COST_MODEL));
     if (!make_data()) return 2;
     okid_config cfg;
     plant_2dof_identifier_config(&cfg, DT, 32);
@@ -69,6 +74,8 @@ int main(void)
     }
     okid_refine_config rc;
     okid_refine_config_default(&rc);
+    rc.refine_model = OKID_REFINE_COST_MODEL;
+    rc.max_passes = OKID_REFINE_COST_MODEL == OKID_REFINE_INNOVATION ? 100 : rc.max_passes; /* 18-45 passes */
     if (okid_refine_init(&refiner, &rc, &start, OKID_SENSING_ACCELERATION, rf_workspace, sizeof rf_workspace, NULL) !=
         OKID_OK) {
         return 4;

@@ -20,12 +20,15 @@
 #include "record_channels.h"
 #include "record_reader.h"
 #include "warning_poles.h"
+#include "identify_lift.h"
 
 /* Names of the chosen columns, for the table and the JSON. */
 typedef struct column_choice {
     int inputs[OKID_MAX_DIMENSION], outputs[OKID_MAX_DIMENSION];
     const char *input_names[OKID_MAX_DIMENSION], *output_names[OKID_MAX_DIMENSION];
     int r, m;
+    int lift_factor;      /* --decimation-method lift: K (the inputs are the lifted ones), else 0 */
+    lifted_names lifted;  /* their names */
 } column_choice;
 
 /* The settings, the diagnostics and the warnings of a result. */
@@ -41,6 +44,10 @@ static void print_header(const okid_config *cfg, const okid_result *res, const c
     printf("r = %d inputs, m = %d outputs, p = %d, Hankel %d x %d, %s realization, %s sensing\n", cfg->num_inputs,
            cfg->num_outputs, cfg->observer_order, cfg->hankel_rows, cfg->hankel_cols,
            cfg->realization == OKID_REALIZATION_COMBINED ? "combined" : "system", cli_name_of(cli_sensing_names, (int)cfg->sensing));
+    if (cc->lift_factor > 0) {
+        printf("decimation %d by lifting: %d samples are one sample of %d inputs (--decimation-method lift)\n",
+               cc->lift_factor, cc->lift_factor, cc->r);
+    }
     printf("decimation %d (model dt = %g s), scaling %s, %s estimator\n", res->decimation, (double)res->dt,
            cfg->scaling == OKID_SCALING_AUTO ? "auto" : "none",
            cfg->estimator == OKID_ESTIMATOR_INSTRUMENTAL   ? "instrumental-variable"
@@ -173,6 +180,10 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
         }
         if (stab_ws != NULL) json_stabilization(stdout, &st, o->stabilization, 2, cfg->num_outputs);
         if (refined != NULL && search->count > 0) json_start_search(stdout, search);
+        /* only when lifting: the filter's runs keep their JSON (scripts/json_hash.sh) */
+        if (cc->lift_factor > 0) {
+            fprintf(stdout, ",\n  \"decimation_method\": \"lift\", \"lift_factor\": %d", cc->lift_factor);
+        }
         fputs("\n}\n", stdout);
     } else {
         print_header(cfg, res, cc, o->file);
@@ -490,6 +501,16 @@ static int run(identify_options *o, record_reader *reader, const char *label)
         rc = record_dt(&scan, header, time_col, o->have_dt, o->dt, o->ignore_time_column, &dt, error, sizeof error);
         if (rc != 0) cli_error(rc, "%s", error);
     }
+    /* --decimation-method lift: the identification sees the lifted record at K dt, undecimated */
+    if (rc == 0 && o->decimation_method == DECIMATION_LIFT && o->cfg.decimation > 1) {
+        rc = identify_lift_record(o->cfg.decimation, reader, &cols, &scan, cc->input_names, &cc->lifted);
+        if (rc == 0) {
+            cc->lift_factor = o->cfg.decimation;
+            cc->r = cols.r;
+            memcpy(cc->inputs, cols.inputs, sizeof cc->inputs);
+            dt *= o->cfg.decimation;
+        }
+    }
     if (rc != 0) {
         free(cc);
         return rc;
@@ -499,6 +520,7 @@ static int run(identify_options *o, record_reader *reader, const char *label)
     cfg.num_inputs = r;
     cfg.num_outputs = m;
     cfg.dt = (okid_real)dt;
+    if (cc->lift_factor > 0) cfg.decimation = 1;
     okid_status st = OKID_OK;
     if ((rc = horizon_seconds(o, &cfg)) != 0) {
         free(cc);

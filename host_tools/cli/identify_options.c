@@ -12,6 +12,7 @@
 
 #include "auto_settings.h"
 #include "cli_common.h"
+#include "identify_lift.h"
 #include "option_table.h"
 
 /* The working precision of the library this CLI is built on (okid_real is float or double). */
@@ -29,7 +30,8 @@
 
 /* CLI_ENUM and CLI_SWITCH store an int */
 _Static_assert(sizeof(okid_sensing) == sizeof(int) && sizeof(okid_realization) == sizeof(int) &&
-                   sizeof(okid_scaling) == sizeof(int) && sizeof(okid_estimator) == sizeof(int),
+                   sizeof(okid_scaling) == sizeof(int) && sizeof(okid_estimator) == sizeof(int) &&
+                   sizeof(okid_refine_model) == sizeof(int),
                "okid_config's enumerations are stored as int");
 
 #define AT(member) offsetof(identify_options, member)
@@ -73,6 +75,11 @@ static const cli_option identify_table[] = {
      NULL,
      "anti-alias filter (Butterworth, order 2) and keep every K-th sample;\n"
      "p, alpha, beta then count decimated samples, dt of the results is K dt"},
+    {"decimation-method", NULL, CLI_ENUM, OWN(decimation_method), 0, 0, 0, cli_decimation_method_names, NULL, "KIND",
+     NULL, NULL,
+     "with --decimation K: filter (the biquad above; biased, 1e-2 on noise-free\n"
+     "data) or lift (okid_lift: K samples become one of K r inputs at K dt,\n"
+     "exact; K r <= 64; the regressor grows to K r + (K r + m) p columns)"},
     {"scaling", "scale", CLI_ENUM, CONFIG(scaling), 0, 0, 0, cli_scaling_names, "scaling", "KIND", NULL, NULL,
      "auto divides each input and output by its RMS over the first block\n"
      "of rows, so the units of the channels do not matter"},
@@ -92,6 +99,10 @@ static const cli_option identify_table[] = {
     {"step-tolerance", NULL, CLI_REAL, REFINE(step_tolerance), 0, 0, CLI_MIN_OPEN | CLI_NO_MAX, NULL, NULL, "T", NULL, NULL,
      "with --refine: converged when the Gauss-Newton decrement (about the\n"
      "squared step in standard deviations) is below T"},
+    {"refine-model", NULL, CLI_ENUM, REFINE(refine_model), 0, 0, 0, cli_refine_model_names, NULL, "KIND", NULL, NULL,
+     "with --refine: the predictor fitted; innovation also fits the gain K of\n"
+     "x(k+1) = A x + B u + K e, the maximum-likelihood one when forces nobody\n"
+     "measured act (white residuals where output_error's are not; docs/refinement.md)"},
     /* the command's own options */
     {"observer-seconds", NULL, CLI_REAL, OWN(observer_seconds), 0, 0, CLI_MIN_OPEN | CLI_NO_MAX, NULL, NULL, "S", NULL,
      "--observer-order", "observer order p = round(S / (K dt)) (after --dt, --decimation)"},
@@ -180,5 +191,9 @@ int identify_parse_options(int argc, char **argv, identify_options *o)
         }
     }
     o->horizons_given = (o->given & (AUTO_GIVEN_OBSERVER | AUTO_GIVEN_HANKEL)) != 0;
+    if (o->decimation_method == DECIMATION_LIFT && !(o->given & AUTO_GIVEN_DECIMATION)) {
+        return cli_error(EXIT_USAGE, "--decimation-method lift needs --decimation K (lifting does not follow a "
+                         "decimation chosen from the data)");
+    }
     return 0;
 }

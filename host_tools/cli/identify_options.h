@@ -16,6 +16,7 @@ typedef struct identify_options {
     int ignore_time_column;        /* --ignore-time-column: --dt wins over the stamps */
     unsigned given;                /* AUTO_GIVEN_* (auto_settings.h): the settings given, the others chosen from the data */
     int all_poles;                 /* --all-poles: every pole of the model with its verdict in the table */
+    int decimation_method;         /* --decimation-method: DECIMATION_FILTER or DECIMATION_LIFT (identify_lift.h) */
 } identify_options;
 
 /* Fills o from the command line; 0, or EXIT_USAGE after one line on stderr. "--help" exits 0. */

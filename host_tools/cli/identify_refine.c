@@ -18,7 +18,7 @@ int identify_refine(const identify_options *o, const okid_result *res, size_t n,
                          "sample interval; identify without decimation", res->decimation);
     }
     size_t bytes = 0;
-    okid_status st = okid_refine_workspace_size(res->order, r, m, &bytes);
+    okid_status st = okid_refine_model_workspace_size(o->refine_cfg.refine_model, res->order, r, m, &bytes);
     *ws = st == OKID_OK ? aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16) : NULL;
     if (*ws == NULL) {
         return cli_error(EXIT_DATA, "refinement: %s", st == OKID_OK ? "out of memory" : okid_status_str(st));
@@ -159,7 +159,8 @@ void warn_residual_tests(const okid_refine_result *rr, int m, const char *const 
 
 void print_refinement(const okid_refine_result *rr, int m, const char *const *output_names)
 {
-    printf("\nrefinement (prediction error, %d parameters): %s after %d passes, %d steps\n", rr->num_parameters,
+    printf("\nrefinement (prediction error, %s, %d parameters): %s after %d passes, %d steps\n",
+           rr->refine_model == OKID_REFINE_INNOVATION ? "innovation form" : "output error", rr->num_parameters,
            okid_refine_state_str(rr->state), rr->passes, rr->iterations);
     printf("residual RMS per output, start -> end:");
     for (int i = 0; i < m; ++i) {

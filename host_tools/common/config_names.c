@@ -35,6 +35,10 @@ const cli_name cli_estimator_names[] = {{"least_squares", OKID_ESTIMATOR_LEAST_S
                                         {"correlation", OKID_ESTIMATOR_CORRELATION, 0},
                                         {"least-squares", OKID_ESTIMATOR_LEAST_SQUARES, 1},
                                         {NULL, 0, 0}};
+const cli_name cli_decimation_method_names[] = {{"filter", 0, 0}, {"lift", 1, 0}, {NULL, 0, 0}};
+const cli_name cli_refine_model_names[] = {{"output_error", OKID_REFINE_OUTPUT_ERROR, 0},
+                                           {"innovation", OKID_REFINE_INNOVATION, 0},
+                                           {NULL, 0, 0}};
 
 const char *cli_name_of(const cli_name *names, int value)
 {

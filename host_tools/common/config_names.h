@@ -16,6 +16,10 @@ typedef struct cli_name {
 
 /* The enumerations of okid_config, each ended by a {NULL} entry. */
 extern const cli_name cli_sensing_names[], cli_realization_names[], cli_scaling_names[], cli_estimator_names[];
+/* okid_refine_config::refine_model, on every surface (docs/refinement.md) */
+extern const cli_name cli_refine_model_names[];
+/* okid identify --decimation-method, Python decimation_method: 0 filter (okid_config::decimation), 1 lift (okid_lift) */
+extern const cli_name cli_decimation_method_names[];
 
 /* Value to name (the first entry that is not an alias); "?" when there is none. */
 const char *cli_name_of(const cli_name *names, int value);

@@ -354,6 +354,10 @@ void json_refined_result(FILE *out, const okid_refine_config *cfg, const okid_re
         fprintf(out, ",\n  \"%s\": ", names[i]);
         json_matrix(out, mats[i]);
     }
+    if (res->K.data != NULL) {
+        fputs(",\n  \"K\": ", out); /* the innovation gain (refine_model innovation) */
+        json_matrix(out, res->K);
+    }
     fputs(",\n  \"initial_state\": ", out);
     json_vector(out, res->initial_state, res->order);
     json_refined_modes(out, res, m, "  ");
@@ -387,7 +391,8 @@ void json_refinement(FILE *out, const okid_refine_config *cfg, const okid_refine
 {
     fprintf(out, ",\n  \"refinement\": {\"config\": {\"max_passes\": %d, \"step_tolerance\": ", cfg->max_passes);
     json_number(out, (double)cfg->step_tolerance);
-    fprintf(out, "},\n    \"state\": \"%s\", \"message\": ", json_refine_state_name(res->state));
+    fprintf(out, ", \"refine_model\": \"%s\"},\n    \"state\": \"%s\", \"message\": ", cli_name_of(cli_refine_model_names, (int)cfg->refine_model),
+            json_refine_state_name(res->state));
     json_string(out, okid_refine_state_str(res->state));
     fprintf(out, ", \"passes\": %d, \"iterations\": %d, \"num_parameters\": %d, \"samples\": %llu,\n",
             res->passes, res->iterations, res->num_parameters, (unsigned long long)res->samples);
@@ -407,6 +412,10 @@ void json_refinement(FILE *out, const okid_refine_config *cfg, const okid_refine
     json_matrix(out, res->D);
     fputs(", \"initial_state\": ", out);
     json_vector(out, res->initial_state, res->order);
+    if (res->K.data != NULL) {
+        fputs(", \"K\": ", out); /* the innovation gain */
+        json_matrix(out, res->K);
+    }
     /* the top-level "modes" are these since the refined result became the result: kept here for
        one release (docs/refinement.md) */
     json_refined_modes(out, res, m, "    ");

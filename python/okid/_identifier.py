@@ -19,9 +19,10 @@ from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DECOMPOSITION_FAILED, E_NON
                       NotEnoughDataError, OkidError, check, error_for)
 from ._mode import Mode, Pole, SelectedMode, WarningFlag
 from ._progress import CALLER, ProgressArg, phase, reported, run_interruptibly
-from ._refine import REFINE_DEFAULTS, check_settings
+from ._refine import REFINE_DEFAULTS, check_refine_model, check_settings
 from ._result import Result
 from ._start_search import choose_start
+from .model import lift as _lift
 
 
 @dataclass(frozen=True)
@@ -142,14 +143,16 @@ class Identifier:
     @reported
     def refine(self, u: Any, y: Any, *, max_passes: int = REFINE_DEFAULTS["max_passes"],
                step_tolerance: float = REFINE_DEFAULTS["step_tolerance"],
-               progress: ProgressArg = None) -> Result:
+               progress: ProgressArg = None,
+               refine_model: str = REFINE_DEFAULTS["refine_model"]) -> Result:
         """The last identify()'s result refined over the record (u, y) the caller gives: the
         samples that model describes, (N, r) and (N, m) at dt (the identifier keeps no record).
         See :meth:`okid.Result.refine`; a refinement that stops without converging warns
         (okid.RefinementWarning)."""
         if self._last is None:
             raise error_for(E_NOT_AVAILABLE, "refine() before identify(): nothing to refine")
-        return self._last._refine(u, y, max_passes, step_tolerance, stacklevel=CALLER, progress=progress)
+        return self._last._refine(u, y, max_passes, step_tolerance, stacklevel=CALLER, progress=progress,
+                                  refine_model=refine_model)
 
     def predict(self, u: Any) -> np.ndarray:
         """One-step-ahead prediction of y(k) (m values) from u(k) and the last observer_order samples,
@@ -209,7 +212,9 @@ def identify(u: Any, y: Any, dt: float, *,
              refine: bool = False,
              max_passes: int = REFINE_DEFAULTS["max_passes"],
              step_tolerance: float = REFINE_DEFAULTS["step_tolerance"],
-             progress: ProgressArg = None) -> Result:
+             refine_model: str = REFINE_DEFAULTS["refine_model"],
+             progress: ProgressArg = None,
+             decimation_method: str = "filter") -> Result:
     """Identify a state-space model and its modes from one record (OKID/ERA).
 
     u: forces, (N, r) or (N,) for one input; y: responses, (N, m) or (N,); time along axis 0.
@@ -249,6 +254,14 @@ def identify(u: Any, y: Any, dt: float, *,
     max_passes: with refine, passes over the record at most (2..1000, default 30)
     step_tolerance: with refine, converged when the Gauss-Newton decrement (about the squared step
     in standard deviations) falls below it (> 0, default 1e-6)
+    decimation_method: with decimation K > 1, "filter" (the default: okid_config::decimation's
+    anti-alias biquad, biased: about 1e-2 on noise-free data) or "lift" (okid.model.lift: K samples
+    become one sample of K r inputs at K dt, exact; the result is that of the lifted record, its
+    config's num_inputs K r, dt K dt, decimation 1; K r <= 64; ``--decimation-method``,
+    docs/refinement.md). Lifting needs decimation given, and allows refine.
+    refine_model: with refine, the predictor fitted: "output_error" (default, the simulation from
+    the inputs) or "innovation" (the one-step predictor with its gain K free, the
+    maximum-likelihood one when forces nobody measured act; ``--refine-model``, docs/refinement.md)
 
     progress: called as progress(done, total) after each chunk (some 10-50 ms of work: 16384
     samples for the paper's case, fewer for larger problems), first of the push
@@ -273,11 +286,19 @@ def identify(u: Any, y: Any, dt: float, *,
     given = ((_core.AUTO_GIVEN_DECIMATION if decimation is not None else 0) |
              (_core.AUTO_GIVEN_OBSERVER if observer_order is not None else 0) |
              (_core.AUTO_GIVEN_HANKEL if hankel_rows is not None or hankel_cols is not None else 0))
+    if decimation_method not in ("filter", "lift"):
+        raise BadParameterError(f"decimation_method = {decimation_method!r}: 'filter' or 'lift' (default 'filter')",
+                                E_BAD_PARAMETER)
+    if decimation_method == "lift" and decimation is None:
+        raise BadParameterError("decimation_method = 'lift' needs decimation = K (lifting does not follow a decimation "
+                                "chosen from the data)", E_BAD_PARAMETER)
     if decimation is None:
         decimation = DEFAULTS["decimation"]
+    lift_factor = _config.integer("decimation", decimation) if decimation_method == "lift" else 1
     if _config.check_bool("refine", refine):
         max_passes, step_tolerance = check_settings(max_passes, step_tolerance)
-        if decimation > 1:
+        refine_model = check_refine_model(refine_model)
+        if decimation > 1 and lift_factor == 1:
             raise BadParameterError(f"refine=True with decimation = {decimation}: the refinement needs the record "
                                     f"at the model's sample interval; identify without decimation", E_BAD_PARAMETER)
     horizons_given = not (observer_order is None and hankel_rows is None and hankel_cols is None)
@@ -301,6 +322,13 @@ def identify(u: Any, y: Any, dt: float, *,
     ub, yb = _block(ua, r, "u"), _block(ya, m, "y")
     if ub.shape[0] != yb.shape[0]:
         raise BadSizeError(f"u has {ub.shape[0]} samples and y {yb.shape[0]}: time along axis 0 must match", E_BAD_SIZE)
+    if lift_factor > 1:  # the lifted record at K dt, identified undecimated (the CLI's --decimation-method lift)
+        if lift_factor * r > 64:
+            raise BadParameterError(f"decimation_method = 'lift' with decimation = {lift_factor} and {r} inputs: "
+                                    f"{lift_factor * r} lifted inputs, at most 64", E_BAD_PARAMETER)
+        ub, yb = _lift(ub, yb, lift_factor)
+        r, dt = ub.shape[1], float(dt) * lift_factor
+        options["decimation"] = decimation = 1
     # the data's sufficiency before the workspace is allocated (the CLI's rule, config_explain.c);
     # the start search tries smaller observer orders itself
     # (the settings chosen from the data are checked by auto_identify, after the choice)
@@ -321,7 +349,8 @@ def identify(u: Any, y: Any, dt: float, *,
             except OkidError:
                 return None, None
             try:
-                return result, result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2).refinement
+                return result, result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2,
+                                              refine_model=refine_model).refinement
             except OkidError:
                 return result, None
         options, search = choose_start(trial, options)
@@ -365,8 +394,8 @@ def identify(u: Any, y: Any, dt: float, *,
         return _with_choices(result, *auto)
     if not refine:
         return result
-    return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=CALLER, progress=progress),
-                   start_search=search)
+    return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=CALLER, progress=progress,
+                                  refine_model=refine_model), start_search=search)
 
 
 def _choose(config: Dict[str, Any], given: int, ub: np.ndarray, yb: np.ndarray, progress: Any) -> Tuple[Any, ...]:

@@ -24,7 +24,10 @@ from ._statespace import StateSpaceModel
 
 _MAX_PASSES, _STEP_TOLERANCE = _core.refine_config_default()
 #: okid_refine_config_default()'s values (docs/cli.md: --max-passes, --step-tolerance).
-REFINE_DEFAULTS: Dict[str, Any] = {"max_passes": _MAX_PASSES, "step_tolerance": _STEP_TOLERANCE}
+REFINE_DEFAULTS: Dict[str, Any] = {"max_passes": _MAX_PASSES, "step_tolerance": _STEP_TOLERANCE,
+                                   "refine_model": "output_error"}
+#: okid_refine_model's names (--refine-model, docs/refinement.md) and C values
+REFINE_MODELS: Dict[str, int] = {"output_error": 0, "innovation": 1}
 
 
 class RefinementWarning(RuntimeWarning):
@@ -55,7 +58,7 @@ class Refinement(_ModeArrays, StateSpaceModel, Travelling):
     message: str                    #: the library's sentence for the state
     passes: int                     #: passes fed over the record (the first measures the channel weights)
     iterations: int                 #: accepted Levenberg–Marquardt steps
-    num_parameters: int             #: free parameters, n (r + m + 1) + m r at most
+    num_parameters: int             #: free parameters, n (r + m + 1) + m r at most (+ n m for the innovation form)
     order: int                      #: n
     samples: int                    #: samples per pass
     dt: float                       #: sample interval [s]
@@ -63,10 +66,12 @@ class Refinement(_ModeArrays, StateSpaceModel, Travelling):
     warnings: int                   #: okid_warning bits of the refined modes (see okid.WarningFlag)
     max_passes: int                 #: the setting it ran with
     step_tolerance: float           #: the setting it ran with
+    refine_model: str               #: the predictor fitted: "output_error" or "innovation" (the setting it ran with)
     A: np.ndarray                   #: (n, n) real modal form
     B: np.ndarray                   #: (n, r)
     C: np.ndarray                   #: (m, n)
     D: np.ndarray                   #: (m, r)
+    K: Optional[np.ndarray]         #: (n, m) innovation gain of refine_model "innovation", None otherwise
     initial_state: np.ndarray       #: (n,) estimated x(0)
     residual_rms_start: np.ndarray  #: (m,) residual RMS of each output with the starting model [output units]
     residual_rms: np.ndarray        #: (m,) the same with the refined model
@@ -109,6 +114,14 @@ def check_settings(max_passes: Any, step_tolerance: Any) -> Tuple[int, float]:
     return passes, tol
 
 
+def check_refine_model(refine_model: Any) -> str:
+    """refine_model's names: "output_error" (the default) or "innovation"."""
+    if not isinstance(refine_model, str) or refine_model not in REFINE_MODELS:
+        raise BadParameterError(f"refine_model = {refine_model!r}: one of {', '.join(map(repr, REFINE_MODELS))} "
+                                f"(default 'output_error')", E_BAD_PARAMETER)
+    return refine_model
+
+
 def _record(u: Any, y: Any, r: int, m: int) -> Tuple[np.ndarray, np.ndarray]:
     ua = np.ascontiguousarray(real_array(u, "u"))
     ya = np.ascontiguousarray(real_array(y, "y"))
@@ -136,13 +149,14 @@ def _model(a, b, c, d) -> Tuple[np.ndarray, ...]:
 
 
 def run(model, dt: float, sensing: str, u: Any, y: Any, max_passes: int, step_tolerance: float,
-        noise_std: Optional[np.ndarray] = None, what: str = "refine", progress: ProgressArg = None):
+        noise_std: Optional[np.ndarray] = None, what: str = "refine", progress: ProgressArg = None,
+        refine_model: str = "output_error"):
     """okid_refine_* over the record: (RefineCore, Refinement). Ctrl-C raises KeyboardInterrupt
     within one chunk; progress(done, total) follows the samples fed."""
     a, b, c, d = _model(*model)
     ua, ya = _record(u, y, b.shape[1], c.shape[0])
     status, core = _core.refine(a, b, c, d, float(dt), SENSING[sensing], ua, ya, max_passes, step_tolerance,
-                                noise_std, phase(progress, "refinement"))
+                                noise_std, phase(progress, "refinement"), REFINE_MODELS[check_refine_model(refine_model)])
     check(status, f"{what} (n = {a.shape[0]}, r = {b.shape[1]}, m = {c.shape[0]}, {ua.shape[0]} samples: more "
                   f"output samples than parameters, finite inputs)")
     return core, _refinement(core)

@@ -272,14 +272,18 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
     @reported
     def refine(self, u: Any, y: Any, *, max_passes: int = REFINE_DEFAULTS["max_passes"],
                step_tolerance: float = REFINE_DEFAULTS["step_tolerance"],
-               progress: ProgressArg = None) -> "Result":
+               progress: ProgressArg = None,
+               refine_model: str = REFINE_DEFAULTS["refine_model"]) -> "Result":
         """This result with its prediction-error refinement over the record (u, y): the same
         arrays this model describes, (N, r) and (N, m), at its sample interval dt (docs/refinement.md).
 
         The record is fed to okid_refine_push_block() from the caller's arrays (no copy, the GIL
         released) once per pass until the refinement finishes. max_passes: passes at most
         (2..1000); step_tolerance: converged when the Gauss–Newton decrement (about the squared
-        step in standard deviations) falls below it (> 0). Returns a new Result whose
+        step in standard deviations) falls below it (> 0); refine_model: the predictor fitted,
+        "output_error" (the simulation from the inputs) or "innovation" (the one-step predictor
+        with its gain K free: the maximum-likelihood one when forces nobody measured act, as
+        ``--refine-model``). Returns a new Result whose
         ``refinement`` holds the refined model and its modes with their standard deviations; a
         refinement that stops without converging gives an okid.RefinementWarning.
 
@@ -292,13 +296,14 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
             raise BadParameterError(f"refine() of a result with decimation = {self.decimation}: the refinement needs "
                                     f"the record at the model's sample interval; identify without decimation",
                                     E_BAD_PARAMETER)
-        return self._refine(u, y, max_passes, step_tolerance, stacklevel=CALLER, progress=progress)
+        return self._refine(u, y, max_passes, step_tolerance, stacklevel=CALLER, progress=progress,
+                            refine_model=refine_model)
 
     def _refine(self, u: Any, y: Any, max_passes: Any, step_tolerance: Any, stacklevel: int,
-                progress: ProgressArg = None) -> "Result":
+                progress: ProgressArg = None, refine_model: str = "output_error") -> "Result":
         passes, tol = check_settings(max_passes, step_tolerance)
         core, refined = _run_refinement((self.A, self.B, self.C, self.D), self.dt, self.config["sensing"], u, y,
-                                        passes, tol, progress=progress)
+                                        passes, tol, progress=progress, refine_model=refine_model)
         warn_if_stopped(refined, stacklevel + 1)
         start = self.start if self.start is not None else self
         # the refined modes and their warnings are the result; OKID/ERA's stay in start
@@ -345,6 +350,8 @@ _CLI_FALLBACKS: _document.Fallbacks = {
     "Refinement.fit_percent": lambda obj, outer: [o["fit_percent"] for o in obj["residual_tests"]["outputs"]],
     "Refinement.output_warnings": lambda obj, outer: [o["warning_bits"] for o in obj["residual_tests"]["outputs"]],
     "Refinement.autocorrelation_band": lambda obj, outer: obj["residual_tests"]["autocorrelation_band"],
+    # documents written before the innovation form: output error
+    "Refinement.refine_model": lambda obj, outer: "output_error",
 }
 
 

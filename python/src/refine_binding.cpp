@@ -15,6 +15,7 @@
 #include "binding.h"
 
 extern "C" {
+#include "config_names.h"
 #include "json_writer.h"
 }
 
@@ -72,6 +73,12 @@ struct RefineCore {
         f["std_status"] = (int)out.std_status;
         f["max_passes"] = cfg.max_passes;
         f["step_tolerance"] = (double)cfg.step_tolerance;
+        f["refine_model"] = cli_name_of(cli_refine_model_names, (int)cfg.refine_model);
+        if (out.K.data != nullptr) {
+            f["K"] = matrix_array(out.K);
+        } else {
+            f["K"] = nb::none();
+        }
         f["A"] = matrix_array(out.A);
         f["B"] = matrix_array(out.B);
         f["C"] = matrix_array(out.C);
@@ -121,14 +128,16 @@ void bind_refine(nb::module_ &m)
     m.def(
         "refine",
         [](CMatrix a, CMatrix b, CMatrix c, CMatrix d, double dt, int sensing, CMatrix u, CMatrix y,
-           int max_passes, double step_tolerance, std::optional<CVector> noise_std, nb::object progress) {
+           int max_passes, double step_tolerance, std::optional<CVector> noise_std, nb::object progress,
+           int refine_model) {
             const int n = (int)a.shape(0), r = (int)b.shape(1), mo = (int)c.shape(0);
             auto core = std::make_unique<RefineCore>();
             core->m = mo;
             core->cfg.max_passes = max_passes;
             core->cfg.step_tolerance = (okid_real)step_tolerance;
+            core->cfg.refine_model = (okid_refine_model)refine_model;
             size_t bytes = 0;
-            int s = okid_refine_workspace_size(n, r, mo, &bytes);
+            int s = okid_refine_model_workspace_size(core->cfg.refine_model, n, r, mo, &bytes);
             if (s != OKID_OK) return nb::make_tuple(s, nb::none());
             core->ws.reset(std::aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16));
             if (!core->ws) throw std::bad_alloc();
@@ -152,7 +161,8 @@ void bind_refine(nb::module_ &m)
             // Ctrl-C raising between two; progress sees samples fed over samples x max_passes
             const size_t count = u.shape(0), ru = u.shape(1), my = y.shape(1);
             // a sample's sensitivities and Gauss-Newton sums cost about P^2 m multiply-adds, P the parameters
-            const double params = (double)n * (double)(r + mo + 1) + (double)mo * (double)r;
+            const double params = (double)n * (double)(r + mo + 1) + (double)mo * (double)r +
+                                  (refine_model == OKID_REFINE_INNOVATION ? (double)n * (double)mo : 0);
             const size_t chunk = chunk_rows(params * params * (double)mo);
             for (int pass = 0; s == OKID_OK && state == OKID_REFINE_NEED_PASS; ++pass) {
                 s = okid_refine_begin_pass(&core->rf);
@@ -170,8 +180,8 @@ void bind_refine(nb::module_ &m)
         },
         nb::arg("a"), nb::arg("b"), nb::arg("c"), nb::arg("d"), nb::arg("dt"), nb::arg("sensing"), nb::arg("u"),
         nb::arg("y"), nb::arg("max_passes"), nb::arg("step_tolerance"), nb::arg("noise_std").none(),
-        nb::arg("progress").none() = nb::none(),
-        "okid_refine_init from (A, B, C, D, dt), okid_refine_set_noise when noise_std is given, then passes over "
+        nb::arg("progress").none() = nb::none(), nb::arg("refine_model") = 0,
+        "okid_refine_init from (A, B, C, D, dt) fitting refine_model (okid_refine_model), okid_refine_set_noise when noise_std is given, then passes over "
         "(u, y) until the state is not NEED_PASS, in chunks (Ctrl-C raises between two, progress(done, "
         "max_passes count) is called after each): (status, RefineCore).");
 }

@@ -110,12 +110,13 @@ def test_keywords_are_the_okid_config_fields():
     assert [f for f in fields if f not in ("num_inputs", "num_outputs", "dt")] == keyword_only[:len(fields) - 3]
     assert list(params)[:3] == ["u", "y", "dt"]
     # the okid_config fields, then okid_refine_config's behind refine (docs/cli.md), then the
-    # progress callback of a long call (no setting)
-    assert keyword_only == list(okid.OPTION_NAMES) + ["refine", "max_passes", "step_tolerance", "progress"]
+    # progress callback of a long call and decimation_method (the CLI's, before okid_lift; no C field)
+    refine_fields = ["max_passes", "step_tolerance", "refine_model"]
+    assert keyword_only == list(okid.OPTION_NAMES) + ["refine", *refine_fields, "progress", "decimation_method"]
     text = header_with(r"typedef struct okid_refine_config\s*\{")
     body = re.search(r"typedef struct okid_refine_config\s*\{(.*?)\}\s*okid_refine_config;", text, re.S).group(1)
-    assert re.findall(r"(\w+)\s*;", re.sub(r"/\*.*?\*/", "", body, flags=re.S)) == ["max_passes", "step_tolerance"]
-    assert {k: params[k].default for k in ("max_passes", "step_tolerance")} == okid.REFINE_DEFAULTS
+    assert re.findall(r"(\w+)\s*;", re.sub(r"/\*.*?\*/", "", body, flags=re.S)) == refine_fields
+    assert {k: params[k].default for k in refine_fields} == okid.REFINE_DEFAULTS
 
 
 def test_warning_flags_are_the_c_bits():

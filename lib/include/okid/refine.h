@@ -10,7 +10,10 @@
  * e(k) = y(k) - C x(k) - D u(k), x(k+1) = A x(k) + B u(k), by Levenberg-Marquardt on the real
  * modal form: A block diagonal with one 2 x 2 block [Re l, Im l; -Im l, Re l] per complex pair
  * and a 1 x 1 block per real eigenvalue, one entry of B per mode fixed (the mode's coordinate
- * scale), C, D and the initial state free. Parameters: n (r + m + 1) + m r at most.
+ * scale), C, D and the initial state free. Parameters: n (r + m + 1) + m r at most. With
+ * okid_refine_config::refine_model = OKID_REFINE_INNOVATION the predictor is the innovation form
+ * x(k+1) = A x + B u + K e with K free as well (n m more parameters): the maximum-likelihood
+ * estimate when forces nobody measures act (okid_refine_model).
  *
  * The identifier keeps no record, so the caller feeds it once per pass in blocks of any size
  * (from RAM, flash, a file): okid_refine_begin_pass(), okid_refine_push_block() ...,
@@ -70,6 +73,26 @@ typedef enum okid_refine_state {
     OKID_REFINE_ITERATION_LIMIT = 4
 } okid_refine_state;
 
+/**
+ * Which predictor the refinement fits (docs/refinement.md, "Innovation form").
+ */
+typedef enum okid_refine_model {
+    /**
+     * Output error: yhat(k) = C x(k) + D u(k), x(k+1) = A x(k) + B u(k), the simulation from the
+     * inputs alone. The maximum-likelihood estimate when only white output noise acts.
+     */
+    OKID_REFINE_OUTPUT_ERROR = 0,
+    /**
+     * Innovation form: the one-step predictor x(k+1) = A x(k) + B u(k) + K e(k), e(k) = y(k) -
+     * C x(k) - D u(k), with the gain K (n x m) free as well. The maximum-likelihood estimate when
+     * forces nobody measures (process noise) act besides the output noise. K starts from the OKID
+     * observer gain (K = -G of a combined realization) when the start model has one and A - K C
+     * is stable, else from K = 0 (the output-error predictor); every step keeps A - K C strictly
+     * inside the unit circle. n m more parameters, and n (not 2) sensitivities per parameter.
+     */
+    OKID_REFINE_INNOVATION = 1
+} okid_refine_model;
+
 /** Settings of a refinement (docs/refinement.md); okid_refine_config_default() fills them. */
 typedef struct okid_refine_config {
     /** Passes over the record at most (the first measures the channel weights), 2..1000; 0 = 30. */
@@ -82,6 +105,8 @@ typedef struct okid_refine_config {
      * long record is larger than 1e-6; a smaller value then ends in OKID_REFINE_NOT_IMPROVING).
      */
     okid_real step_tolerance;
+    /** The predictor fitted: OKID_REFINE_OUTPUT_ERROR (the default) or OKID_REFINE_INNOVATION. */
+    okid_refine_model refine_model;
 } okid_refine_config;
 
 /** The default step_tolerance for the working precision. */
@@ -144,6 +169,9 @@ typedef struct okid_refine_result {
     const okid_mode *modes;     /**< sorted by frequency, then damping; indicators other than mpc are -1 */
     const okid_mode_std *mode_std; /**< num_modes entries, in the order of modes */
     okid_matrix A, B, C, D;     /**< the model in real modal form */
+    okid_refine_model refine_model; /**< the predictor fitted (okid_refine_config::refine_model) */
+    /** the innovation gain (n x m, modal form) of OKID_REFINE_INNOVATION; data NULL, 0 columns otherwise */
+    okid_matrix K;
     const okid_real *initial_state; /**< n values: the estimated x(0) */
     /** m values: residual RMS of each output at the start (the starting model) and at the end. */
     const okid_real *residual_rms_start, *residual_rms;
@@ -200,7 +228,15 @@ typedef struct okid_refiner okid_refiner;
 #define OKID_REFINE_WORKSPACE_BYTES(n, r, m) OKID__SIZE(OKID__REFINE_WORKSPACE_BYTES64(n, r, m))
 
 /**
- * Fill the settings with their defaults: max_passes 30, step_tolerance OKID_REFINE_STEP_TOLERANCE.
+ * Workspace bytes of a refinement fitting the given okid_refine_model (equal to
+ * okid_refine_model_workspace_size(); OKID_REFINE_WORKSPACE_BYTES is the output-error one).
+ */
+#define OKID_REFINE_MODEL_WORKSPACE_BYTES(model, n, r, m) \
+    OKID__SIZE(OKID__REFINE_MODEL_WORKSPACE_BYTES64((model) == OKID_REFINE_INNOVATION, n, r, m))
+
+/**
+ * Fill the settings with their defaults: max_passes 30, step_tolerance OKID_REFINE_STEP_TOLERANCE,
+ * refine_model OKID_REFINE_OUTPUT_ERROR.
  * \return OKID_OK, OKID_E_NULL_POINTER
  */
 okid_status okid_refine_config_default(okid_refine_config *cfg);
@@ -213,12 +249,19 @@ okid_status okid_refine_config_default(okid_refine_config *cfg);
 okid_status okid_refine_workspace_size(int n, int r, int m, size_t *bytes);
 
 /**
+ * Workspace bytes a refinement fitting model needs (okid_refine_workspace_size() is the output-error one).
+ * \return as okid_refine_workspace_size(), and OKID_E_BAD_PARAMETER (model not an okid_refine_model)
+ */
+okid_status okid_refine_model_workspace_size(okid_refine_model model, int n, int r, int m, size_t *bytes);
+
+/**
  * Start a refinement from an identified model (its A, B, C, D and dt). Unstable eigenvalues are
  * reflected into the unit circle.
  * \param[in] start    a result of okid_identify() (or any model in that form)
  * \param[in] sensing  what the outputs measure (the shapes' eq. 64 power)
  * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_BAD_SIZE, OKID_E_BAD_PARAMETER (a setting out of
- *         range, dt, sensing, a non-finite matrix entry), OKID_E_WORKSPACE_TOO_SMALL,
+ *         range, model, dt, sensing, a non-finite matrix entry or observer gain),
+ *         OKID_E_WORKSPACE_TOO_SMALL (size it with okid_refine_model_workspace_size()),
  *         OKID_E_WORKSPACE_ALIGNMENT, OKID_E_DECOMPOSITION_FAILED (A has no eigenvector basis),
  *         OKID_E_RANK_DEFICIENT (a mode that no input drives: B has a zero row in modal form)
  */
@@ -273,6 +316,9 @@ okid_status okid_refine_end_pass(okid_refiner *rf, okid_refine_state *state);
  * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_NOT_AVAILABLE (not finished)
  */
 okid_status okid_refine_get_result(const okid_refiner *rf, okid_refine_result *result);
+
+/** The name of a refinement model ("output_error", "innovation"; "unknown" otherwise; never NULL). */
+const char *okid_refine_model_str(okid_refine_model model);
 
 /** A short, static description of a refinement state (never NULL). */
 const char *okid_refine_state_str(okid_refine_state state);

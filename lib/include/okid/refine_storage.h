@@ -53,6 +53,9 @@ struct okid_refiner {
     okid_mode *modes_;
     okid_mode_std *mode_std_;
     okid_complex *shapes_, *shape_std_;
+    /* innovation form (cfg_.refine_model): the gain K (n x m, modal form; NULL for output error); sens_
+       then holds n reals per parameter (the full state sensitivity), not 2 */
+    okid_real *k_;
 };
 
 #endif

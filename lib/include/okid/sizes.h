@@ -206,21 +206,28 @@
 #define OKID__REFINE_SCRATCH(n, np)                                                                  \
     OKID__MAX(2u * OKID__Z(n) * OKID__Z(n) + 2u * OKID__Z(n) + OKID__Z(OKID__LWORK_GEEV(n)), OKID__Z(np) * OKID__Z(np))
 
-/* OKID_REFINE_WORKSPACE_BYTES before the saturation. */
-#define OKID__REFINE_WORKSPACE_BYTES64(n, r, m)                                                                        \
-    (OKID__ALIGN16(sizeof(int) * 4u * OKID__REFINE_PARAMETERS64(n, r, m)) + OKID__ALIGN16(sizeof(int) * 4u * OKID__Z(n)) \
-     + 2u * OKID__RB(OKID__REFINE_PARAMETERS64(n, r, m)) + 2u * OKID__RB(n) + OKID__RB(OKID__Z(n) * OKID__Z(r))         \
+/* Parameters of the output-error (inn 0) or innovation (inn 1) refinement: the latter adds K, n x m. */
+#define OKID__REFINE_NP64(inn, n, r, m) (OKID__REFINE_PARAMETERS64(n, r, m) + OKID__Z(inn) * OKID__Z(n) * OKID__Z(m))
+
+/* OKID_REFINE_MODEL_WORKSPACE_BYTES before the saturation (inn: 1 for the innovation form). */
+#define OKID__REFINE_MODEL_WORKSPACE_BYTES64(inn, n, r, m)                                                                        \
+    (OKID__ALIGN16(sizeof(int) * 4u * OKID__REFINE_NP64(inn, n, r, m)) + OKID__ALIGN16(sizeof(int) * 4u * OKID__Z(n)) \
+     + 2u * OKID__RB(OKID__REFINE_NP64(inn, n, r, m)) + 2u * OKID__RB(n) + OKID__RB(OKID__Z(n) * OKID__Z(r))         \
      + OKID__RB(OKID__Z(m) * OKID__Z(n)) + OKID__RB(OKID__Z(m) * OKID__Z(r)) + 2u * OKID__RB(n)                        \
-     + OKID__RB(2u * OKID__REFINE_PARAMETERS64(n, r, m)) + OKID__RB(OKID__Z(m) * OKID__REFINE_PARAMETERS64(n, r, m))    \
-     + 2u * OKID__RB(OKID__REFINE_SCRATCH(n, OKID__REFINE_PARAMETERS64(n, r, m)))                                     \
-     + OKID__RB(OKID__Z(m) * OKID__REFINE_PARAMETERS64(n, r, m)) + 3u * OKID__RB(OKID__REFINE_PARAMETERS64(n, r, m))    \
+     + OKID__RB((OKID__Z(inn) ? OKID__Z(n) : 2u) * OKID__REFINE_NP64(inn, n, r, m)) + OKID__RB(OKID__Z(m) * OKID__REFINE_NP64(inn, n, r, m))    \
+     + 2u * OKID__RB(OKID__REFINE_SCRATCH(n, OKID__REFINE_NP64(inn, n, r, m)))                                     \
+     + OKID__RB(OKID__Z(m) * OKID__REFINE_NP64(inn, n, r, m)) + 3u * OKID__RB(OKID__REFINE_NP64(inn, n, r, m))    \
      + 7u * OKID__RB(m) + OKID__RB(OKID__Z(n) * OKID__Z(n)) + OKID__ALIGN16(sizeof(okid_mode) * OKID__Z(n))             \
      + OKID__ALIGN16(sizeof(okid_mode_std) * OKID__Z(n)) + OKID__ALIGN16(sizeof(okid_complex) * OKID__Z(n) * 3u * OKID__Z(m)) \
      + OKID__ALIGN16(sizeof(okid_complex) * OKID__Z(n) * OKID__Z(m))                                    \
      + 3u * OKID__RB(OKID__Z(m) * OKID__REFINE_LAGS) + 4u * OKID__RB(m) + OKID__ALIGN16(sizeof(unsigned) * OKID__Z(m)) \
-     + OKID__RB(OKID__Z(m) * OKID__REFINE_PARAMETERS64(n, r, m))                                               \
-     + 2u * OKID__RB(OKID__REFINE_PARAMETERS64(n, r, m) * OKID__REFINE_PARAMETERS64(n, r, m))                  \
-     + OKID__RB(OKID__REFINE_PARAMETERS64(n, r, m)))
+     + OKID__RB(OKID__Z(m) * OKID__REFINE_NP64(inn, n, r, m))                                               \
+     + 2u * OKID__RB(OKID__REFINE_NP64(inn, n, r, m) * OKID__REFINE_NP64(inn, n, r, m))                  \
+     + OKID__RB(OKID__REFINE_NP64(inn, n, r, m))                                                                        \
+     + (OKID__Z(inn) ? OKID__RB(OKID__Z(n) * OKID__Z(m)) : 0u))
+
+/* OKID_REFINE_WORKSPACE_BYTES before the saturation: the output-error one. */
+#define OKID__REFINE_WORKSPACE_BYTES64(n, r, m) OKID__REFINE_MODEL_WORKSPACE_BYTES64(0u, n, r, m)
 
 /* ---- Stabilization diagram (okid/stabilization.h) ---- */
 

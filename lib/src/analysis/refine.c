@@ -6,7 +6,10 @@
  * output, V = (N/2) sum_i log(s_i / N), s_i the output's residual sum of squares; its Gauss-Newton
  * matrix weighs output i by N / s_i. A pass only knows s_i at its end, so the normal matrix it
  * accumulates uses the weights of the last accepted pass, while the gradient is accumulated per
- * output and weighed exactly: the fixed point is the maximum-likelihood estimate.
+ * output and weighed exactly: the fixed point is the maximum-likelihood estimate. The innovation
+ * form feeds the residual back through K, so every parameter moves the whole state: its
+ * sensitivities are n-vectors, psi(k+1) = A psi + (dA x + dB u + dK e) - K dyhat, with
+ * dyhat = C psi + dC x + dD u.
  */
 #include "analysis/refine_internal.h"
 
@@ -27,7 +30,17 @@ okid_status okid_refine_config_default(okid_refine_config *cfg)
     }
     cfg->max_passes = 30;
     cfg->step_tolerance = OKID_REFINE_STEP_TOLERANCE;
+    cfg->refine_model = OKID_REFINE_OUTPUT_ERROR;
     return OKID_OK;
+}
+
+const char *okid_refine_model_str(okid_refine_model model)
+{
+    switch (model) {
+    case OKID_REFINE_OUTPUT_ERROR: return "output_error";
+    case OKID_REFINE_INNOVATION: return "innovation";
+    }
+    return "unknown";
 }
 
 const char *okid_refine_state_str(okid_refine_state state)
@@ -42,10 +55,10 @@ const char *okid_refine_state_str(okid_refine_state state)
     return "unknown refinement state";
 }
 
-/* Lay out the workspace (base NULL: only count). */
-static size_t layout(okid_refiner *rf, void *base, int n, int r, int m)
+/* Lay out the workspace (base NULL: only count); inn: the innovation form. */
+static size_t layout(okid_refiner *rf, void *base, int inn, int n, int r, int m)
 {
-    const size_t np = OKID_REFINE_PARAMETERS(n, r, m), nn = (size_t)n, rr = (size_t)r, mm = (size_t)m;
+    const size_t np = (size_t)OKID__REFINE_NP64(inn, n, r, m), nn = (size_t)n, rr = (size_t)r, mm = (size_t)m;
     const size_t scratch = (size_t)OKID__REFINE_SCRATCH(n, np); /* fits: okid_refine_workspace_size() checked */
     okid_carver c = {(unsigned char *)base, 0};
     rf->ptab_ = (int *)okid_carve_bytes(&c, sizeof(int) * 4u * np);
@@ -59,7 +72,7 @@ static size_t layout(okid_refiner *rf, void *base, int n, int r, int m)
     rf->d_ = okid_carve_reals(&c, mm * rr);
     rf->x0_ = okid_carve_reals(&c, nn);
     rf->x_ = okid_carve_reals(&c, nn);
-    rf->sens_ = okid_carve_reals(&c, 2u * np);
+    rf->sens_ = okid_carve_reals(&c, (inn ? nn : 2u) * np);
     rf->jrow_ = okid_carve_reals(&c, mm * np);
     rf->nrm_[0] = okid_carve_reals(&c, scratch);
     rf->nrm_[1] = okid_carve_reals(&c, scratch);
@@ -92,29 +105,39 @@ static size_t layout(okid_refiner *rf, void *base, int n, int r, int m)
     rf->score_[0] = okid_carve_reals(&c, np * np);
     rf->score_[1] = okid_carve_reals(&c, np * np);
     rf->score_sum_ = okid_carve_reals(&c, np);
+    rf->k_ = inn ? okid_carve_reals(&c, nn * mm) : NULL;
     return c.used;
 }
 
 /* The workspace of accepted dimensions can exceed the address space of a 32-bit target: counted
  * in 64 bits first, so that layout()'s size_t arithmetic never wraps. */
-static int refine_size_fits(int n, int r, int m)
+static int refine_size_fits(int inn, int n, int r, int m)
 {
-    return OKID__REFINE_WORKSPACE_BYTES64(n, r, m) <= (unsigned long long)(size_t)-1;
+    return OKID__REFINE_MODEL_WORKSPACE_BYTES64(inn, n, r, m) <= (unsigned long long)(size_t)-1;
 }
 
 okid_status okid_refine_workspace_size(int n, int r, int m, size_t *bytes)
 {
+    return okid_refine_model_workspace_size(OKID_REFINE_OUTPUT_ERROR, n, r, m, bytes);
+}
+
+okid_status okid_refine_model_workspace_size(okid_refine_model model, int n, int r, int m, size_t *bytes)
+{
     if (bytes == NULL) {
         return OKID_E_NULL_POINTER;
     }
+    if ((unsigned)model > (unsigned)OKID_REFINE_INNOVATION) {
+        return OKID_E_BAD_PARAMETER;
+    }
+    const int inn = model == OKID_REFINE_INNOVATION;
     if (n < 1 || n > OKID_MAX_ORDER || r < 1 || r > OKID_MAX_DIMENSION || m < 1 || m > OKID_MAX_DIMENSION) {
         return OKID_E_BAD_SIZE;
     }
-    if (!refine_size_fits(n, r, m)) {
+    if (!refine_size_fits(inn, n, r, m)) {
         return OKID_E_BAD_SIZE;
     }
     okid_refiner dry;
-    *bytes = layout(&dry, NULL, n, r, m);
+    *bytes = layout(&dry, NULL, inn, n, r, m);
     return OKID_OK;
 }
 
@@ -129,20 +152,26 @@ okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, co
         return OKID_E_NULL_POINTER;
     }
     const int n = start->order, r = start->B.cols, m = start->C.rows;
+    const int inn = cfg->refine_model == OKID_REFINE_INNOVATION;
     if (n < 1 || n > OKID_MAX_ORDER || r < 1 || r > OKID_MAX_DIMENSION || m < 1 || m > OKID_MAX_DIMENSION ||
         start->A.rows != n || start->A.cols != n || start->B.rows != n || start->C.cols != n ||
         start->D.rows != m || start->D.cols != r || start->A.ld < n || start->B.ld < n || start->C.ld < m ||
-        start->D.ld < m || !refine_size_fits(n, r, m)) {
+        start->D.ld < m || !refine_size_fits(inn, n, r, m)) {
         return OKID_E_BAD_SIZE;
     }
     if (cfg->max_passes < 0 || cfg->max_passes == 1 || cfg->max_passes > 1000 ||
         !okid_is_finite(cfg->step_tolerance) || cfg->step_tolerance < 0 || !okid_is_finite(start->dt) ||
         start->dt <= 0 || (unsigned)sensing > 2u || !okid_all_finite(n, n, start->A.data, start->A.ld) ||
         !okid_all_finite(n, r, start->B.data, start->B.ld) || !okid_all_finite(m, n, start->C.data, start->C.ld) ||
-        !okid_all_finite(m, r, start->D.data, start->D.ld)) {
+        !okid_all_finite(m, r, start->D.data, start->D.ld) || (unsigned)cfg->refine_model > (unsigned)OKID_REFINE_INNOVATION) {
         return OKID_E_BAD_PARAMETER;
     }
-    const size_t need = layout(rf, NULL, n, r, m);
+    /* the observer gain starts the innovation form: one of the right shape must be finite */
+    if (inn && start->G.data != NULL && start->G.rows == n && start->G.cols == m &&
+        (start->G.ld < n || !okid_all_finite(n, m, start->G.data, start->G.ld))) {
+        return OKID_E_BAD_PARAMETER;
+    }
+    const size_t need = layout(rf, NULL, inn, n, r, m);
     if (bytes_needed != NULL) {
         *bytes_needed = need;
     }
@@ -152,7 +181,7 @@ okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, co
     if (((size_t)workspace % OKID_WORKSPACE_ALIGN) != 0) {
         return OKID_E_WORKSPACE_ALIGNMENT;
     }
-    (void)layout(rf, workspace, n, r, m);
+    (void)layout(rf, workspace, inn, n, r, m);
     rf->cfg_ = *cfg;
     if (rf->cfg_.max_passes == 0) {
         rf->cfg_.max_passes = 30;
@@ -165,6 +194,7 @@ okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, co
     rf->m_ = m;
     rf->sensing_ = sensing;
     rf->dt_ = start->dt;
+    rf->best_ = 0; /* the modal form's stability test uses nrm_[1 - best_] */
     const okid_status st = okid_refine_modal_form(rf, start);
     if (st != OKID_OK) {
         return st;
@@ -264,9 +294,21 @@ okid_status okid_refine_begin_pass(okid_refiner *rf)
     for (int i = 0; i < n; ++i) {
         rf->x_[i] = rf->x0_[i];
     }
-    /* sensitivities: d x(0) / d x0 = e_row, every other one starts at zero */
+    /* sensitivities: d x(0) / d x0 = e_row, every other one starts at zero (output error: the
+       two entries of the parameter's block; innovation form: all n) */
+    const int inn = OKID_REFINE_IS_INNOVATION(rf);
     for (int p = 0; p < np; ++p) {
         const int *t = rf->ptab_ + 4 * p;
+        if (inn) {
+            okid_real *s = rf->sens_ + (size_t)p * (size_t)n;
+            for (int i = 0; i < n; ++i) {
+                s[i] = 0;
+            }
+            if (t[0] == OKID_RP_X0) {
+                s[t[2]] = 1;
+            }
+            continue;
+        }
         rf->sens_[2 * p] = rf->sens_[2 * p + 1] = 0;
         if (t[0] == OKID_RP_X0) {
             rf->sens_[2 * p + (t[2] - rf->blk_[OKID_RB_INTS * t[1] + OKID_RB_FIRST])] = 1;
@@ -302,6 +344,24 @@ static void output_jacobian(okid_refiner *rf, const okid_real *u)
         switch (t[0]) {
         case OKID_RP_C: col[t[2]] = rf->x_[t[3]]; break;
         case OKID_RP_D: col[t[2]] = u[t[3]]; break;
+        default: break;
+        }
+        if (OKID_REFINE_IS_INNOVATION(rf)) {
+            /* every parameter moves the whole state through K: C psi, psi the parameter's n-vector */
+            const int n = rf->n_;
+            const okid_real *s = rf->sens_ + (size_t)p * (size_t)n;
+            for (int j = 0; j < n; ++j) {
+                if (s[j] != 0) {
+                    for (int i = 0; i < m; ++i) {
+                        col[i] += OKID_AT(rf->c_, m, i, j) * s[j];
+                    }
+                }
+            }
+            continue;
+        }
+        switch (t[0]) {
+        case OKID_RP_C:
+        case OKID_RP_D: break;
         default: {
             const int *b = rf->blk_ + OKID_RB_INTS * t[1];
             const int first = b[OKID_RB_FIRST], size = b[OKID_RB_SIZE];
@@ -342,11 +402,66 @@ static void accumulate(okid_refiner *rf, const okid_real *e)
     }
 }
 
-/* Advance the sensitivities (with x(k)) and then the state, by one sample. */
-static void advance(okid_refiner *rf, const okid_real *u)
+/*
+ * The innovation form's step of the sensitivities, with x(k), u(k), the residual e(k) and the
+ * output derivatives jrow_ of this sample (e NULL: no output this sample, the predictor runs open
+ * loop and e and its derivatives are 0): psi(k+1) = A psi + dA x + dB u + dK e - K dyhat.
+ */
+static void advance_innovation_sensitivities(okid_refiner *rf, const okid_real *u, const okid_real *e)
+{
+    const int n = rf->n_, m = rf->m_, np = rf->np_;
+    for (int p = 0; p < np; ++p) {
+        const int *t = rf->ptab_ + 4 * p;
+        okid_real *s = rf->sens_ + (size_t)p * (size_t)n;
+        for (int k = 0; k < rf->nblocks_; ++k) {
+            const int first = rf->blk_[OKID_RB_INTS * k + OKID_RB_FIRST];
+            const okid_real a = rf->lam_re_[k], b = rf->lam_im_[k];
+            if (rf->blk_[OKID_RB_INTS * k + OKID_RB_SIZE] == 2) {
+                const okid_real s0 = s[first], s1 = s[first + 1];
+                s[first] = a * s0 + b * s1;
+                s[first + 1] = -b * s0 + a * s1;
+            } else {
+                s[first] *= a;
+            }
+        }
+        const int first = t[0] <= OKID_RP_X0 ? rf->blk_[OKID_RB_INTS * t[1] + OKID_RB_FIRST] : 0;
+        switch (t[0]) {
+        case OKID_RP_LAMBDA_RE:
+            s[first] += rf->x_[first];
+            if (rf->blk_[OKID_RB_INTS * t[1] + OKID_RB_SIZE] == 2) {
+                s[first + 1] += rf->x_[first + 1];
+            }
+            break;
+        case OKID_RP_LAMBDA_IM:
+            s[first] += rf->x_[first + 1];
+            s[first + 1] -= rf->x_[first];
+            break;
+        case OKID_RP_B: s[t[2]] += u[t[3]]; break;
+        case OKID_RP_K: s[t[2]] += e != NULL ? e[t[3]] : 0; break;
+        default: break;
+        }
+        if (e == NULL) {
+            continue;
+        }
+        const okid_real *dy = rf->jrow_ + (size_t)p * (size_t)m;
+        for (int i = 0; i < m; ++i) {
+            if (dy[i] != 0) {
+                for (int j = 0; j < n; ++j) {
+                    s[j] -= OKID_AT(rf->k_, n, j, i) * dy[i];
+                }
+            }
+        }
+    }
+}
+
+/* Advance the sensitivities (with x(k)) and then the state, by one sample; e: the sample's
+   residual, NULL when its output is not finite (the innovation form then runs open loop). */
+static void advance(okid_refiner *rf, const okid_real *u, const okid_real *e)
 {
     const int n = rf->n_, r = rf->r_, np = rf->np_;
-    if (jacobian_pass(rf)) {
+    if (jacobian_pass(rf) && OKID_REFINE_IS_INNOVATION(rf)) {
+        advance_innovation_sensitivities(rf, u, e);
+    } else if (jacobian_pass(rf)) {
         for (int p = 0; p < np; ++p) {
             const int *t = rf->ptab_ + 4 * p;
             if (t[0] >= OKID_RP_C) {
@@ -394,6 +509,13 @@ static void advance(okid_refiner *rf, const okid_real *u)
             rf->x_[first + 1] = -b * x0 + a * x1 + bu1;
         } else {
             rf->x_[first] = a * x0 + bu0;
+        }
+    }
+    if (rf->k_ != NULL && e != NULL) {
+        for (int i = 0; i < rf->m_; ++i) {
+            for (int j = 0; j < n; ++j) {
+                rf->x_[j] += OKID_AT(rf->k_, n, j, i) * e[i];
+            }
         }
     }
 }
@@ -451,7 +573,7 @@ okid_status okid_refine_push_block(okid_refiner *rf, size_t count, const okid_re
                 okid_refine_tests_close_block(rf);
             }
         }
-        advance(rf, uk);
+        advance(rf, uk, use ? rf->e_ : NULL);
         ++rf->pass_samples_;
     }
     return OKID_OK;
@@ -638,6 +760,8 @@ okid_status okid_refine_get_result(const okid_refiner *rf, okid_refine_result *r
     result->B = (okid_matrix){rf->b_, n, r, n};
     result->C = (okid_matrix){rf->c_, m, n, m};
     result->D = (okid_matrix){rf->d_, m, r, m};
+    result->refine_model = rf->cfg_.refine_model;
+    result->K = (okid_matrix){rf->k_, n, rf->k_ != NULL ? m : 0, n};
     result->initial_state = rf->x0_;
     result->residual_rms_start = rf->rms_start_;
     result->residual_rms = rf->rms_;

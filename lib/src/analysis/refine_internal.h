@@ -12,8 +12,12 @@ enum {
     OKID_RP_B = 2,         /* B(row, col), row an absolute state index */
     OKID_RP_X0 = 3,        /* x0(row) */
     OKID_RP_C = 4,         /* C(row, col), row an output, col a state */
-    OKID_RP_D = 5          /* D(row, col) */
+    OKID_RP_D = 5,         /* D(row, col) */
+    OKID_RP_K = 6          /* K(row, col) of the innovation form, row a state, col an output */
 };
+
+/* 1 when the refiner fits the innovation form. */
+#define OKID_REFINE_IS_INNOVATION(rf) ((rf)->cfg_.refine_model == OKID_REFINE_INNOVATION)
 
 /* Block table okid_refiner::blk_[OKID_RB_INTS b + field]. */
 #define OKID_RB_INTS 4
@@ -32,8 +36,12 @@ okid_status okid_refine_modal_form(okid_refiner *rf, const okid_result *start);
 /* Write theta into the model arrays (lam_re_, lam_im_, b_, c_, d_, x0_). */
 void okid_refine_apply(okid_refiner *rf, const okid_real *theta);
 
-/* 1 when every eigenvalue of the model in the arrays lies strictly inside the unit circle. */
-int okid_refine_stable(const okid_refiner *rf);
+/*
+ * 1 when every eigenvalue of the model in the arrays lies strictly inside the unit circle, and
+ * for the innovation form every eigenvalue of A - K C as well (the predictor's; its eigenvalue
+ * scratch is the spare normal-matrix buffer nrm_[1 - best_]).
+ */
+int okid_refine_stable(okid_refiner *rf);
 
 /*
  * Covariance of theta_best_ (the inverse of the accepted normal matrix, into nrm_[best_]), the

@@ -4,7 +4,8 @@
  * eigenvectors T (LAPACK layout: Re v, Im v per pair) A T = T diag(blocks), so B -> T^-1 B and
  * C -> C T. A pair's coordinates still admit a rotation-scaling S = [p q; -q p] that commutes with
  * its block: it is fixed by making the block's column of its strongest input [1; 0] (a real
- * mode's entry 1), which leaves n (r + m + 1) + m r free parameters at most.
+ * mode's entry 1), which leaves n (r + m + 1) + m r free parameters at most. The innovation form
+ * adds its gain K, transformed like B (T^-1 K, then S^-1 per block), n m parameters after D.
  */
 #include "analysis/refine_internal.h"
 
@@ -64,6 +65,9 @@ static okid_status fix_block_scale(okid_refiner *rf, int first, int size, int *f
         for (int j = 0; j < r; ++j) {
             OKID_AT(rf->b_, n, first, j) /= p;
         }
+        for (int j = 0; rf->k_ != NULL && j < m; ++j) {
+            OKID_AT(rf->k_, n, first, j) /= p;
+        }
         for (int i = 0; i < m; ++i) {
             OKID_AT(rf->c_, m, i, first) *= p;
         }
@@ -76,6 +80,11 @@ static okid_status fix_block_scale(okid_refiner *rf, int first, int size, int *f
         const okid_real b1 = OKID_AT(rf->b_, n, first, j), b2 = OKID_AT(rf->b_, n, first + 1, j);
         OKID_AT(rf->b_, n, first, j) = (p * b1 - q * b2) / det;
         OKID_AT(rf->b_, n, first + 1, j) = (q * b1 + p * b2) / det;
+    }
+    for (int j = 0; rf->k_ != NULL && j < m; ++j) {
+        const okid_real k1 = OKID_AT(rf->k_, n, first, j), k2 = OKID_AT(rf->k_, n, first + 1, j);
+        OKID_AT(rf->k_, n, first, j) = (p * k1 - q * k2) / det;
+        OKID_AT(rf->k_, n, first + 1, j) = (q * k1 + p * k2) / det;
     }
     OKID_AT(rf->b_, n, first, best) = 1; /* exactly */
     OKID_AT(rf->b_, n, first + 1, best) = 0;
@@ -97,12 +106,28 @@ okid_status okid_refine_modal_form(okid_refiner *rf, const okid_result *start)
     if (st != OKID_OK) {
         return st;
     }
-    /* C T, then T^-1 B (the LU overwrites T). */
+    /* C T, then T^-1 B (the LU overwrites T: the innovation form solves for K with a copy of T,
+       into the eigenvalue scratch that is free now) */
     okid_gemm('N', 'N', m, n, n, 1, start->C.data, start->C.ld, vr, n, 0, rf->c_, m);
+    const int observer_gain = rf->k_ != NULL && start->G.data != NULL && start->G.rows == n && start->G.cols == m;
+    if (observer_gain) {
+        okid_copy_matrix(n, n, vr, n, a_copy, n);
+    }
     okid_copy_matrix(n, r, start->B.data, start->B.ld, rf->b_, n);
     st = okid_lu_solve(n, r, vr, n, rf->b_, n);
     if (st != OKID_OK) {
         return st;
+    }
+    if (rf->k_ != NULL) {
+        /* the OKID observer x(k+1) = A x + B u - G (y - C x - D u) is the predictor with K = -G */
+        for (int j = 0; j < m; ++j) {
+            for (int i = 0; i < n; ++i) {
+                OKID_AT(rf->k_, n, i, j) = observer_gain ? -OKID_AT(start->G.data, start->G.ld, i, j) : 0;
+            }
+        }
+        if (observer_gain && okid_lu_solve(n, m, a_copy, n, rf->k_, n) != OKID_OK) {
+            okid_zero_matrix(n, m, rf->k_, n);
+        }
     }
     okid_copy_matrix(m, r, start->D.data, start->D.ld, rf->d_, m);
 
@@ -157,9 +182,19 @@ okid_status okid_refine_modal_form(okid_refiner *rf, const okid_result *start)
             add_param(rf, &np, OKID_RP_D, -1, i, j);
         }
     }
+    for (int j = 0; rf->k_ != NULL && j < m; ++j) {
+        for (int i = 0; i < n; ++i) {
+            add_param(rf, &np, OKID_RP_K, -1, i, j);
+        }
+    }
     rf->np_ = np;
     for (int i = 0; i < n; ++i) {
         rf->x0_[i] = 0;
+    }
+    /* the observer's gain is a start only where its predictor is stable with the (reflected) A;
+       else the documented start K = 0, the output-error predictor */
+    if (rf->k_ != NULL && (!okid_all_finite(n, m, rf->k_, n) || !okid_refine_stable(rf))) {
+        okid_zero_matrix(n, m, rf->k_, n);
     }
     /* theta from the arrays */
     for (int p = 0; p < np; ++p) {
@@ -171,6 +206,7 @@ okid_status okid_refine_modal_form(okid_refiner *rf, const okid_result *start)
         case OKID_RP_B: v = OKID_AT(rf->b_, n, t[2], t[3]); break;
         case OKID_RP_X0: v = rf->x0_[t[2]]; break;
         case OKID_RP_C: v = OKID_AT(rf->c_, m, t[2], t[3]); break;
+        case OKID_RP_K: v = OKID_AT(rf->k_, n, t[2], t[3]); break;
         default: v = OKID_AT(rf->d_, m, t[2], t[3]); break;
         }
         rf->theta_best_[p] = rf->theta_[p] = v;
@@ -190,15 +226,41 @@ void okid_refine_apply(okid_refiner *rf, const okid_real *theta)
         case OKID_RP_B: OKID_AT(rf->b_, n, t[2], t[3]) = theta[p]; break;
         case OKID_RP_X0: rf->x0_[t[2]] = theta[p]; break;
         case OKID_RP_C: OKID_AT(rf->c_, m, t[2], t[3]) = theta[p]; break;
+        case OKID_RP_K: OKID_AT(rf->k_, n, t[2], t[3]) = theta[p]; break;
         default: OKID_AT(rf->d_, m, t[2], t[3]) = theta[p]; break;
         }
     }
 }
 
-int okid_refine_stable(const okid_refiner *rf)
+int okid_refine_stable(okid_refiner *rf)
 {
     for (int k = 0; k < rf->nblocks_; ++k) {
         if (!(okid_hypot(rf->lam_re_[k], rf->lam_im_[k]) < 1)) {
+            return 0;
+        }
+    }
+    if (rf->k_ == NULL) {
+        return 1;
+    }
+    /* the predictor's A - K C: its eigenvalues, in the spare normal-matrix buffer */
+    const int n = rf->n_, m = rf->m_;
+    okid_real *f = rf->nrm_[1 - rf->best_], *vr = f + (size_t)n * n, *wr = vr + (size_t)n * n, *wi = wr + n;
+    okid_zero_matrix(n, n, f, n);
+    for (int k = 0; k < rf->nblocks_; ++k) {
+        const int first = rf->blk_[OKID_RB_INTS * k + OKID_RB_FIRST];
+        OKID_AT(f, n, first, first) = rf->lam_re_[k];
+        if (rf->blk_[OKID_RB_INTS * k + OKID_RB_SIZE] == 2) {
+            OKID_AT(f, n, first, first + 1) = rf->lam_im_[k];
+            OKID_AT(f, n, first + 1, first) = -rf->lam_im_[k];
+            OKID_AT(f, n, first + 1, first + 1) = rf->lam_re_[k];
+        }
+    }
+    okid_gemm('N', 'N', n, n, m, -1, rf->k_, n, rf->c_, m, 1, f, n);
+    if (!okid_all_finite(n, n, f, n) || okid_la_eig(n, f, n, wr, wi, vr, n, wi + n) != OKID_OK) {
+        return 0;
+    }
+    for (int i = 0; i < n; ++i) {
+        if (!(okid_hypot(wr[i], wi[i]) < 1)) {
             return 0;
         }
     }
