@@ -1,0 +1,165 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Output-only identification (okid identify --inputs 0, docs/ambient.md) of a simulated ambient
+record against the exact modes: the paper's 2-DOF system (M, R, K of its eq. 1-9, as in
+tests/reference/make_reference.py) driven by unmeasured unit white forces on both masses, the two
+accelerations with 5 % white sensor noise, simulated here with SciPy (exact zero-order hold), the
+exact modes from NumPy's eigenvalues of the continuous model.
+
+Tolerances are statistical (tests/test_ambient.c and bench/ambient_spread.c): the frequency's
+standard deviation is about c sqrt(zeta / (omega T)) and the damping ratio's relative one
+c' / sqrt(zeta omega T), T the record's duration, with c <= 3.6 and c' <= 4.2 measured over 30
+seeds; the checks allow 4 c and 4 c'.
+"""
+import json
+import math
+import os
+import subprocess
+
+import numpy as np
+import pytest
+import scipy.linalg
+import scipy.signal
+
+OKID = os.environ.get("OKID_CLI", "okid")
+DT = 0.05
+SAMPLES = 40000
+FREQ_FACTOR, DAMP_FACTOR = 4 * 3.7, 4 * 4.2
+
+
+def paper_model():
+    """Continuous state space of the paper's plant with a force on each mass, accelerations out."""
+    mass = np.diag([2.0, 3.0])
+    damping = np.array([[6.0, -4.0], [-4.0, 7.0]])
+    stiffness = np.array([[60.0, -40.0], [-40.0, 70.0]])
+    minv = np.linalg.inv(mass)
+    ac = np.block([[np.zeros((2, 2)), np.eye(2)], [-minv @ stiffness, -minv @ damping]])
+    bc = np.vstack([np.zeros((2, 2)), minv])
+    c = np.hstack([-minv @ stiffness, -minv @ damping])
+    d = minv
+    return ac, bc, c, d
+
+
+def exact_modes():
+    """(frequency [Hz], damping ratio) of each pair, by increasing frequency."""
+    poles = np.linalg.eigvals(paper_model()[0])
+    poles = sorted((p for p in poles if p.imag > 0), key=abs)
+    return [(abs(p) / (2 * math.pi), -p.real / abs(p)) for p in poles]
+
+
+def ambient_record(samples=SAMPLES, seed=11, noise=0.05):
+    ac, bc, c, d = paper_model()
+    a, b, _, _, _ = scipy.signal.cont2discrete((ac, bc, c, d), DT, method="zoh")
+    rng = np.random.default_rng(seed)
+    u = rng.standard_normal((samples, 2))
+    x = np.zeros(4)
+    y = np.empty((samples, 2))
+    for t in range(samples):  # y = C x + D u, x+ = A x + B u (scipy's dlsim, written out)
+        y[t] = c @ x + d @ u[t]
+        x = a @ x + b @ u[t]
+    y += noise * y.std(axis=0) * rng.standard_normal(y.shape)
+    return y
+
+
+def assert_exact_modes(modes, duration):
+    pairs = [m for m in modes if m["is_pair"]]
+    assert len(pairs) == 2, modes
+    for got, (f, zeta) in zip(pairs, exact_modes()):
+        omega = 2 * math.pi * f
+        assert got["frequency_hz"] == pytest.approx(f, rel=FREQ_FACTOR * math.sqrt(zeta / (omega * duration)))
+        assert got["damping_ratio"] == pytest.approx(zeta, rel=DAMP_FACTOR / math.sqrt(zeta * omega * duration))
+
+
+@pytest.fixture(scope="module")
+def ambient_csv(tmp_path_factory):
+    y = ambient_record()
+    path = tmp_path_factory.mktemp("ambient") / "ambient.csv"
+    t = DT * np.arange(len(y))
+    np.savetxt(path, np.column_stack([t, y]), delimiter=",", header="t,acc1,acc2", comments="", fmt="%.17g")
+    return path
+
+
+def run(*args):
+    return subprocess.run([OKID, *map(str, args)], capture_output=True, text=True, timeout=120)
+
+
+def test_exact_modes_from_numpy_match_the_reference():
+    """The model here is the paper's (tests/reference/reference_data.h: 0.50329, 1.04769 Hz)."""
+    (f1, z1), (f2, z2) = exact_modes()
+    assert f1 == pytest.approx(0.5032921210448703, rel=1e-12) and f2 == pytest.approx(1.0476860961782999, rel=1e-12)
+    assert z1 == pytest.approx(0.15811388300841872, rel=1e-12) and z2 == pytest.approx(0.3291402943021918, rel=1e-12)
+
+
+def test_cli_identifies_the_exact_modes(ambient_csv):
+    proc = run("identify", "--inputs", 0, "--order", 4, "--hankel-rows", 20, "--json", ambient_csv)
+    assert proc.returncode == 0, proc.stderr
+    res = json.loads(proc.stdout)
+    assert res["inputs"] == [] and res["outputs"] == ["acc1", "acc2"] and res["references"] == ["acc1", "acc2"]
+    assert res["config"] == {"num_inputs": 0, "num_outputs": 2, "num_references": 0, "hankel_rows": 20, "order": 4,
+                             "dt": DT, "sensing": "acceleration"}
+    assert res["order"] == 4 and res["samples"] == SAMPLES and res["pairs"] == SAMPLES - 40
+    assert np.array(res["correlations"]).shape == (2, 2 * 41)
+    assert_exact_modes(res["modes"], SAMPLES * DT)
+
+
+def test_cli_correlations_are_numpys(ambient_csv):
+    """R(k) = sum y(t+k) y(t)' / (N - k) of the mean-removed record, against NumPy."""
+    res = json.loads(run("identify", "--inputs", 0, "--order", 4, "--hankel-rows", 3, "--json", ambient_csv).stdout)
+    data = np.loadtxt(ambient_csv, delimiter=",", skiprows=1)[:, 1:]
+    y = data - data.mean(axis=0)
+    r = np.array(res["correlations"])
+    n = len(y)
+    for k in range(7):
+        want = y[k:].T @ y[:n - k] / (n - k)
+        np.testing.assert_allclose(r[:, 2 * k:2 * k + 2], want, rtol=1e-10, atol=1e-12 * np.abs(want).max())
+
+
+def test_cli_chooses_the_hankel_size_and_the_order(ambient_csv):
+    """Without --hankel-rows, L dt is one period at the band's 5 % frequency; without --order, the gap rule."""
+    res = json.loads(run("identify", "--inputs", 0, "--json", ambient_csv).stdout)
+    assert 20 <= res["config"]["hankel_rows"] <= 60  # the slowest period is 2 s: about 40 samples
+    assert res["order"] == 4
+    assert_exact_modes(res["modes"], SAMPLES * DT)
+    table = run("identify", "--inputs", 0, ambient_csv)
+    assert table.returncode == 0 and "output-only" in table.stdout and "chosen: one period" in table.stdout
+
+
+def test_cli_one_reference(ambient_csv):
+    res = json.loads(run("identify", "--inputs", 0, "--order", 4, "--hankel-rows", 20, "--references", "acc2",
+                         "--json", ambient_csv).stdout)
+    assert res["references"] == ["acc2"] and res["config"]["num_references"] == 1
+    assert len(res["G"][0]) == 1
+    pairs = [m for m in res["modes"] if m["is_pair"]]
+    # one reference (the second mass): measured spread 9.8 and 8.4 times the figures (tests/test_ambient.c)
+    for got, (f, zeta) in zip(pairs, exact_modes()):
+        omega = 2 * math.pi * f
+        assert got["frequency_hz"] == pytest.approx(f, rel=4 * 9.8 * math.sqrt(zeta / (omega * SAMPLES * DT)))
+
+
+@pytest.mark.parametrize("args,says", [
+    (("--observer-order", 10), "--observer-order/--observer-seconds does not apply to output-only"),
+    (("--refine",), "--refine does not apply"),
+    (("--estimator", "instrumental"), "--estimator does not apply"),
+    (("--order", 99, "--hankel-rows", 20), "--order 99: valid 0..40"),
+    (("--references", "acc3"), "'acc3' is not one of the output columns"),
+    (("--references", 3), "--references 3: 1..2"),
+    (("--hankel-rows", 30000), "for --hankel-rows (okid_config.hankel_rows): out of range; valid: 1..1000"),
+])
+def test_cli_refusals_are_one_line(ambient_csv, args, says):
+    proc = run("identify", "--inputs", 0, *args, ambient_csv)
+    assert proc.returncode == 2 and proc.stdout == ""
+    lines = proc.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("okid: ") and says in lines[0], proc.stderr
+
+
+def test_cli_references_need_inputs_zero(ambient_csv):
+    proc = run("identify", "--references", "acc1", ambient_csv)
+    assert proc.returncode == 2 and "--references applies to output-only" in proc.stderr
+
+
+def test_cli_too_short_a_record(tmp_path):
+    path = tmp_path / "short.csv"
+    y = ambient_record(samples=30)
+    np.savetxt(path, np.column_stack([DT * np.arange(30), y]), delimiter=",", header="t,a,b", comments="")
+    proc = run("identify", "--inputs", 0, "--hankel-rows", 20, path)
+    assert proc.returncode == 1 and proc.stdout == ""
+    assert proc.stderr.splitlines() == ["okid: not enough data: 30 samples, at least 2 L + 1 = 41 for L = 20"]
