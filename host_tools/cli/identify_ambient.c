@@ -13,6 +13,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "ambient_settings.h"
 #include "auto_settings.h"
 #include "cli_common.h"
 #include "csv_reader.h"
@@ -98,27 +99,6 @@ static int clamp_count(double value, int lo, int hi)
     return v < lo ? lo : v > hi ? hi : (int)v;
 }
 
-/*
- * L when --hankel-rows is not given: one slowest period per block side (L dt = 1 / f5, f5 the
- * frequency below which 5 % of the outputs' energy lies, auto_settings.h), so the Hankel matrix
- * spans two periods of the slowest mode; at most a twentieth of the record and a Hankel matrix of
- * 1000 rows. *band_hz gets f5 (0: no band, the default 20 kept).
- */
-static int choose_hankel_rows(const okid_real *y, size_t n, int m, double dt, int order, int nref, double *band_hz)
-{
-    auto_band band;
-    *band_hz = 0;
-    const int fewest = order > 0 ? (order + (m < nref ? m : nref) - 1) / (m < nref ? m : nref) : 2;
-    int most = (int)(n / 20u) < 1000 / m ? (int)(n / 20u) : 1000 / m;
-    if (most > OKID_MAX_HORIZON) most = OKID_MAX_HORIZON;
-    if (most < fewest) most = fewest;
-    if (auto_channel_band(y, n, m, dt, &band) != 0 || !(band.low_hz > 0)) {
-        return 20 < fewest ? fewest : 20;
-    }
-    *band_hz = band.low_hz;
-    return clamp_count(1.0 / (band.low_hz * dt), fewest, most);
-}
-
 /* okid_ambient_config_check() refused: the flag, its value and the range, in one line. */
 static int settings_refused(const okid_ambient_config *cfg)
 {
@@ -191,13 +171,7 @@ int identify_ambient(const identify_options *o, record_reader *reader, const rec
         free(y);
         return cli_error(EXIT_DATA, "%s", y == NULL ? "out of memory" : error);
     }
-    /* a mean is a constant, not a mode: remove each channel's (the library expects zero mean) */
-    for (int a = 0; a < m && n > 0; ++a) {
-        double mean = 0;
-        for (size_t t = 0; t < n; ++t) mean += (double)y[t * (size_t)m + (size_t)a];
-        mean /= (double)n;
-        for (size_t t = 0; t < n; ++t) y[t * (size_t)m + (size_t)a] -= (okid_real)mean;
-    }
+    ambient_remove_mean(y, n, m); /* a mean is a constant, not a mode: the library expects none */
     double band_hz = 0;
     const int nref = cfg.num_references > 0 ? cfg.num_references : m;
     if (o->hankel_seconds > 0) {
@@ -205,7 +179,7 @@ int identify_ambient(const identify_options *o, record_reader *reader, const rec
     } else if (o->given & AUTO_GIVEN_HANKEL) {
         cfg.hankel_rows = o->cfg.hankel_rows;
     } else {
-        cfg.hankel_rows = choose_hankel_rows(y, n, m, dt, cfg.order, nref, &band_hz);
+        cfg.hankel_rows = ambient_choose_hankel_rows(y, n, m, dt, cfg.order, nref, &band_hz);
     }
     size_t bytes = 0;
     if (okid_ambient_workspace_size(&cfg, &bytes) != OKID_OK) {
