@@ -163,3 +163,64 @@ def test_cli_too_short_a_record(tmp_path):
     proc = run("identify", "--inputs", 0, "--hankel-rows", 20, path)
     assert proc.returncode == 1 and proc.stdout == ""
     assert proc.stderr.splitlines() == ["okid: not enough data: 30 samples, at least 2 L + 1 = 41 for L = 20"]
+
+
+# ---- Python: okid.identify_ambient, the same library call and the same names ----
+
+def test_python_identifies_the_exact_modes_and_agrees_with_the_cli(ambient_csv):
+    import okid
+    data = np.loadtxt(ambient_csv, delimiter=",", skiprows=1)[:, 1:]
+    before = data.copy()
+    res = okid.identify_ambient(data, DT, order=4, hankel_rows=20)
+    assert np.array_equal(data, before)  # the caller's array is never written
+    assert res.order == 4 and res.samples == SAMPLES and res.pairs == SAMPLES - 40 and res.references == (0, 1)
+    assert res.correlations.shape == (2, 82) and res.G.shape == (4, 2) and not res.correlations.flags.writeable
+    assert_exact_modes([{"is_pair": m.is_pair, "frequency_hz": m.frequency_hz, "damping_ratio": m.damping_ratio}
+                        for m in res.modes], SAMPLES * DT)
+    cli = json.loads(run("identify", "--inputs", 0, "--order", 4, "--hankel-rows", 20, "--json", ambient_csv).stdout)
+    # the CSV holds the record to the last bit (%.17g): the sums (plain loops) are the same bits; the
+    # SVD runs in two LAPACK builds (the CLI's OpenBLAS archive, the wheel's scipy-openblas), whose
+    # rounding differs: eps times the realization's condition (about 4 here), with a wide margin
+    np.testing.assert_array_equal(np.array(cli["correlations"]), res.correlations)
+    np.testing.assert_allclose([m["frequency_hz"] for m in cli["modes"]], res.frequencies_hz, rtol=1e-12)
+    with pytest.raises(Exception):
+        res.order = 3  # frozen
+
+
+def test_python_chooses_hankel_rows_as_the_cli_does(ambient_csv):
+    import okid
+    data = np.loadtxt(ambient_csv, delimiter=",", skiprows=1)[:, 1:]
+    res = okid.identify_ambient(data, DT)
+    cli = json.loads(run("identify", "--inputs", 0, "--json", ambient_csv).stdout)
+    assert res.hankel_rows == cli["config"]["hankel_rows"] and res.band_hz > 0 and res.order == cli["order"]
+
+
+def test_python_one_reference_and_a_gap():
+    import okid
+    y = ambient_record(samples=8000)
+    y[100, 1] = np.nan
+    with pytest.warns(okid.NonFiniteSampleWarning):
+        res = okid.identify_ambient(y, DT, order=4, hankel_rows=10, references=[1])
+    assert res.references == (1,) and res.G.shape == (4, 1)
+    assert res.samples == 7999 and res.pairs == (100 - 20) + (8000 - 101 - 20)
+
+
+@pytest.mark.parametrize("kwargs,error,says", [
+    ({"order": 99, "hankel_rows": 20}, "BadOrderError", "order = 99: valid 0..40"),
+    ({"references": [2]}, "BadParameterError", "reference_channels = 2: valid 0..1"),
+    ({"hankel_rows": 5000}, "BadSizeError", "hankel_rows = 5000: valid 1..1000"),
+    ({"sensing": "strain"}, "BadParameterError", "sensing = 'strain'"),
+])
+def test_python_refusals_name_the_setting(kwargs, error, says):
+    import okid
+    with pytest.raises(getattr(okid, error)) as info:
+        okid.identify_ambient(ambient_record(samples=2000), DT, **kwargs)
+    assert says in str(info.value)
+
+
+def test_python_too_short_and_bad_shapes():
+    import okid
+    with pytest.raises(okid.NotEnoughDataError):
+        okid.identify_ambient(np.zeros((30, 2)), DT, hankel_rows=20)
+    with pytest.raises(okid.BadSizeError):
+        okid.identify_ambient(np.zeros(30), DT)
