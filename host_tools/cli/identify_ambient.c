@@ -16,7 +16,6 @@
 #include "ambient_settings.h"
 #include "auto_settings.h"
 #include "cli_common.h"
-#include "csv_reader.h"
 #include "json_writer.h"
 
 /* The first okid_config setting given that output-only identification has no use for, or NULL. */
@@ -113,8 +112,9 @@ static int settings_refused(const okid_ambient_config *cfg)
     for (size_t i = 0; i < sizeof flags / sizeof flags[0]; ++i) {
         if (issue.field != NULL && strcmp(issue.field, flags[i].field) == 0) flag = flags[i].flag;
     }
-    return cli_error(EXIT_USAGE, "%s %g: valid %g..%g for output-only identification (order at most L min(m, references))",
-                     flag, issue.value, issue.min, issue.max);
+    const int is_order = issue.field != NULL && strcmp(issue.field, "order") == 0;
+    return cli_error(EXIT_USAGE, "%s %g: valid %g..%g for output-only identification%s", flag, issue.value, issue.min,
+                     issue.max, is_order ? " (at most L min(m, references), and 512)" : "");
 }
 
 static void print_table(const okid_ambient_config *cfg, const okid_ambient_result *res, const char *file,
