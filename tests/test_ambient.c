@@ -77,6 +77,19 @@ static void paper_config(okid_ambient_config *cfg)
     cfg->order = 4;
 }
 
+/* init, push every sample (all accepted), identify: the workspace (the caller frees it; res points into it). */
+static void *identify_record(const okid_ambient_config *cfg, const okid_real *y, size_t count, okid_ambient *amb,
+                             okid_ambient_result *res)
+{
+    size_t bytes, accepted = 0;
+    void *ws = ambient_workspace(cfg, &bytes);
+    assert_int_equal(okid_ambient_init(amb, cfg, ws, bytes, NULL), OKID_OK);
+    assert_int_equal(okid_ambient_push_block(amb, count, y, 2, &accepted), OKID_OK);
+    assert_int_equal(accepted, count);
+    assert_int_equal(okid_ambient_identify(amb, res), OKID_OK);
+    return ws;
+}
+
 /* Both exact modes within the statistical tolerance of a record of count samples. */
 static void assert_paper_modes(const okid_ambient_result *res, size_t count, double freq_factor, double damp_factor)
 {
@@ -104,15 +117,9 @@ static void test_paper_modes_noisy(void **state)
     okid_real *y = ambient_record(count, 11, 0.05);
     okid_ambient_config cfg;
     paper_config(&cfg);
-    size_t bytes;
-    void *ws = ambient_workspace(&cfg, &bytes);
     okid_ambient amb;
-    assert_int_equal(okid_ambient_init(&amb, &cfg, ws, bytes, NULL), OKID_OK);
-    size_t accepted = 0;
-    assert_int_equal(okid_ambient_push_block(&amb, count, y, 2, &accepted), OKID_OK);
-    assert_int_equal(accepted, count);
     okid_ambient_result res;
-    assert_int_equal(okid_ambient_identify(&amb, &res), OKID_OK);
+    void *ws = identify_record(&cfg, y, count, &amb, &res);
     assert_int_equal(res.order, 4);
     assert_int_equal(res.samples, count);
     assert_int_equal(res.pairs, count - 2 * AMB_L);
@@ -124,10 +131,7 @@ static void test_paper_modes_noisy(void **state)
     }
     /* the automatic order finds the two pairs on the same data */
     cfg.order = 0;
-    void *ws_auto = ambient_workspace(&cfg, &bytes);
-    assert_int_equal(okid_ambient_init(&amb, &cfg, ws_auto, bytes, NULL), OKID_OK);
-    assert_int_equal(okid_ambient_push_block(&amb, count, y, 2, NULL), OKID_OK);
-    assert_int_equal(okid_ambient_identify(&amb, &res), OKID_OK);
+    void *ws_auto = identify_record(&cfg, y, count, &amb, &res);
     assert_int_equal(res.order, 4);
     assert_paper_modes(&res, count, FREQ_FACTOR, DAMP_FACTOR);
     free(ws_auto);
@@ -143,13 +147,9 @@ static void test_paper_modes_long_record(void **state)
     okid_real *y = ambient_record(count, 5, 0.0);
     okid_ambient_config cfg;
     paper_config(&cfg);
-    size_t bytes;
-    void *ws = ambient_workspace(&cfg, &bytes);
     okid_ambient amb;
-    assert_int_equal(okid_ambient_init(&amb, &cfg, ws, bytes, NULL), OKID_OK);
-    assert_int_equal(okid_ambient_push_block(&amb, count, y, 2, NULL), OKID_OK);
     okid_ambient_result res;
-    assert_int_equal(okid_ambient_identify(&amb, &res), OKID_OK);
+    void *ws = identify_record(&cfg, y, count, &amb, &res);
     assert_paper_modes(&res, count, FREQ_FACTOR, DAMP_FACTOR);
     free(ws);
     free(y);
@@ -166,16 +166,14 @@ static void test_one_reference(void **state)
     cfg.num_references = 1;
     cfg.reference_channels[0] = 1;
     size_t bytes, bytes_all;
-    void *ws = ambient_workspace(&cfg, &bytes);
     okid_ambient_config all;
     paper_config(&all);
+    assert_int_equal(okid_ambient_workspace_size(&cfg, &bytes), OKID_OK);
     assert_int_equal(okid_ambient_workspace_size(&all, &bytes_all), OKID_OK);
     assert_true(bytes < bytes_all);
     okid_ambient amb;
-    assert_int_equal(okid_ambient_init(&amb, &cfg, ws, bytes, NULL), OKID_OK);
-    assert_int_equal(okid_ambient_push_block(&amb, count, y, 2, NULL), OKID_OK);
     okid_ambient_result res;
-    assert_int_equal(okid_ambient_identify(&amb, &res), OKID_OK);
+    void *ws = identify_record(&cfg, y, count, &amb, &res);
     assert_int_equal(res.G.cols, 1);
     assert_int_equal(res.correlations.cols, 2 * AMB_L + 1);
     assert_paper_modes(&res, count, FREQ_FACTOR_ONE_REF, DAMP_FACTOR_ONE_REF);

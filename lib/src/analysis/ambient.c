@@ -57,15 +57,7 @@ static uint64_t ambient_carve(int m_, int nref_, int lags_, int n_, unsigned cha
     s->era.work = okid_carve_reals(&c, OKID__LWORK_GESVD(hr, hc));
     s->obs_last = okid_carve_reals(&c, m * n);
     s->ctrl_last = okid_carve_reals(&c, n * nref);
-    s->modal.a_copy = okid_carve_reals(&c, n * n);
-    s->modal.vr = okid_carve_reals(&c, n * n);
-    s->modal.wr = okid_carve_reals(&c, n);
-    s->modal.wi = okid_carve_reals(&c, n);
-    s->modal.work = okid_carve_reals(&c, OKID__LWORK_GEEV(n));
-    s->ind.vr_copy = s->modal.a_copy; /* free once the eigenvectors are out */
-    s->ind.rhs = okid_carve_reals(&c, n * 2u * nref);
-    s->ind.work = okid_carve_reals(&c, OKID__LWORK_GELSY(n, 2u * nref));
-    s->ind.jpvt = (int *)okid_carve_bytes(&c, sizeof(int) * n);
+    okid_carve_modal_phase(&c, n, nref, &s->modal, &s->ind);
     return c.used;
 }
 
