@@ -27,7 +27,8 @@ from . import model, plot
 __version__ = _core.VERSION
 
 __all__ = [
-    "identify", "identify_ambient", "AmbientResult", "Identifier", "Progress", "Result", "Mode", "SelectedMode", "Pole", "WarningFlag", "Stabilization",
+    "identify", "identify_ambient", "AmbientResult", "Identifier", "Progress", "Result", "Mode", "SelectedMode",
+    "Pole", "WarningFlag", "Stabilization",
     "StabilizationOrder", "StabilityFlag", "model", "plot", "DEFAULTS", "OPTION_NAMES", "Refinement",
     "RefinementWarning", "ResidualWarning", "REFINE_DEFAULTS", "crlb", "CramerRaoBound", "read_record", "Record",
     "RecordError", "load", "FORMAT", "FORMAT_VERSION",
