@@ -5,9 +5,13 @@
  * frequencies and damping ratios over seeds, against the figures sqrt(zeta / (omega T)) and
  * 1 / sqrt(zeta omega T) that tests/test_ambient.c scales its tolerances by. Prints; times nothing.
  *
- *   okid_ambient_spread SAMPLES L NOISE SEEDS DT [REFERENCE]
- *   e.g. build/bench/okid_ambient_spread 40000 20 0.05 30 0.05      (every output a reference)
- *        build/bench/okid_ambient_spread 40000 20 0.05 30 0.05 1    (the second mass only)
+ * With SEGMENTS > 1 it also prints the segments' standard deviations (okid_ambient_config::segments):
+ * their mean against the measured rms error, and how often the exact value lies within 2 of them.
+ *
+ *   okid_ambient_spread SAMPLES L NOISE SEEDS DT [REFERENCE [SEGMENTS]]   (REFERENCE -1: every output)
+ *   e.g. build/bench/okid_ambient_spread 40000 20 0.05 30 0.05          (every output a reference)
+ *        build/bench/okid_ambient_spread 40000 20 0.05 30 0.05 1        (the second mass only)
+ *        build/bench/okid_ambient_spread 40000 20 0.05 100 0.05 -1 16   (16 segments)
  */
 #include <math.h>
 #include <stdio.h>
@@ -43,10 +47,11 @@ int main(int argc, char **argv)
     cfg.dt = (okid_real)dt;
     cfg.hankel_rows = lags;
     cfg.order = 4;
-    if (argc > 6) {
+    if (argc > 6 && atoi(argv[6]) >= 0) {
         cfg.num_references = 1;
         cfg.reference_channels[0] = atoi(argv[6]);
     }
+    cfg.segments = argc > 7 ? atoi(argv[7]) : 0;
     size_t bytes = 0;
     if (okid_ambient_workspace_size(&cfg, &bytes) != OKID_OK) {
         fprintf(stderr, "configuration refused\n");
@@ -59,7 +64,8 @@ int main(int argc, char **argv)
         return 1;
     }
     double sf[2] = {0, 0}, sz[2] = {0, 0}, mf[2] = {0, 0}, mz[2] = {0, 0};
-    int ok = 0;
+    double stdf[2] = {0, 0}, stdz[2] = {0, 0};
+    int ok = 0, inside_f[2] = {0, 0}, inside_z[2] = {0, 0}, with_std = 0;
     for (int s = 0; s < seeds; ++s) {
         okid_rng rng;
         okid_rng_seed(&rng, 1000u + (uint64_t)s);
@@ -84,6 +90,14 @@ int main(int argc, char **argv)
             continue;
         }
         ++ok;
+        with_std += res.frequency_std != NULL;
+        for (int i = 0; i < 2 && res.frequency_std != NULL; ++i) {
+            const double df = (double)res.frequency_std[i], dz = (double)res.damping_std[i];
+            stdf[i] += df / FREQ[i];
+            stdz[i] += dz / ZETA[i];
+            inside_f[i] += fabs((double)res.modes[i].frequency_hz - FREQ[i]) <= 2 * df;
+            inside_z[i] += fabs((double)res.modes[i].damping_ratio - ZETA[i]) <= 2 * dz;
+        }
         for (int i = 0; i < 2; ++i) {
             const double ef = ((double)res.modes[i].frequency_hz - FREQ[i]) / FREQ[i];
             const double ez = ((double)res.modes[i].damping_ratio - ZETA[i]) / ZETA[i];
@@ -102,6 +116,12 @@ int main(int argc, char **argv)
                "damping rms %.3g (mean %+.2g) = %.2f x 1/sqrt(zeta omega T)\n",
                i + 1, sqrt(sf[i] / ok), mf[i] / ok, sqrt(sf[i] / ok) / ff, sqrt(sz[i] / ok), mz[i] / ok,
                sqrt(sz[i] / ok) / fz);
+        if (with_std > 0) {
+            printf("        segments: mean frequency std %.3g (rms error %.3g), exact within 2 std %d of %d; "
+                   "mean damping std %.3g (rms error %.3g), within 2 std %d of %d\n",
+                   stdf[i] / with_std, sqrt(sf[i] / ok), inside_f[i], with_std, stdz[i] / with_std, sqrt(sz[i] / ok),
+                   inside_z[i], with_std);
+        }
     }
     free(ws);
     free(e);

@@ -181,6 +181,64 @@ static void test_one_reference(void **state)
     free(y);
 }
 
+/*
+ * Per-mode uncertainty from 16 segments. Calibrated over 100 seeds (bench/ambient_spread.c, N =
+ * 40000 and 160000, 5 % noise, 16 segments): the segments' mean standard deviation was 0.92 to 1.16
+ * times the rms error of frequency and 0.90 to 1.09 times that of damping, and the exact value lay
+ * within two of them in 92 to 98 % of the seeds. One seed's std, an estimate from 16 segments
+ * (relative spread about 1 / sqrt(2 * 15) = 18 %), is checked within a factor 2 of the measured
+ * rms error (4 of its spreads), and the error within 4 std.
+ */
+static void test_segments_give_the_modes_uncertainty(void **state)
+{
+    (void)state;
+    static const double rms_frequency[2] = {0.0103, 0.0178}, rms_damping[2] = {0.0762, 0.0601}; /* relative */
+    const size_t count = 40000;
+    okid_real *y = ambient_record(count, 11, 0.05);
+    okid_ambient_config cfg;
+    paper_config(&cfg);
+    okid_ambient amb, plain_amb;
+    okid_ambient_result plain, one, res;
+    void *ws_plain = identify_record(&cfg, y, count, &plain_amb, &plain);
+    assert_null(plain.frequency_std);
+    assert_int_equal(plain.segments_used, 0);
+    cfg.segments = 1; /* one segment is none: the same bits */
+    void *ws_one = identify_record(&cfg, y, count, &amb, &one);
+    assert_null(one.frequency_std);
+    assert_true(one.modes[0].frequency_hz == plain.modes[0].frequency_hz);
+    cfg.segments = 16;
+    void *ws = identify_record(&cfg, y, count, &amb, &res);
+    assert_int_equal(res.segments_used, 16);
+    assert_non_null(res.frequency_std);
+    /* the record's sums are the segments' total: the same correlations up to the order of the additions */
+    assert_within(max_relative_difference(res.correlations.data, plain.correlations.data,
+                                          (size_t)res.correlations.rows * (size_t)res.correlations.cols),
+                  TOL(1e-12, 1e-4));
+    assert_paper_modes(&res, count, FREQ_FACTOR, DAMP_FACTOR);
+    for (int i = 0; i < 2; ++i) {
+        const double f = PAPER_FREQ_HZ[i], zeta = PAPER_DAMPING_RATIO[i];
+        const double sf = (double)res.frequency_std[i], sz = (double)res.damping_std[i];
+        assert_true(sf >= 0.5 * rms_frequency[i] * f && sf <= 2 * rms_frequency[i] * f);
+        assert_true(sz >= 0.5 * rms_damping[i] * zeta && sz <= 2 * rms_damping[i] * zeta);
+        assert_within(fabs((double)res.modes[i].frequency_hz - f), 4 * sf);
+        assert_within(fabs((double)res.modes[i].damping_ratio - zeta), 4 * sz);
+    }
+    okid_ambient_config bad = cfg;
+    okid_config_issue issue;
+    bad.segments = OKID_AMBIENT_MAX_SEGMENTS + 1;
+    assert_int_equal(okid_ambient_config_check(&bad, &issue), OKID_E_BAD_SIZE);
+    assert_string_equal(issue.field, "segments");
+    bad = cfg;
+    bad.segment_samples = 2 * AMB_L;
+    assert_int_equal(okid_ambient_config_check(&bad, &issue), OKID_E_BAD_SIZE);
+    assert_string_equal(issue.field, "segment_samples");
+    assert_true(issue.min == 2 * AMB_L + 1);
+    free(ws);
+    free(ws_one);
+    free(ws_plain);
+    free(y);
+}
+
 /* The correlations are the plain sums divided by the pairs, a gap (NaN) pairs nothing across it. */
 static void test_correlations_and_gap(void **state)
 {
@@ -263,7 +321,7 @@ static void test_failed_identify_keeps_result(void **state)
 static void test_macro_equals_function(void **state)
 {
     (void)state;
-    const int cases[][4] = {{2, 0, 20, 4}, {2, 1, 20, 0}, {10, 3, 40, 12}, {1, 0, 1, 1}, {64, 4, 100, 0}};
+    const int cases[][5] = {{2, 0, 20, 4, 0}, {2, 1, 20, 0, 1}, {10, 3, 40, 12, 8}, {1, 0, 1, 1, 2}, {64, 4, 100, 0, 64}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         okid_ambient_config cfg;
         assert_int_equal(okid_ambient_config_default(&cfg, cases[i][0]), OKID_OK);
@@ -271,12 +329,14 @@ static void test_macro_equals_function(void **state)
         for (int l = 0; l < cfg.num_references; ++l) cfg.reference_channels[l] = 2 * l < cfg.num_outputs ? 2 * l : l;
         cfg.hankel_rows = cases[i][2];
         cfg.order = cases[i][3];
+        cfg.segments = cases[i][4];
         size_t bytes = 0;
         assert_int_equal(okid_ambient_workspace_size(&cfg, &bytes), OKID_OK);
-        assert_int_equal(bytes, OKID_AMBIENT_WORKSPACE_BYTES(cases[i][0], cases[i][1], cases[i][2], cases[i][3]));
+        assert_int_equal(bytes, OKID_AMBIENT_WORKSPACE_BYTES(cases[i][0], cases[i][1], cases[i][2], cases[i][3],
+                                                             cases[i][4]));
     }
     /* the paper's firmware-sized case as a static buffer */
-    static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char ws[OKID_AMBIENT_WORKSPACE_BYTES(2, 0, 20, 4)];
+    static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char ws[OKID_AMBIENT_WORKSPACE_BYTES(2, 0, 20, 4, 0)];
     okid_ambient_config cfg;
     paper_config(&cfg);
     okid_ambient amb;
@@ -348,6 +408,7 @@ int main(void)
         cmocka_unit_test(test_paper_modes_noisy),
         cmocka_unit_test(test_paper_modes_long_record),
         cmocka_unit_test(test_one_reference),
+        cmocka_unit_test(test_segments_give_the_modes_uncertainty),
         cmocka_unit_test(test_correlations_and_gap),
         cmocka_unit_test(test_failed_identify_keeps_result),
         cmocka_unit_test(test_macro_equals_function),

@@ -77,10 +77,25 @@ typedef struct okid_ambient_config {
     int order;
     okid_real dt;         /**< sample interval [s], in [OKID_MAGNITUDE_MIN, OKID_MAGNITUDE_MAX] */
     okid_sensing sensing; /**< what the outputs measure (eq. 64) */
+    /**
+     * nb: 0 or 1 for none, else 2..OKID_AMBIENT_MAX_SEGMENTS segments whose sums are kept apart
+     * (nb times the sums' memory): the record is dealt out in blocks of segment_samples
+     * consecutive samples, block b to segment b mod nb, and identify also realizes each
+     * segment's correlations at the record's order. A mode's standard deviations are then the
+     * spread of its nearest segment modes (frequency within 20 %) over sqrt(segments_used): the
+     * standard error of a mean of nb nearly independent estimates (docs/ambient.md).
+     */
+    int segments;
+    /** Samples per block of a segment, 0 = 20 (2L + 1); at least 2L + 1 (a block much longer than the correlations). */
+    int segment_samples;
 } okid_ambient_config;
 
+/** Largest number of segments (okid_ambient_config::segments). */
+#define OKID_AMBIENT_MAX_SEGMENTS 64
+
 /**
- * Defaults for m outputs: every output a reference, L = 20, automatic order, dt = 1, acceleration.
+ * Defaults for m outputs: every output a reference, L = 20, automatic order, dt = 1, acceleration,
+ * no segments.
  * \return OKID_OK, OKID_E_NULL_POINTER (the sizes are checked by okid_ambient_init())
  */
 okid_status okid_ambient_config_default(okid_ambient_config *cfg, int num_outputs);
@@ -101,12 +116,12 @@ okid_status okid_ambient_workspace_size(const okid_ambient_config *cfg, size_t *
 
 /**
  * Workspace bytes as a constant expression: m outputs, r_ref references (0 = m), L block rows,
- * order (0 = automatic). Equals okid_ambient_workspace_size() for a valid configuration;
- * saturates at SIZE_MAX like OKID_WORKSPACE_BYTES.
+ * order (0 = automatic), segments (0 or 1 = none). Equals okid_ambient_workspace_size() for a valid
+ * configuration; saturates at SIZE_MAX like OKID_WORKSPACE_BYTES.
  */
-#define OKID_AMBIENT_WORKSPACE_BYTES(m, num_references, hankel_rows, order)                           \
+#define OKID_AMBIENT_WORKSPACE_BYTES(m, num_references, hankel_rows, order, segments)                 \
     OKID__SIZE(OKID__AMBIENT_WORKSPACE_BYTES64(m, OKID__AMB_NREF(m, num_references), hankel_rows, order, \
-                                               sizeof(okid_mode)))
+                                               segments, sizeof(okid_mode)))
 
 /** An output-only identifier: caller-owned; members private (okid/ambient_storage.h). */
 typedef struct okid_ambient okid_ambient;
@@ -159,6 +174,12 @@ typedef struct okid_ambient_result {
     uint64_t samples;                 /**< samples accepted */
     uint64_t pairs;                   /**< products summed at the largest lag 2L (N - 2L without gaps) */
     unsigned warnings;                /**< okid_warning bits */
+    /**
+     * With segments: each mode's standard deviation of frequency [Hz] and of damping ratio (NaN when
+     * fewer than two segments hold it), num_modes values each; NULL without segments.
+     */
+    const okid_real *frequency_std, *damping_std;
+    int segments_used;                /**< segments whose correlations were realized at the order (0 without) */
 } okid_ambient_result;
 
 /**

@@ -15,6 +15,7 @@
 /* One result set of okid_ambient_identify(). */
 typedef struct okid_ambient_result_set_ {
     okid_real *correlations, *sv, *a, *g, *c, *d;
+    okid_real *frequency_std, *damping_std; /* NULL in the segment scratch */
     okid_mode *modes;
     okid_complex *shapes;
     okid_ambient_result result;

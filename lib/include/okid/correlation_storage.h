@@ -16,11 +16,13 @@
 /* The streaming sums of the output correlations (pipeline/output_correlation.h). */
 typedef struct okid_correlation_sums_ {
     int m, nref, lags;           /* outputs, references, largest lag 2L */
+    int segments, block;         /* sums kept apart: sample t adds to segment (t / block) mod segments */
+    uint64_t added;              /* samples added since the last clear */
     int refs[OKID_MAX_DIMENSION]; /* the nref reference outputs */
     okid_ring_ past;             /* the last 2L reference vectors (nref values each) */
-    okid_real *sums;             /* S(0..2L): m x nref (2L + 1), leading dimension m */
+    okid_real *sums;             /* S(0..2L) of each segment: m x nref (2L + 1) each, leading dimension m */
     okid_real *squares;          /* m: sum of y_a(t)^2 */
-    uint64_t *pairs;             /* 2L + 1: products summed at each lag */
+    uint64_t *pairs;             /* 2L + 1 per segment: products summed at each lag */
 } okid_correlation_sums_;
 
 #endif

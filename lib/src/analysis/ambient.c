@@ -7,6 +7,9 @@
  */
 #include "okid/ambient.h"
 
+#include <limits.h>
+#include <math.h>
+
 #include "numerics/carve.h"
 #include "numerics/real_math.h"
 #include "pipeline/era.h"
@@ -23,29 +26,40 @@ typedef struct ambient_scratch {
     okid_real *obs_last, *ctrl_last;
     okid_modal_scratch modal;
     okid_indicator_scratch ind;
+    okid_ambient_result_set_ seg;  /* one segment's realization (segments > 1) */
+    okid_real *seg_f, *seg_z;      /* segments x n: each segment's matched frequency and damping, -1: none */
 } ambient_scratch;
 
 /* The layout, in the order of OKID__AMBIENT_WORKSPACE_BYTES64 (sizes.h); NULL base: sizes only. */
-static uint64_t ambient_carve(int m_, int nref_, int lags_, int n_, unsigned char *base, okid_correlation_sums_ *sums,
-                              okid_ambient_result_set_ sets[2], ambient_scratch *s)
+/* A result set's model views (the standard deviations apart). */
+static void carve_set(okid_carver *c, uint64_t m, uint64_t nref, uint64_t L, uint64_t n, okid_ambient_result_set_ *set)
+{
+    const uint64_t k = L * (m < nref ? m : nref);
+    set->correlations = okid_carve_reals(c, m * nref * (2u * L + 1u));
+    set->sv = okid_carve_reals(c, k);
+    set->a = okid_carve_reals(c, n * n);
+    set->g = okid_carve_reals(c, n * nref);
+    set->c = okid_carve_reals(c, m * n);
+    set->d = okid_carve_reals(c, m * nref);
+    set->modes = (okid_mode *)okid_carve_bytes(c, sizeof(okid_mode) * n);
+    set->shapes = (okid_complex *)okid_carve_bytes(c, sizeof(okid_complex) * n * 3u * m);
+}
+
+static uint64_t ambient_carve(int m_, int nref_, int lags_, int n_, int segments, unsigned char *base,
+                              okid_correlation_sums_ *sums, okid_ambient_result_set_ sets[2], ambient_scratch *s)
 {
     const uint64_t m = (uint64_t)m_, nref = (uint64_t)nref_, L = (uint64_t)lags_, n = (uint64_t)n_;
     const uint64_t blocks = 2u * L + 1u, hr = L * m, hc = L * nref, k = L * (m < nref ? m : nref);
+    const uint64_t segs = segments > 1 ? (uint64_t)segments : 1u;
     okid_carver c = {base, 0};
     sums->past.data = okid_carve_reals(&c, nref * 2u * L);
-    sums->sums = okid_carve_reals(&c, m * nref * blocks);
+    sums->sums = okid_carve_reals(&c, segs * m * nref * blocks);
     sums->squares = okid_carve_reals(&c, m);
-    sums->pairs = (uint64_t *)okid_carve_bytes(&c, 8u * blocks);
+    sums->pairs = (uint64_t *)okid_carve_bytes(&c, 8u * segs * blocks);
     for (int i = 0; i < 2; ++i) {
-        okid_ambient_result_set_ *set = &sets[i];
-        set->correlations = okid_carve_reals(&c, m * nref * blocks);
-        set->sv = okid_carve_reals(&c, k);
-        set->a = okid_carve_reals(&c, n * n);
-        set->g = okid_carve_reals(&c, n * nref);
-        set->c = okid_carve_reals(&c, m * n);
-        set->d = okid_carve_reals(&c, m * nref);
-        set->modes = (okid_mode *)okid_carve_bytes(&c, sizeof(okid_mode) * n);
-        set->shapes = (okid_complex *)okid_carve_bytes(&c, sizeof(okid_complex) * n * 3u * m);
+        carve_set(&c, m, nref, L, n, &sets[i]);
+        sets[i].frequency_std = okid_carve_reals(&c, n);
+        sets[i].damping_std = okid_carve_reals(&c, n);
     }
     s->scales = okid_carve_reals(&c, nref + m);
     s->era.h = okid_carve_reals(&c, hr * hc);
@@ -58,6 +72,13 @@ static uint64_t ambient_carve(int m_, int nref_, int lags_, int n_, unsigned cha
     s->obs_last = okid_carve_reals(&c, m * n);
     s->ctrl_last = okid_carve_reals(&c, n * nref);
     okid_carve_modal_phase(&c, n, nref, &s->modal, &s->ind);
+    s->seg = (okid_ambient_result_set_){0};
+    s->seg_f = s->seg_z = NULL;
+    if (segs > 1) {
+        carve_set(&c, m, nref, L, n, &s->seg);
+        s->seg_f = okid_carve_reals(&c, segs * n);
+        s->seg_z = okid_carve_reals(&c, segs * n);
+    }
     return c.used;
 }
 
@@ -73,6 +94,8 @@ okid_status okid_ambient_config_default(okid_ambient_config *cfg, int num_output
     cfg->order = 0;
     cfg->dt = 1;
     cfg->sensing = OKID_SENSING_ACCELERATION;
+    cfg->segments = 0;
+    cfg->segment_samples = 0;
     return OKID_OK;
 }
 
@@ -120,6 +143,12 @@ static okid_status ambient_dims(const okid_ambient_config *cfg, okid_config_issu
         return refuse(issue, OKID_E_BAD_ORDER, "order", cfg->order, 0, order_max);
     }
     *nmax = cfg->order > 0 ? cfg->order : order_max;
+    if (cfg->segments < 0 || cfg->segments > OKID_AMBIENT_MAX_SEGMENTS) {
+        return refuse(issue, OKID_E_BAD_SIZE, "segments", cfg->segments, 0, OKID_AMBIENT_MAX_SEGMENTS);
+    }
+    if (cfg->segment_samples < 0 || (cfg->segment_samples > 0 && cfg->segment_samples < 2 * L + 1)) {
+        return refuse(issue, OKID_E_BAD_SIZE, "segment_samples", cfg->segment_samples, 2 * L + 1, INT_MAX);
+    }
     return OKID_OK;
 }
 
@@ -134,7 +163,8 @@ static okid_status ambient_size(const okid_ambient_config *cfg, okid_config_issu
     okid_correlation_sums_ sums;
     okid_ambient_result_set_ sets[2];
     ambient_scratch scratch;
-    const uint64_t total = ambient_carve(cfg->num_outputs, *nref, cfg->hankel_rows, *nmax, NULL, &sums, sets, &scratch);
+    const uint64_t total =
+        ambient_carve(cfg->num_outputs, *nref, cfg->hankel_rows, *nmax, cfg->segments, NULL, &sums, sets, &scratch);
     st = okid_carve_size(total, bytes);
     if (st != OKID_OK) {
         return refuse(issue, st, "workspace bytes", (double)total, 0, (double)SIZE_MAX);
@@ -201,10 +231,13 @@ okid_status okid_ambient_init(okid_ambient *amb, const okid_ambient_config *cfg,
     amb->workspace_ = (unsigned char *)workspace;
     okid_correlation_sums_ *s = &amb->sums_;
     ambient_scratch scratch;
-    (void)ambient_carve(cfg->num_outputs, nref, cfg->hankel_rows, nmax, amb->workspace_, s, amb->set_, &scratch);
+    (void)ambient_carve(cfg->num_outputs, nref, cfg->hankel_rows, nmax, cfg->segments, amb->workspace_, s, amb->set_,
+                        &scratch);
     s->m = cfg->num_outputs;
     s->nref = nref;
     s->lags = 2 * cfg->hankel_rows;
+    s->segments = cfg->segments > 1 ? cfg->segments : 1;
+    s->block = cfg->segment_samples > 0 ? cfg->segment_samples : 20 * (s->lags + 1);
     for (int l = 0; l < nref; ++l) {
         s->refs[l] = cfg->num_references > 0 ? cfg->reference_channels[l] : l;
     }
@@ -310,6 +343,86 @@ static okid_status realize_modes(const okid_ambient *amb, okid_ambient_result_se
     return okid_modal_indicators(&in, s->modal.vr, s->modal.wr, s->modal.wi, &s->ind, set->modes, *num_modes);
 }
 
+/* The pair of modes[0..count) nearest in frequency to f within 20 %, or NULL. */
+static const okid_mode *nearest_pair(const okid_mode *modes, int count, okid_real f)
+{
+    const okid_mode *best = NULL;
+    for (int i = 0; i < count; ++i) {
+        if (modes[i].is_pair && okid_fabs(modes[i].frequency_hz - f) <= OKID_R(0.2) * f &&
+            (best == NULL || okid_fabs(modes[i].frequency_hz - f) < okid_fabs(best->frequency_hz - f))) {
+            best = &modes[i];
+        }
+    }
+    return best;
+}
+
+/* Standard error of the mean of the values >= 0 among x[0], x[stride], ... (count of them): NaN below two. */
+static okid_real standard_error(const okid_real *x, int count, int stride)
+{
+    okid_real sum = 0, squares = 0;
+    int c = 0;
+    for (int j = 0; j < count; ++j) {
+        if (x[(size_t)j * (size_t)stride] >= 0) sum += x[(size_t)j * (size_t)stride], ++c;
+    }
+    if (c < 2) {
+        return (okid_real)NAN;
+    }
+    const okid_real mean = sum / (okid_real)c;
+    for (int j = 0; j < count; ++j) {
+        const okid_real v = x[(size_t)j * (size_t)stride];
+        if (v >= 0) squares += (v - mean) * (v - mean);
+    }
+    return okid_sqrt(squares / ((okid_real)c * (okid_real)(c - 1)));
+}
+
+/*
+ * Each segment's correlations realized at the record's order n, their modes matched to the
+ * record's pairs (the nearest within 20 % in frequency): the standard deviations of set's modes
+ * as the standard error of the segments' mean. Returns the segments realized; a segment whose
+ * realization fails (too few pairs, rank deficient at n) counts for none of the modes.
+ */
+static int segment_spread(const okid_ambient *amb, okid_ambient_result_set_ *set, const ambient_scratch *s, int n,
+                          int num_modes)
+{
+    const okid_correlation_sums_ *sums = &amb->sums_;
+    const int m = sums->m, nref = amb->nref_, L = amb->cfg_.hankel_rows, segs = sums->segments;
+    const okid_ambient_result_set_ *seg = &s->seg;
+    const okid_era_problem problem = {nref, m, nref, L, L, n, amb->nmax_, seg->correlations, NULL, s->scales};
+    const okid_era_output out = {seg->sv, seg->a, seg->g, seg->c, seg->d, NULL};
+    int used = 0;
+    for (int j = 0; j < segs; ++j) {
+        okid_real *f = s->seg_f + (size_t)j * (size_t)n, *z = s->seg_z + (size_t)j * (size_t)n;
+        for (int i = 0; i < num_modes; ++i) {
+            f[i] = z[i] = -1;
+        }
+        if (okid_corr_pairs(sums, j, sums->lags) == 0) {
+            continue;
+        }
+        okid_corr_estimate(sums, j, seg->correlations);
+        int order = 0, count = 0;
+        unsigned ignored = 0;
+        if (okid_era_realize(&problem, &s->era, &out, &order, &ignored) != OKID_OK ||
+            okid_modal_compute(n, m, seg->a, n, seg->c, m, amb->cfg_.dt, amb->cfg_.sensing, &s->modal, seg->shapes,
+                               seg->modes, &count, &ignored) != OKID_OK) {
+            continue;
+        }
+        ++used;
+        for (int i = 0; i < num_modes; ++i) {
+            const okid_mode *near = set->modes[i].is_pair ? nearest_pair(seg->modes, count, set->modes[i].frequency_hz)
+                                                          : NULL;
+            if (near != NULL) {
+                f[i] = near->frequency_hz;
+                z[i] = near->damping_ratio >= 0 ? near->damping_ratio : -1; /* an unstable pole is no estimate */
+            }
+        }
+    }
+    for (int i = 0; i < num_modes; ++i) {
+        set->frequency_std[i] = standard_error(s->seg_f + i, segs, n);
+        set->damping_std[i] = standard_error(s->seg_z + i, segs, n);
+    }
+    return used;
+}
+
 okid_status okid_ambient_identify(okid_ambient *amb, okid_ambient_result *result)
 {
     if (amb == NULL || result == NULL) {
@@ -319,7 +432,8 @@ okid_status okid_ambient_identify(okid_ambient *amb, okid_ambient_result *result
         return OKID_E_NOT_INITIALIZED;
     }
     const okid_correlation_sums_ *sums = &amb->sums_;
-    if (sums->pairs[sums->lags] == 0) {
+    const uint64_t pairs = okid_corr_pairs(sums, -1, sums->lags);
+    if (pairs == 0) {
         return OKID_E_NOT_ENOUGH_DATA;
     }
     /* the set the last good result is not in: a failure leaves that one as it was */
@@ -328,10 +442,11 @@ okid_status okid_ambient_identify(okid_ambient *amb, okid_ambient_result *result
     okid_correlation_sums_ dry_sums;
     okid_ambient_result_set_ dry_sets[2];
     ambient_scratch s;
-    (void)ambient_carve(sums->m, amb->nref_, amb->cfg_.hankel_rows, amb->nmax_, amb->workspace_, &dry_sums, dry_sets,
-                        &s);
+    (void)ambient_carve(sums->m, amb->nref_, amb->cfg_.hankel_rows, amb->nmax_, amb->cfg_.segments, amb->workspace_,
+                        &dry_sums, dry_sets, &s);
     okid_real *rms = s.scales + amb->nref_; /* the outputs' RMS, then scales in place */
-    okid_corr_estimate(sums, set->correlations, rms);
+    okid_corr_estimate(sums, -1, set->correlations);
+    okid_corr_rms(sums, rms);
     okid_status st = channel_scales(sums, rms, s.scales);
     if (st != OKID_OK) {
         return st;
@@ -347,6 +462,7 @@ okid_status okid_ambient_identify(okid_ambient *amb, okid_ambient_result *result
             return OKID_E_DATA_RANGE;
         }
     }
+    const int used = sums->segments > 1 ? segment_spread(amb, set, &s, n, num_modes) : 0;
     const int m = sums->m, nref = amb->nref_, blocks = sums->lags + 1;
     const okid_real condition = set->sv[0] / set->sv[n - 1];
     if (condition > 1 / okid_sqrt(OKID_EPSILON)) {
@@ -365,8 +481,11 @@ okid_status okid_ambient_identify(okid_ambient *amb, okid_ambient_result *result
         .realization_condition = condition,
         .dt = amb->cfg_.dt,
         .samples = amb->samples_,
-        .pairs = sums->pairs[sums->lags],
+        .pairs = pairs,
         .warnings = warnings,
+        .frequency_std = sums->segments > 1 ? set->frequency_std : NULL,
+        .damping_std = sums->segments > 1 ? set->damping_std : NULL,
+        .segments_used = used,
     };
     amb->current_ = next;
     amb->has_result_ = 1;
