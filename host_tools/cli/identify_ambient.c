@@ -107,7 +107,8 @@ static int settings_refused(const okid_ambient_config *cfg)
         const char *field, *flag;
     } flags[] = {{"num_outputs", "--outputs"}, {"num_references", "--references"},
                  {"reference_channels", "--references"}, {"hankel_rows", "--hankel-rows"},
-                 {"order", "--order"}, {"dt", "--dt"}, {"sensing", "--sensing"}};
+                 {"order", "--order"}, {"dt", "--dt"}, {"sensing", "--sensing"}, {"segments", "--segments"},
+                 {"segment_samples", "--segment-samples"}};
     const char *flag = issue.field != NULL ? issue.field : "?";
     for (size_t i = 0; i < sizeof flags / sizeof flags[0]; ++i) {
         if (issue.field != NULL && strcmp(issue.field, flags[i].field) == 0) flag = flags[i].flag;
@@ -136,12 +137,15 @@ static void print_table(const okid_ambient_config *cfg, const okid_ambient_resul
     for (unsigned bit = 1; bit != 0 && bit <= res->warnings; bit <<= 1) {
         if (res->warnings & bit) printf("warning: %s\n", okid_warning_str(bit));
     }
-    printf("\n mode  frequency [Hz]  damping ratio   EMAC    MPC    CMI\n");
+    const int stds = res->frequency_std != NULL;
+    if (stds) printf("standard deviations from %d segments (docs/ambient.md)\n", res->segments_used);
+    printf("\n mode  frequency [Hz]  damping ratio   EMAC    MPC    CMI%s\n", stds ? "   std f [Hz]  std damping" : "");
     for (int i = 0; i < res->num_modes; ++i) {
         const okid_mode *md = &res->modes[i];
-        printf("%5d  %14.8f  %13.8f  %5.3f  %5.3f  %5.3f%s\n", i + 1, (double)md->frequency_hz,
-               (double)md->damping_ratio, (double)md->emac, (double)md->mpc, (double)md->cmi,
-               md->is_pair ? "" : "  (real)");
+        printf("%5d  %14.8f  %13.8f  %5.3f  %5.3f  %5.3f", i + 1, (double)md->frequency_hz, (double)md->damping_ratio,
+               (double)md->emac, (double)md->mpc, (double)md->cmi);
+        if (stds) printf("  %11.3g  %11.3g", (double)res->frequency_std[i], (double)res->damping_std[i]);
+        printf("%s\n", md->is_pair ? "" : "  (real)");
     }
     if (elapsed >= 0) printf("\nelapsed from okid_ambient_init to the modes: %.6f s\n", elapsed);
 }
@@ -160,6 +164,8 @@ int identify_ambient(const identify_options *o, record_reader *reader, const rec
     cfg.dt = (okid_real)dt;
     cfg.order = o->cfg.order;
     cfg.sensing = o->cfg.sensing;
+    cfg.segments = o->segments;
+    cfg.segment_samples = o->segment_samples;
     int rc = choose_references(o->references, output_names, m, &cfg);
     if (rc != 0) {
         return rc;

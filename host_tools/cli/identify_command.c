@@ -481,9 +481,10 @@ static int run(identify_options *o, record_reader *reader, const char *label)
         free(cc);
         return rc;
     }
-    if (o->references != NULL) {
+    if (o->references != NULL || o->segments > 0 || o->segment_samples > 0) {
         free(cc);
-        return cli_error(EXIT_USAGE, "--references applies to output-only identification only (--inputs 0)");
+        return cli_error(EXIT_USAGE, "--%s applies to output-only identification only (--inputs 0)",
+                         o->references != NULL ? "references" : o->segments > 0 ? "segments" : "segment-samples");
     }
     const int r = cc->r, m = cc->m;
     okid_config cfg = o->cfg;

@@ -285,6 +285,13 @@ void json_ambient_result(FILE *out, const okid_ambient_config *cfg, const okid_a
     }
     fputs(",\n  \"correlations\": ", out); /* [R(0) R(1) ... R(2L)], m x r_ref (2L + 1) */
     json_matrix(out, res->correlations);
+    fprintf(out, ",\n  \"segments_used\": %d", res->segments_used);
+    if (res->frequency_std != NULL) { /* one per mode, in the order of "modes" */
+        fputs(",\n  \"frequency_std\": ", out);
+        json_vector(out, res->frequency_std, res->num_modes);
+        fputs(",\n  \"damping_std\": ", out);
+        json_vector(out, res->damping_std, res->num_modes);
+    }
     json_mode_list(out, res->modes, res->num_modes, m);
     fputs("\n}\n", out);
 }

@@ -34,6 +34,8 @@ class AmbientResult(ModeArrays):
     - dt [s]; samples: samples accepted; pairs: products summed at lag 2L [counts]
     - hankel_rows: L used; band_hz: the outputs' 5 % frequency that chose it [Hz] (0 when given)
     - references: the reference outputs' indices; warnings: okid.WarningFlag
+    - frequency_std [Hz], damping_std [-]: with segments, each mode's standard deviations (NaN when
+      fewer than two segments hold it), else None; segments_used: the segments realized
     """
     order: int
     A: np.ndarray
@@ -50,10 +52,14 @@ class AmbientResult(ModeArrays):
     band_hz: float
     references: Tuple[int, ...]
     warnings: WarningFlag
+    frequency_std: Optional[np.ndarray]
+    damping_std: Optional[np.ndarray]
+    segments_used: int
 
 
 def identify_ambient(y: Any, dt: float, *, hankel_rows: int = 0, order: int = 0,
                      references: Optional[Sequence[int]] = None, sensing: str = "acceleration",
+                     segments: int = 0, segment_samples: int = 0,
                      progress: Optional[Callable[[int, int], None]] = None) -> AmbientResult:
     """Identify modes from the outputs alone: no measured force (operational modal analysis).
 
@@ -66,8 +72,10 @@ def identify_ambient(y: Any, dt: float, *, hankel_rows: int = 0, order: int = 0,
     hankel_rows: L, block rows and columns (okid_ambient_config.hankel_rows); 0 chooses L dt = one
     period at the frequency below which 5 % of the outputs' energy lies. order: n, 0 = the largest
     singular-value gap. references: indices of the reference outputs (any order), None = all.
-    sensing: "displacement", "velocity" or "acceleration" (the shapes of eq. 64). progress(done,
-    total) is called between chunks of samples.
+    sensing: "displacement", "velocity" or "acceleration" (the shapes of eq. 64). segments: 2..64
+    keeps the sums of as many segments apart (blocks of segment_samples samples, 0 = 20 (2L + 1),
+    dealt out in turn) and gives each mode's frequency_std and damping_std from their spread;
+    0 or 1 = none. progress(done, total) is called between chunks of samples.
     """
     data = np.ascontiguousarray(np.asarray(y, dtype=float))
     if data.ndim != 2 or data.shape[1] < 1:
@@ -76,7 +84,8 @@ def identify_ambient(y: Any, dt: float, *, hankel_rows: int = 0, order: int = 0,
         raise BadParameterError(f"sensing = {sensing!r}: one of {', '.join(map(repr, SENSING))}", -4)
     refs = [] if references is None else sorted({int(i) for i in references})
     status, field, value, lo, hi, res = _core.ambient_identify(data, float(dt), int(hankel_rows), int(order), refs,
-                                                               SENSING[sensing], progress)
+                                                               SENSING[sensing], int(segments), int(segment_samples),
+                                                               progress)
     if status != OK:
         if field:
             raise error_for(status, f"{field} = {value:g}: valid {lo:g}..{hi:g} for output-only identification")
@@ -90,4 +99,5 @@ def identify_ambient(y: Any, dt: float, *, hankel_rows: int = 0, order: int = 0,
         singular_values=res["singular_values"], realization_condition=res["realization_condition"],
         modes=modes_from_dicts(res["modes"]), dt=res["dt"], samples=res["samples"], pairs=res["pairs"],
         hankel_rows=res["hankel_rows"], band_hz=res["band_hz"],
-        references=tuple(refs) if refs else tuple(range(m)), warnings=WarningFlag(res["warnings"]))
+        references=tuple(refs) if refs else tuple(range(m)), warnings=WarningFlag(res["warnings"]),
+        frequency_std=res["frequency_std"], damping_std=res["damping_std"], segments_used=res["segments_used"])

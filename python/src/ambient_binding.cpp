@@ -49,6 +49,8 @@ nb::dict result_dict(const okid_ambient_result &res, int m, int hankel_rows, dou
     d["G"] = matrix_array(res.G);
     d["correlations"] = matrix_array(res.correlations);
     d["singular_values"] = vector_array(res.singular_values, res.num_singular_values);
+    d["frequency_std"] = res.frequency_std ? nb::cast(vector_array(res.frequency_std, res.num_modes)) : nb::none();
+    d["damping_std"] = res.damping_std ? nb::cast(vector_array(res.damping_std, res.num_modes)) : nb::none();
     d["hankel_rows"] = hankel_rows;
     d["band_hz"] = band_hz;
     return d;
@@ -69,8 +71,8 @@ void bind_ambient(nb::module_ &m)
     m.attr("AMBIENT_CONFIG_FIELDS") = nb::tuple(config_fields);
     m.def(
         "ambient_identify",
-        [](CBlock y, double dt, int hankel_rows, int order, std::vector<int> references, int sensing,
-           nb::object progress) -> nb::tuple {
+        [](CBlock y, double dt, int hankel_rows, int order, std::vector<int> references, int sensing, int segments,
+           int segment_samples, nb::object progress) -> nb::tuple {
             const size_t n = y.shape(0);
             const int mo = (int)y.shape(1);
             okid_ambient_config cfg;
@@ -78,6 +80,8 @@ void bind_ambient(nb::module_ &m)
             cfg.dt = (okid_real)dt;
             cfg.order = order;
             cfg.sensing = (okid_sensing)sensing;
+            cfg.segments = segments;
+            cfg.segment_samples = segment_samples;
             cfg.num_references = (int)references.size();
             for (size_t l = 0; l < references.size() && l < (size_t)OKID_MAX_DIMENSION; ++l)
                 cfg.reference_channels[l] = references[l];
@@ -131,7 +135,7 @@ void bind_ambient(nb::module_ &m)
             return nb::make_tuple((int)OKID_OK, std::string(), 0.0, 0.0, 0.0, d);
         },
         nb::arg("y"), nb::arg("dt"), nb::arg("hankel_rows"), nb::arg("order"), nb::arg("references"),
-        nb::arg("sensing"), nb::arg("progress") = nb::none(),
+        nb::arg("sensing"), nb::arg("segments"), nb::arg("segment_samples"), nb::arg("progress") = nb::none(),
         "Output-only identification of y (N, m): (status, field, value, min, max, result dict or None); "
         "field names the setting okid_ambient_config_check() refused.");
 }
