@@ -44,6 +44,7 @@ PUBLIC = {
     "modal.h": "pipeline",
     "lifting.h": "pipeline",
     "ring_storage.h": "pipeline",
+    "correlation_storage.h": "pipeline",
     "modal_indicators.h": "quality",
     "identifier.h": "identifier",
     "identifier_storage.h": "identifier",
@@ -51,6 +52,8 @@ PUBLIC = {
     "refine_storage.h": "analysis",
     "stabilization.h": "analysis",
     "mode_selection.h": "analysis",
+    "ambient.h": "analysis",
+    "ambient_storage.h": "analysis",
     "okid.h": "top",
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)

@@ -11,6 +11,7 @@
 #include "auto_modes.h"
 #include "auto_report.h"
 #include "auto_settings.h"
+#include "identify_ambient.h"
 #include "cli_common.h"
 #include "config_explain.h"
 #include "csv_reader.h"
@@ -514,6 +515,16 @@ static int run(identify_options *o, record_reader *reader, const char *label)
     if (rc != 0) {
         free(cc);
         return rc;
+    }
+    if (cc->r == 0) { /* --inputs 0: no measured force, the outputs alone (docs/ambient.md) */
+        rc = identify_ambient(o, reader, &cols, &scan, cc->output_names, dt);
+        free(cc);
+        return rc;
+    }
+    if (o->references != NULL || o->segments > 0 || o->segment_samples > 0) {
+        free(cc);
+        return cli_error(EXIT_USAGE, "--%s applies to output-only identification only (--inputs 0)",
+                         o->references != NULL ? "references" : o->segments > 0 ? "segments" : "segment-samples");
     }
     const int r = cc->r, m = cc->m;
     okid_config cfg = o->cfg;

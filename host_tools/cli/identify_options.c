@@ -43,9 +43,18 @@ static const cli_option identify_table[] = {
     /* name, alias, kind, offset/size/count, min, max, range, names, field, metavar, note, default, help */
     {"inputs", NULL, CLI_TEXT, OWN(inputs), 0, 0, 0, NULL, "num_inputs", "NAMES|COUNT", NULL, "1",
      "input (force) columns: comma-separated names, or how many columns\n"
-     "follow the time column; 1..64 (OKID_MAX_DIMENSION)"},
+     "follow the time column; 1..64 (OKID_MAX_DIMENSION); 0: output-only\n"
+     "(ambient) identification from the outputs' correlations (docs/ambient.md)"},
     {"outputs", NULL, CLI_TEXT, OWN(outputs), 0, 0, 0, NULL, "num_outputs", "NAMES|COUNT", NULL,
      "every remaining column", "output (sensor) columns: names, or how many follow the inputs; 1..64"},
+    {"references", NULL, CLI_TEXT, OWN(references), 0, 0, 0, NULL, NULL, "NAMES|COUNT", NULL, "every output",
+     "with --inputs 0 (output-only): the outputs the correlations are taken\n"
+     "against, names or how many of the first outputs (docs/ambient.md)"},
+    {"segments", NULL, CLI_INT, OWN(segments), 0, OKID_AMBIENT_MAX_SEGMENTS, 0, NULL, NULL, "NB", "0 or 1 = none",
+     NULL, "with --inputs 0: each mode's frequency and damping std from the spread\n"
+     "over NB segments of the record (docs/ambient.md)"},
+    {"segment-samples", NULL, CLI_INT, OWN(segment_samples), 0, 1000000000, 0, NULL, NULL, "S",
+     "0 = 20 (2L + 1); at least 2L + 1", NULL, "with --segments: samples per block dealt to a segment"},
     {"dt", NULL, CLI_REAL, OWN(dt), (double)OKID_MAGNITUDE_MIN, (double)OKID_MAGNITUDE_MAX, 0, NULL, "dt", "S",
      "the library's magnitude range, OKID_MAGNITUDE_MIN..MAX", "the time column's step",
      "sample interval [s]; a time column must be uniform, and agree with --dt"},

@@ -7,6 +7,8 @@
 
 typedef struct identify_options {
     const char *file, *inputs, *outputs;
+    const char *references; /* --references: output-only identification's reference outputs (NULL: all) */
+    int segments, segment_samples; /* --segments, --segment-samples: output-only identification's uncertainty */
     double dt, observer_seconds, hankel_seconds;
     int have_dt, json, timing, repeat, stabilization;
     okid_config cfg; /* okid_config_default() before the options; num_inputs, num_outputs, dt set from the file */

@@ -254,15 +254,68 @@ void json_result(FILE *out, const okid_config *cfg, const okid_result *res, cons
     json_modes(out, res, cfg->num_outputs);
 }
 
-void json_modes(FILE *out, const okid_result *res, int m)
+/* ',\n  "modes": [...]' of count modes with m outputs. */
+static void json_mode_list(FILE *out, const okid_mode *modes, int count, int m)
 {
     fputs(",\n  \"modes\": [", out);
-    for (int i = 0; i < res->num_modes; ++i) {
+    for (int i = 0; i < count; ++i) {
         fputs(i ? ",\n    {" : "\n    {", out);
-        json_mode_members(out, &res->modes[i], m);
+        json_mode_members(out, &modes[i], m);
         fputc('}', out);
     }
-    fputs(res->num_modes ? "\n  ]" : "]", out);
+    fputs(count ? "\n  ]" : "]", out);
+}
+
+void json_modes(FILE *out, const okid_result *res, int m)
+{
+    json_mode_list(out, res->modes, res->num_modes, m);
+}
+
+void json_ambient_result(FILE *out, const okid_ambient_config *cfg, const okid_ambient_result *res,
+                         const char *const *output_names, const char *const *reference_names, double elapsed)
+{
+    const int m = cfg->num_outputs, nref = res->G.cols;
+    fprintf(out, "{\n  \"order\": %d,\n  \"inputs\": [],\n  \"outputs\": ", res->order);
+    json_string_list(out, output_names, m);
+    fputs(",\n  \"references\": ", out);
+    json_string_list(out, reference_names, nref);
+    fputs(",\n  \"config\": {\"num_inputs\": 0", out);
+#define INT(name) fprintf(out, ", \"" #name "\": %d", cfg->name);
+#define REAL(name) fprintf(out, ", \"" #name "\": "), json_number(out, (double)cfg->name);
+#define ENUM(name, type) fprintf(out, ", \"" #name "\": \"%s\"", cli_name_of(cli_##name##_names, (int)cfg->name));
+    OKID_AMBIENT_CONFIG_FIELDS(INT, REAL, ENUM)
+#undef INT
+#undef REAL
+#undef ENUM
+    fprintf(out, "},\n  \"samples\": %llu,\n  \"pairs\": %llu,\n  \"dt\": ", (unsigned long long)res->samples,
+            (unsigned long long)res->pairs);
+    json_number(out, (double)res->dt);
+    if (elapsed >= 0) {
+        fprintf(out, ",\n  \"elapsed_seconds\": %.9g", elapsed);
+    }
+    fputs(",\n  \"realization_condition\": ", out);
+    json_number(out, (double)res->realization_condition);
+    fprintf(out, ",\n  \"warning_bits\": %u,\n  \"warnings\": ", res->warnings);
+    json_warnings(out, res->warnings);
+    fputs(",\n  \"singular_values\": ", out);
+    json_vector(out, res->singular_values, res->num_singular_values);
+    const char *names[3] = {"A", "C", "G"};
+    const okid_matrix mats[3] = {res->A, res->C, res->G};
+    for (int i = 0; i < 3; ++i) {
+        fprintf(out, ",\n  \"%s\": ", names[i]);
+        json_matrix(out, mats[i]);
+    }
+    fputs(",\n  \"correlations\": ", out); /* [R(0) R(1) ... R(2L)], m x r_ref (2L + 1) */
+    json_matrix(out, res->correlations);
+    fprintf(out, ",\n  \"segments_used\": %d", res->segments_used);
+    if (res->frequency_std != NULL) { /* one per mode, in the order of "modes" */
+        fputs(",\n  \"frequency_std\": ", out);
+        json_vector(out, res->frequency_std, res->num_modes);
+        fputs(",\n  \"damping_std\": ", out);
+        json_vector(out, res->damping_std, res->num_modes);
+    }
+    json_mode_list(out, res->modes, res->num_modes, m);
+    fputs("\n}\n", out);
 }
 
 void json_mode_members(FILE *out, const okid_mode *md, int m)

@@ -44,6 +44,17 @@ void json_result_header(FILE *out, const okid_config *cfg, const okid_result *re
                         const char *const *output_names, double elapsed);
 void json_result_model(FILE *out, const okid_result *res);
 
+/*
+ * The output-only result (okid identify --inputs 0, docs/ambient.md) as one whole JSON object:
+ * "order", "inputs" ([]), "outputs", "references", "config" (okid_ambient_config's fields and
+ * num_inputs 0), "samples", "pairs", "dt", "realization_condition", "warning_bits", "warnings",
+ * "singular_values", "A", "C", "G", "correlations" ([R(0) .. R(2L)]), "segments_used", with
+ * segments "frequency_std" and "damping_std" (one per mode), and "modes" as for json_result().
+ * elapsed >= 0 adds "elapsed_seconds".
+ */
+void json_ambient_result(FILE *out, const okid_ambient_config *cfg, const okid_ambient_result *res,
+                         const char *const *output_names, const char *const *reference_names, double elapsed);
+
 /* ',\n  "start": {...}': the model a refinement started from (json_result_model's members and its modes). */
 void json_start(FILE *out, const okid_config *cfg, const okid_result *res);
 

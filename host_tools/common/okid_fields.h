@@ -15,6 +15,17 @@
     ENUM(realization, okid_realization) FLAG(zero_initial_state) INT(decimation)                       \
     ENUM(scaling, okid_scaling) ENUM(estimator, okid_estimator) INT(instrument_lags)
 
+/* okid_ambient_config's scalars in the struct's order (okid/ambient.h; its reference_channels, an
+   array, is written as the references' names): INT(name), REAL(name), ENUM(name, type). */
+#define OKID_AMBIENT_CONFIG_FIELDS(INT, REAL, ENUM)                                                    \
+    INT(num_outputs) INT(num_references) INT(hankel_rows) INT(order) REAL(dt) ENUM(sensing, okid_sensing)    \
+    INT(segments) INT(segment_samples)
+
+/* okid_ambient_result's scalars: INT(name), REAL(name), COUNT(name) (a uint64_t). */
+#define OKID_AMBIENT_RESULT_SCALARS(INT, REAL, COUNT)                                                  \
+    INT(order) INT(num_modes) INT(num_singular_values) REAL(realization_condition) REAL(dt)             \
+    COUNT(samples) COUNT(pairs) INT(warnings) INT(segments_used)
+
 /* okid_result's diagnostics, in the order of the JSON object: INT(name), REAL(name). */
 #define OKID_RESULT_DIAGNOSTICS(INT, REAL)                                                             \
     INT(regressor_rank) INT(regressor_columns) INT(input_rank) INT(regressor_rank_expected)            \

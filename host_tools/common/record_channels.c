@@ -31,9 +31,10 @@ static int fail(char *error, size_t error_size, int code, const char *format, ..
  * *next). used[] marks the columns already taken (the time column, the inputs): a column is an
  * input or an output, never both, and never twice. A value that names a column is a name; one
  * that could be a count too is refused (docs/cli.md). is_default: the built-in count, never a name.
+ * fewest: the smallest count (0 for the inputs: an output-only record, docs/ambient.md).
  */
 static int select_columns(const csv_table *t, const char *spec, int *next, char *used, int *columns, int *count,
-                          const char *what, int is_default, char *error, size_t error_size)
+                          const char *what, int is_default, int fewest, char *error, size_t error_size)
 {
     int n = 0;
     *count = 0;
@@ -55,7 +56,7 @@ static int select_columns(const csv_table *t, const char *spec, int *next, char 
     }
     if (cli_parse_int(spec, &n) == 0 && named < 0) {
         /* a count takes the next columns not yet taken (the time column, named inputs): never one twice */
-        if (n < 1 || n > left) {
+        if (n < fewest || n > left) {
             return fail(error, error_size, RECORD_E_USAGE, "--%s %d: the file has %d column(s) after the ones already taken", what, n,
                              left);
         }
@@ -125,9 +126,9 @@ int record_choose_columns(const csv_table *t, int time_col, const char *inputs, 
     if (time_col >= 0) used[time_col] = 1;
     int next = 0;
     int rc = select_columns(t, inputs ? inputs : "1", &next, used, cols->inputs, &cols->r, "inputs", inputs == NULL,
-                            error, error_size);
+                            0, error, error_size);
     if (rc == 0 && outputs != NULL) {
-        rc = select_columns(t, outputs, &next, used, cols->outputs, &cols->m, "outputs", 0, error, error_size);
+        rc = select_columns(t, outputs, &next, used, cols->outputs, &cols->m, "outputs", 0, 1, error, error_size);
     } else if (rc == 0) {
         for (int j = 0; j < t->num_columns && rc == 0; ++j) {
             if (used[j]) continue;

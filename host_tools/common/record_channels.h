@@ -20,7 +20,7 @@ int record_find_time_column(const csv_table *t, int *time_col, char *error, size
 
 /*
  * cols from inputs and outputs as --inputs/--outputs take them: a count (the next columns not yet
- * taken) or comma-separated names; a value that names a column is a name, one that could be a count
+ * taken; 0 inputs is an output-only record) or comma-separated names; a value that names a column is a name, one that could be a count
  * too is refused as ambiguous. inputs NULL: one input (the built-in count, never a name); outputs
  * NULL: every other column. The time column (time_col, -1: none) is never a channel.
  */

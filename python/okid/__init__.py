@@ -12,6 +12,7 @@ here before the extension so that no system LAPACK is needed.
 import scipy_openblas32 as _scipy_openblas32  # noqa: F401  (loads libscipy_openblas RTLD_GLOBAL first)
 
 from . import _core
+from ._ambient import AmbientResult, identify_ambient
 from ._config import DEFAULTS, OPTION_NAMES
 from ._errors import (BadOrderError, BadParameterError, BadSizeError, ConcurrentUseError, ConfigurationError,
                       DataRangeError, DecompositionError, InternalError, NonFiniteSampleError, NonFiniteSampleWarning,
@@ -27,7 +28,8 @@ from .plot import plot_stabilization
 __version__ = _core.VERSION
 
 __all__ = [
-    "identify", "Identifier", "Progress", "Result", "Mode", "SelectedMode", "Pole", "WarningFlag", "Stabilization",
+    "identify", "identify_ambient", "AmbientResult", "Identifier", "Progress", "Result", "Mode", "SelectedMode",
+    "Pole", "WarningFlag", "Stabilization",
     "StabilizationOrder", "StabilityFlag", "model", "plot", "plot_stabilization", "DEFAULTS", "OPTION_NAMES", "Refinement",
     "RefinementWarning", "ResidualWarning", "REFINE_DEFAULTS", "crlb", "CramerRaoBound", "read_record", "Record",
     "RecordError", "load", "FORMAT", "FORMAT_VERSION",

@@ -124,5 +124,6 @@ void bind_host(nb::module_ &m);
 void bind_model(nb::module_ &m);
 void bind_refine(nb::module_ &m);
 void bind_auto(nb::module_ &m);
+void bind_ambient(nb::module_ &m);
 
 }  // namespace okid_py

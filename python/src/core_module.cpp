@@ -24,6 +24,7 @@ NB_MODULE(_core, m)
     bind_refine(m);
     bind_host(m);
     bind_auto(m);
+    bind_ambient(m);
 }
 
 }  // namespace okid_py

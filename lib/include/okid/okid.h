@@ -6,6 +6,7 @@
 #ifndef OKID_OKID_H
 #define OKID_OKID_H
 
+#include "okid/ambient.h"
 #include "okid/identifier.h"
 #include "okid/lifting.h"
 #include "okid/limits.h"

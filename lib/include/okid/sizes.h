@@ -254,4 +254,49 @@
 #define OKID__MODESEL_BYTES(total, nmax)                                                     \
     (5u * OKID__ALIGN16(sizeof(int) * OKID__Z(total)) + OKID__ALIGN16(sizeof(okid_selected_mode) * OKID__Z(nmax)))
 
+/* ---- Output-only identification (okid/ambient.h) ---- */
+
+/* References (0 = every output), correlation blocks 2L + 1, Hankel rank limit k and sized order n. */
+#define OKID__AMB_NREF(m, nref) ((nref) > 0 ? OKID__Z(nref) : OKID__Z(m))
+#define OKID__AMB_BLOCKS(L) (2u * OKID__Z(L) + 1u)
+#define OKID__AMB_K(m, nref, L) (OKID__Z(L) * OKID__MIN(OKID__Z(m), OKID__Z(nref)))
+#define OKID__AMB_N(m, nref, L, order) \
+    ((order) > 0 ? OKID__Z(order) : OKID__MIN(OKID__AMB_K(m, nref, L), (unsigned long long)OKID_MAX_ORDER))
+/* Segments kept apart (okid_ambient_config::segments: 0 and 1 are one). */
+#define OKID__AMB_SEGS(segments) ((segments) > 1 ? OKID__Z(segments) : 1u)
+/* The sums: ring of the last 2L references, S(0..2L) and the pairs per lag of each segment, each
+   output's sum of squares. */
+#define OKID__AMB_PERSISTENT_BYTES(m, nref, L, segments)                                                \
+    (OKID__RB(OKID__Z(nref) * 2u * OKID__Z(L))                                                          \
+     + OKID__RB(OKID__AMB_SEGS(segments) * OKID__Z(m) * OKID__Z(nref) * OKID__AMB_BLOCKS(L)) + OKID__RB(m) \
+     + OKID__ALIGN16(8u * OKID__AMB_SEGS(segments) * OKID__AMB_BLOCKS(L)))
+/* One result set: R(0..2L), singular values, A, G, C, D = R(0), modes and their shapes, the modes'
+   two standard deviations. */
+#define OKID__AMB_RESULT_BYTES(m, nref, L, n, mode_bytes)                                                 \
+    (OKID__RB(OKID__Z(m) * OKID__Z(nref) * OKID__AMB_BLOCKS(L)) + OKID__RB(OKID__AMB_K(m, nref, L))          \
+     + OKID__RB(OKID__Z(n) * OKID__Z(n)) + OKID__RB(OKID__Z(n) * OKID__Z(nref)) + OKID__RB(OKID__Z(m) * OKID__Z(n)) \
+     + OKID__RB(OKID__Z(m) * OKID__Z(nref)) + OKID__ALIGN16((mode_bytes) * OKID__Z(n))                         \
+     + OKID__ALIGN16(sizeof(okid_complex) * OKID__Z(n) * 3u * OKID__Z(m)) + 2u * OKID__RB(n))
+/* With segments, identify's scratch for one segment's realization (R, singular values, A, G, C, D,
+   modes, shapes) and every segment's matched frequency and damping of each mode. */
+#define OKID__AMB_SEGMENT_BYTES(m, nref, L, n, segments, mode_bytes)                                     \
+    ((segments) > 1 ? OKID__AMB_RESULT_BYTES(m, nref, L, n, mode_bytes) - 2u * OKID__RB(n)               \
+                          + 2u * OKID__RB(OKID__Z(segments) * OKID__Z(n))                                  \
+                    : 0u)
+/* Identify's scratch, one region each: scales, ERA (H, V', H(1) V_n, column scales, SVD work), the
+   indicators' blocks, the modal analysis and the indicators' solve. */
+#define OKID__AMB_SCRATCH_BYTES(m, nref, L, n)                                                                  \
+    (OKID__RB(OKID__Z(nref) + OKID__Z(m)) + OKID__RB(OKID__HR(m, L) * OKID__HR(nref, L))                          \
+     + OKID__RB(OKID__AMB_K(m, nref, L) * OKID__HR(nref, L)) + OKID__RB(OKID__HR(m, L) * OKID__Z(n))               \
+     + OKID__RB(nref) + OKID__RB(OKID__LWORK_GESVD(OKID__HR(m, L), OKID__HR(nref, L)))                            \
+     + OKID__RB(OKID__Z(m) * OKID__Z(n)) + OKID__RB(OKID__Z(n) * OKID__Z(nref)) + OKID__PHASE_MODAL_BYTES(n)       \
+     + OKID__RB(OKID__Z(n) * 2u * OKID__Z(nref)) + OKID__RB(OKID__LWORK_GELSY(n, 2u * OKID__Z(nref)))              \
+     + OKID__ALIGN16(sizeof(int) * OKID__Z(n)))
+/* OKID_AMBIENT_WORKSPACE_BYTES before the saturation (nref resolved). */
+#define OKID__AMBIENT_WORKSPACE_BYTES64(m, nref, L, order, segments, mode_bytes)                         \
+    (OKID__AMB_PERSISTENT_BYTES(m, nref, L, segments)                                                   \
+     + 2u * OKID__AMB_RESULT_BYTES(m, nref, L, OKID__AMB_N(m, nref, L, order), mode_bytes)               \
+     + OKID__AMB_SCRATCH_BYTES(m, nref, L, OKID__AMB_N(m, nref, L, order))                               \
+     + OKID__AMB_SEGMENT_BYTES(m, nref, L, OKID__AMB_N(m, nref, L, order), segments, mode_bytes))
+
 #endif

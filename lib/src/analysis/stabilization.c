@@ -53,15 +53,7 @@ static uint64_t stab_carve(const okid_identifier *id, int max_order, int step, u
     v->obs_last = okid_carve_reals(&c, m * n);
     v->d = okid_carve_reals(&c, m * r);
     v->g = (d->ncols > d->r) ? okid_carve_reals(&c, n * m) : NULL;
-    v->modal.a_copy = okid_carve_reals(&c, n * n);
-    v->modal.vr = okid_carve_reals(&c, n * n);
-    v->modal.wr = okid_carve_reals(&c, n);
-    v->modal.wi = okid_carve_reals(&c, n);
-    v->modal.work = okid_carve_reals(&c, OKID__LWORK_GEEV(n));
-    v->ind.vr_copy = v->modal.a_copy; /* free once the eigenvectors are out */
-    v->ind.rhs = okid_carve_reals(&c, n * 2u * r);
-    v->ind.work = okid_carve_reals(&c, OKID__LWORK_GELSY(n, 2u * r));
-    v->ind.jpvt = (int *)okid_carve_bytes(&c, sizeof(int) * n);
+    okid_carve_modal_phase(&c, n, r, &v->modal, &v->ind);
     v->orders = (okid_stabilization_order *)okid_carve_bytes(&c, sizeof(okid_stabilization_order) * orders);
     v->modes = (okid_mode *)okid_carve_bytes(&c, sizeof(okid_mode) * modes);
     v->shapes = (okid_complex *)okid_carve_bytes(&c, sizeof(okid_complex) * 3u * m * modes);

@@ -148,3 +148,17 @@ void okid_indicators_capture(const okid_era_problem *pb, const okid_era_scratch 
         }
     }
 }
+
+void okid_carve_modal_phase(okid_carver *c, uint64_t n, uint64_t r, okid_modal_scratch *modal,
+                            okid_indicator_scratch *ind)
+{
+    modal->a_copy = okid_carve_reals(c, n * n);
+    modal->vr = okid_carve_reals(c, n * n);
+    modal->wr = okid_carve_reals(c, n);
+    modal->wi = okid_carve_reals(c, n);
+    modal->work = okid_carve_reals(c, OKID__LWORK_GEEV(n));
+    ind->vr_copy = modal->a_copy; /* free once the eigenvectors are out */
+    ind->rhs = okid_carve_reals(c, n * 2u * r);
+    ind->work = okid_carve_reals(c, OKID__LWORK_GELSY(n, 2u * r));
+    ind->jpvt = (int *)okid_carve_bytes(c, sizeof(int) * n);
+}

@@ -6,9 +6,11 @@
 #ifndef OKID_MODAL_INDICATORS_INTERNAL_H
 #define OKID_MODAL_INDICATORS_INTERNAL_H
 
+#include "numerics/carve.h"
 #include "okid/modal.h"
 #include "okid/modal_indicators.h"
 #include "pipeline/era.h"
+#include "pipeline/modal_internal.h"
 
 /* What the indicators compare: the realization and the last blocks of P = U_n S^1/2, Q = S^1/2 V_n'. */
 typedef struct okid_indicator_inputs {
@@ -27,6 +29,14 @@ typedef struct okid_indicator_scratch {
     int *jpvt;          /* n */
     okid_real *work;    /* OKID__LWORK_GELSY(n, 2r) */
 } okid_indicator_scratch;
+
+/*
+ * Carve the modal analysis's scratch of an n-state model (OKID__PHASE_MODAL_BYTES) and the
+ * indicators' for r inputs after it (OKID__PHASE_INDICATOR_BYTES; their copy of the eigenvectors
+ * reuses the modal analysis's copy of A): the standalone consumers' layout (stabilization, ambient).
+ */
+void okid_carve_modal_phase(okid_carver *c, uint64_t n, uint64_t r, okid_modal_scratch *modal,
+                            okid_indicator_scratch *ind);
 
 /*
  * Fill emac_output, emac_input, emac, msv and cmi of modes[0..num_modes) (mpc is already set by the

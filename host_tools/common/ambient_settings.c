@@ -1,0 +1,38 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* See ambient_settings.h. */
+#include "ambient_settings.h"
+
+#include <math.h>
+
+#include "auto_settings.h"
+
+void ambient_remove_mean(okid_real *y, size_t n, int m)
+{
+    for (int a = 0; a < m; ++a) {
+        double sum = 0;
+        size_t count = 0;
+        for (size_t t = 0; t < n; ++t) {
+            const double v = (double)y[t * (size_t)m + (size_t)a];
+            if (isfinite(v)) sum += v, ++count;
+        }
+        const okid_real mean = (okid_real)(count > 0 ? sum / (double)count : 0.0);
+        for (size_t t = 0; t < n; ++t) y[t * (size_t)m + (size_t)a] -= mean;
+    }
+}
+
+int ambient_choose_hankel_rows(const okid_real *y, size_t n, int m, double dt, int order, int nref, double *band_hz)
+{
+    const int side = m < nref ? m : nref;
+    const int fewest = order > 0 ? (order + side - 1) / side : 2;
+    int most = (int)(n / 20u) < 1000 / m ? (int)(n / 20u) : 1000 / m;
+    if (most > OKID_MAX_HORIZON) most = OKID_MAX_HORIZON;
+    if (most < fewest) most = fewest;
+    auto_band band;
+    *band_hz = 0;
+    if (auto_channel_band(y, n, m, dt, &band) != 0 || !(band.low_hz > 0)) {
+        return 20 < fewest ? fewest : 20;
+    }
+    *band_hz = band.low_hz;
+    const double v = floor(1.0 / (band.low_hz * dt) + 0.5);
+    return v < fewest ? fewest : v > most ? most : (int)v;
+}

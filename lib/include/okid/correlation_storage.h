@@ -1,0 +1,28 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/**
+ * \file correlation_storage.h
+ * \brief NOT API: the streaming sums of the output correlations that an output-only identifier
+ *        keeps (okid/ambient_storage.h), for the pipeline stage that updates them.
+ */
+#ifndef OKID_CORRELATION_STORAGE_H
+#define OKID_CORRELATION_STORAGE_H
+
+#include <stdint.h>
+
+#include "okid/limits.h"
+#include "okid/ring_storage.h"
+#include "okid/types.h"
+
+/* The streaming sums of the output correlations (pipeline/output_correlation.h). */
+typedef struct okid_correlation_sums_ {
+    int m, nref, lags;           /* outputs, references, largest lag 2L */
+    int segments, block;         /* sums kept apart: sample t adds to segment (t / block) mod segments */
+    uint64_t added;              /* samples added since the last clear */
+    int refs[OKID_MAX_DIMENSION]; /* the nref reference outputs */
+    okid_ring_ past;             /* the last 2L reference vectors (nref values each) */
+    okid_real *sums;             /* S(0..2L) of each segment: m x nref (2L + 1) each, leading dimension m */
+    okid_real *squares;          /* m: sum of y_a(t)^2 */
+    uint64_t *pairs;             /* 2L + 1 per segment: products summed at each lag */
+} okid_correlation_sums_;
+
+#endif

@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: Apache-2.0
+// okid._core.ambient_identify: output-only identification (okid/ambient.h) of a whole record, as
+// okid identify --inputs 0 runs it (host_tools/common/ambient_settings.h: the mean removed, L
+// chosen from the band when not given). The record is copied (the caller's array is never
+// written) and fed in chunks with the GIL released; okid/_ambient.py turns the status into an
+// exception and the dict into an okid.AmbientResult.
+#include <cstdio>  // before nanobind (binding.h says why)
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
+
+#include "binding.h"
+
+extern "C" {
+#include "ambient_settings.h"
+#include "okid_fields.h"
+}
+
+namespace okid_py {
+
+namespace {
+
+using CBlock = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+
+struct AlignedFree {
+    void operator()(void *p) const noexcept { std::free(p); }
+};
+
+// The result's members, copied out of the workspace.
+nb::dict result_dict(const okid_ambient_result &res, int m, int hankel_rows, double band_hz)
+{
+    nb::dict d;
+#define INT(name) d[#name] = res.name;
+#define REAL(name) d[#name] = (double)res.name;
+#define COUNT(name) d[#name] = (unsigned long long)res.name;
+    OKID_AMBIENT_RESULT_SCALARS(INT, REAL, COUNT)
+#undef INT
+#undef REAL
+#undef COUNT
+    nb::list modes;
+    for (int i = 0; i < res.num_modes; ++i) modes.append(mode_dict(res.modes[i], m));
+    d["modes"] = modes;
+    d["A"] = matrix_array(res.A);
+    d["C"] = matrix_array(res.C);
+    d["G"] = matrix_array(res.G);
+    d["correlations"] = matrix_array(res.correlations);
+    d["singular_values"] = vector_array(res.singular_values, res.num_singular_values);
+    d["frequency_std"] = res.frequency_std ? nb::cast(vector_array(res.frequency_std, res.num_modes)) : nb::none();
+    d["damping_std"] = res.damping_std ? nb::cast(vector_array(res.damping_std, res.num_modes)) : nb::none();
+    d["hankel_rows"] = hankel_rows;
+    d["band_hz"] = band_hz;
+    return d;
+}
+
+}  // namespace
+
+void bind_ambient(nb::module_ &m)
+{
+    nb::list config_fields;
+#define C_INT(name) config_fields.append(nb::make_tuple(#name, "int"));
+#define C_REAL(name) config_fields.append(nb::make_tuple(#name, "real"));
+#define C_ENUM(name, type) config_fields.append(nb::make_tuple(#name, "enum"));
+    OKID_AMBIENT_CONFIG_FIELDS(C_INT, C_REAL, C_ENUM)
+#undef C_INT
+#undef C_REAL
+#undef C_ENUM
+    m.attr("AMBIENT_CONFIG_FIELDS") = nb::tuple(config_fields);
+    m.def(
+        "ambient_identify",
+        [](CBlock y, double dt, int hankel_rows, int order, std::vector<int> references, int sensing, int segments,
+           int segment_samples, nb::object progress) -> nb::tuple {
+            const size_t n = y.shape(0);
+            const int mo = (int)y.shape(1);
+            okid_ambient_config cfg;
+            okid_ambient_config_default(&cfg, mo);
+            cfg.dt = (okid_real)dt;
+            cfg.order = order;
+            cfg.sensing = (okid_sensing)sensing;
+            cfg.segments = segments;
+            cfg.segment_samples = segment_samples;
+            cfg.num_references = (int)references.size();
+            for (size_t l = 0; l < references.size() && l < (size_t)OKID_MAX_DIMENSION; ++l)
+                cfg.reference_channels[l] = references[l];
+            okid_config_issue issue{};
+            cfg.hankel_rows = hankel_rows > 0 ? hankel_rows : 1; /* sizes only, to check the others first */
+            int status = mo >= 1 && mo <= OKID_MAX_DIMENSION && references.size() <= (size_t)mo
+                             ? okid_ambient_config_check(&cfg, &issue)
+                             : OKID_E_BAD_SIZE;
+            if (status == OKID_E_BAD_SIZE && issue.field == nullptr) {
+                issue = okid_config_issue{"num_outputs", (double)mo, 1, (double)OKID_MAX_DIMENSION};
+            }
+            std::vector<okid_real> data;
+            double band_hz = 0;
+            if (status == OKID_OK) {
+                data.assign(y.data(), y.data() + n * (size_t)mo);
+                ambient_remove_mean(data.data(), n, mo);
+                const int refs = cfg.num_references > 0 ? cfg.num_references : mo;
+                cfg.hankel_rows = hankel_rows > 0 ? hankel_rows
+                                                  : ambient_choose_hankel_rows(data.data(), n, mo, dt, order, refs, &band_hz);
+                status = okid_ambient_config_check(&cfg, &issue);
+            }
+            if (status != OKID_OK) {
+                return nb::make_tuple(status, std::string(issue.field ? issue.field : ""), issue.value, issue.min,
+                                      issue.max, nb::none());
+            }
+            size_t bytes = 0;
+            okid_ambient_workspace_size(&cfg, &bytes);
+            std::unique_ptr<void, AlignedFree> ws(std::aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16));
+            if (!ws) throw std::bad_alloc();
+            okid_ambient amb;
+            status = okid_ambient_init(&amb, &cfg, ws.get(), bytes, nullptr);
+            const int nref = cfg.num_references > 0 ? cfg.num_references : mo;
+            const double work = (double)mo * (double)nref * (2.0 * cfg.hankel_rows + 1.0); /* per sample */
+            if (status == OKID_OK) {
+                status = feed_in_chunks(n, chunk_rows(work), progress, 0, n, [&](size_t first, size_t count) {
+                    return (int)okid_ambient_push_block(&amb, count, data.data() + first * (size_t)mo, (size_t)mo,
+                                                        nullptr);
+                });
+            }
+            const int push_status = status;
+            okid_ambient_result res{};
+            if (status == OKID_OK || status == OKID_E_NONFINITE_SAMPLE) {
+                nb::gil_scoped_release release;
+                status = okid_ambient_identify(&amb, &res);
+            }
+            if (status != OKID_OK) {
+                return nb::make_tuple(status, std::string(), 0.0, 0.0, 0.0, nb::none());
+            }
+            nb::dict d = result_dict(res, mo, cfg.hankel_rows, band_hz);
+            d["rejected_samples"] = push_status == OKID_E_NONFINITE_SAMPLE;
+            return nb::make_tuple((int)OKID_OK, std::string(), 0.0, 0.0, 0.0, d);
+        },
+        nb::arg("y"), nb::arg("dt"), nb::arg("hankel_rows"), nb::arg("order"), nb::arg("references"),
+        nb::arg("sensing"), nb::arg("segments"), nb::arg("segment_samples"), nb::arg("progress") = nb::none(),
+        "Output-only identification of y (N, m): (status, field, value, min, max, result dict or None); "
+        "field names the setting okid_ambient_config_check() refused.");
+}
+
+}  // namespace okid_py

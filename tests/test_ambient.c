@@ -1,0 +1,418 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/*
+ * Output-only identification (okid/ambient.h) against the exact modes of the paper's 2-DOF system
+ * (tests/reference: make_reference.py from the paper's equations), driven by unmeasured unit white
+ * forces on both masses, accelerations of both masses with white sensor noise.
+ *
+ * Tolerances are statistical: with no measured force the modes are estimated from a finite
+ * record, and their error shrinks as 1/sqrt(T), T = N dt. The frequency's standard deviation
+ * scales as sqrt(zeta / (omega T)) (the mode's half-power bandwidth zeta omega over the time T it
+ * is watched for) and the damping ratio's relative one as 1 / sqrt(zeta omega T). Measured over 30
+ * seeds (bench/ambient_spread.c; dt = 0.05 s, L = 20; N = 40000 and 160000 with 5 % sensor noise,
+ * 200000 without) the rms errors with both references were at most 3.6 times the first figure and
+ * 4.2 times the second (the second mode, whose correlations die out within a few lags); with the
+ * second mass as the only reference 9.8 and 8.4 times (it barely sees the second mode's force
+ * side). The checks allow 4 times the measured rms: a fixed seed fails with probability below 1e-4
+ * on another BLAS.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "reference/reference_data.h"
+#include "test_support.h"
+
+#define AMB_DT 0.05
+#define TWO_PI 6.283185307179586
+#define AMB_L 20
+/* measured rms / statistical figure (see above), times 4: both references, then one */
+#define FREQ_FACTOR (4.0 * 3.7)
+#define DAMP_FACTOR (4.0 * 4.2)
+#define FREQ_FACTOR_ONE_REF (4.0 * 9.8)
+#define DAMP_FACTOR_ONE_REF (4.0 * 8.4)
+
+/* The paper's plant with a force on each mass, exact ZOH at dt; y (2 x count) the caller frees. */
+static okid_real *ambient_record(size_t count, uint64_t seed, double noise)
+{
+    static const okid_real b2[4] = {1, 0, 0, 1};
+    const okid_mechanical_model mm = {2, 2, 2, PAPER_MASS, PAPER_DAMPING, PAPER_STIFFNESS, b2, PAPER_CA, NULL, NULL};
+    okid_real ac[16], bc[8], c[8], d[4], work[OKID_STATE_SPACE_WORK_REALS(2, 2)], a[16], b[8];
+    okid_real zw[OKID_ZOH_WORK_REALS(4, 2)], x[4] = {0}, tmp[4];
+    assert_int_equal(okid_model_state_space(&mm, ac, bc, c, d, work, sizeof work / sizeof work[0]), OKID_OK);
+    assert_int_equal(okid_discretize_zoh(4, 2, ac, bc, (okid_real)AMB_DT, a, b, zw, sizeof zw / sizeof zw[0]), OKID_OK);
+    okid_simulator sim;
+    assert_int_equal(okid_simulator_init(&sim, 4, 2, 2, a, b, c, d, x, tmp), OKID_OK);
+    okid_real *u = test_white_noise(2, count, seed);
+    okid_real *y = malloc(sizeof(okid_real) * 2u * count);
+    assert_non_null(y);
+    assert_int_equal(okid_simulate(&sim, count, u, 2, y, 2), OKID_OK);
+    if (noise > 0) {
+        double rms[2] = {0, 0};
+        for (size_t t = 0; t < count; ++t) {
+            for (int i = 0; i < 2; ++i) rms[i] += (double)y[2 * t + i] * (double)y[2 * t + i];
+        }
+        okid_real *e = test_white_noise(2, count, seed + 7777u);
+        for (size_t t = 0; t < count; ++t) {
+            for (int i = 0; i < 2; ++i) y[2 * t + i] += (okid_real)(noise * sqrt(rms[i] / (double)count)) * e[2 * t + i];
+        }
+        free(e);
+    }
+    free(u);
+    return y;
+}
+
+static void *ambient_workspace(const okid_ambient_config *cfg, size_t *bytes)
+{
+    assert_int_equal(okid_ambient_workspace_size(cfg, bytes), OKID_OK);
+    void *ws = aligned_alloc(OKID_WORKSPACE_ALIGN, (*bytes + 15u) / 16u * 16u);
+    assert_non_null(ws);
+    return ws;
+}
+
+static void paper_config(okid_ambient_config *cfg)
+{
+    assert_int_equal(okid_ambient_config_default(cfg, 2), OKID_OK);
+    cfg->dt = (okid_real)AMB_DT;
+    cfg->hankel_rows = AMB_L;
+    cfg->order = 4;
+}
+
+/* init, push every sample (all accepted), identify: the workspace (the caller frees it; res points into it). */
+static void *identify_record(const okid_ambient_config *cfg, const okid_real *y, size_t count, okid_ambient *amb,
+                             okid_ambient_result *res)
+{
+    size_t bytes, accepted = 0;
+    void *ws = ambient_workspace(cfg, &bytes);
+    assert_int_equal(okid_ambient_init(amb, cfg, ws, bytes, NULL), OKID_OK);
+    assert_int_equal(okid_ambient_push_block(amb, count, y, 2, &accepted), OKID_OK);
+    assert_int_equal(accepted, count);
+    assert_int_equal(okid_ambient_identify(amb, res), OKID_OK);
+    return ws;
+}
+
+/* Both exact modes within the statistical tolerance of a record of count samples. */
+static void assert_paper_modes(const okid_ambient_result *res, size_t count, double freq_factor, double damp_factor)
+{
+    const double T = (double)count * AMB_DT;
+    int pairs = 0;
+    for (int i = 0; i < res->num_modes; ++i) {
+        if (!res->modes[i].is_pair) continue;
+        assert_true(pairs < 2);
+        const double f = PAPER_FREQ_HZ[pairs], zeta = PAPER_DAMPING_RATIO[pairs], omega = TWO_PI * f;
+        assert_relative(res->modes[i].frequency_hz, f, freq_factor * sqrt(zeta / (omega * T)), "frequency", pairs);
+        assert_relative(res->modes[i].damping_ratio, zeta, damp_factor / sqrt(zeta * omega * T), "damping", pairs);
+        /* the sensors are the two masses: the shape's MAC with the exact one (its first two rows) */
+        const okid_complex exact[2] = {{PAPER_SHAPE_RE[4 * pairs], PAPER_SHAPE_IM[4 * pairs]},
+                                       {PAPER_SHAPE_RE[4 * pairs + 1], PAPER_SHAPE_IM[4 * pairs + 1]}};
+        assert_true(okid_mac(res->modes[i].sensor_shape, exact, 2) > 0.99);
+        ++pairs;
+    }
+    assert_int_equal(pairs, 2);
+}
+
+static void test_paper_modes_noisy(void **state)
+{
+    (void)state;
+    const size_t count = 40000;
+    okid_real *y = ambient_record(count, 11, 0.05);
+    okid_ambient_config cfg;
+    paper_config(&cfg);
+    okid_ambient amb;
+    okid_ambient_result res;
+    void *ws = identify_record(&cfg, y, count, &amb, &res);
+    assert_int_equal(res.order, 4);
+    assert_int_equal(res.samples, count);
+    assert_int_equal(res.pairs, count - 2 * AMB_L);
+    assert_int_equal(res.correlations.cols, 2 * (2 * AMB_L + 1));
+    assert_paper_modes(&res, count, FREQ_FACTOR, DAMP_FACTOR);
+    for (int i = 0; i < res.num_modes; ++i) {
+        assert_true(res.modes[i].mpc > 0.9 && res.modes[i].mpc <= 1.0 + 1e-12);
+        assert_true(res.modes[i].emac >= 0 && res.modes[i].emac <= 1);
+    }
+    /* the automatic order finds the two pairs on the same data */
+    cfg.order = 0;
+    void *ws_auto = identify_record(&cfg, y, count, &amb, &res);
+    assert_int_equal(res.order, 4);
+    assert_paper_modes(&res, count, FREQ_FACTOR, DAMP_FACTOR);
+    free(ws_auto);
+    free(ws);
+    free(y);
+}
+
+/* A long record without sensor noise: the same law with T five times longer. */
+static void test_paper_modes_long_record(void **state)
+{
+    (void)state;
+    const size_t count = 200000;
+    okid_real *y = ambient_record(count, 5, 0.0);
+    okid_ambient_config cfg;
+    paper_config(&cfg);
+    okid_ambient amb;
+    okid_ambient_result res;
+    void *ws = identify_record(&cfg, y, count, &amb, &res);
+    assert_paper_modes(&res, count, FREQ_FACTOR, DAMP_FACTOR);
+    free(ws);
+    free(y);
+}
+
+/* One reference (the second mass) carries both modes: reference-based SSI with half the sums. */
+static void test_one_reference(void **state)
+{
+    (void)state;
+    const size_t count = 40000;
+    okid_real *y = ambient_record(count, 11, 0.05);
+    okid_ambient_config cfg;
+    paper_config(&cfg);
+    cfg.num_references = 1;
+    cfg.reference_channels[0] = 1;
+    size_t bytes, bytes_all;
+    okid_ambient_config all;
+    paper_config(&all);
+    assert_int_equal(okid_ambient_workspace_size(&cfg, &bytes), OKID_OK);
+    assert_int_equal(okid_ambient_workspace_size(&all, &bytes_all), OKID_OK);
+    assert_true(bytes < bytes_all);
+    okid_ambient amb;
+    okid_ambient_result res;
+    void *ws = identify_record(&cfg, y, count, &amb, &res);
+    assert_int_equal(res.G.cols, 1);
+    assert_int_equal(res.correlations.cols, 2 * AMB_L + 1);
+    assert_paper_modes(&res, count, FREQ_FACTOR_ONE_REF, DAMP_FACTOR_ONE_REF);
+    free(ws);
+    free(y);
+}
+
+/*
+ * Per-mode uncertainty from 16 segments. Calibrated over 100 seeds (bench/ambient_spread.c, N =
+ * 40000 and 160000, 5 % noise, 16 segments): the segments' mean standard deviation was 0.92 to 1.16
+ * times the rms error of frequency and 0.90 to 1.09 times that of damping, and the exact value lay
+ * within two of them in 92 to 98 % of the seeds. One seed's std, an estimate from 16 segments
+ * (relative spread about 1 / sqrt(2 * 15) = 18 %), is checked within a factor 2 of the measured
+ * rms error (4 of its spreads), and the error within 4 std.
+ */
+static void test_segments_give_the_modes_uncertainty(void **state)
+{
+    (void)state;
+    static const double rms_frequency[2] = {0.0103, 0.0178}, rms_damping[2] = {0.0762, 0.0601}; /* relative */
+    const size_t count = 40000;
+    okid_real *y = ambient_record(count, 11, 0.05);
+    okid_ambient_config cfg;
+    paper_config(&cfg);
+    okid_ambient amb, plain_amb;
+    okid_ambient_result plain, one, res;
+    void *ws_plain = identify_record(&cfg, y, count, &plain_amb, &plain);
+    assert_null(plain.frequency_std);
+    assert_int_equal(plain.segments_used, 0);
+    cfg.segments = 1; /* one segment is none: the same bits */
+    void *ws_one = identify_record(&cfg, y, count, &amb, &one);
+    assert_null(one.frequency_std);
+    assert_true(one.modes[0].frequency_hz == plain.modes[0].frequency_hz);
+    cfg.segments = 16;
+    void *ws = identify_record(&cfg, y, count, &amb, &res);
+    assert_int_equal(res.segments_used, 16);
+    assert_non_null(res.frequency_std);
+    /* the record's sums are the segments' total: the same correlations up to the order of the additions */
+    assert_within(max_relative_difference(res.correlations.data, plain.correlations.data,
+                                          (size_t)res.correlations.rows * (size_t)res.correlations.cols),
+                  TOL(1e-12, 1e-4));
+    assert_paper_modes(&res, count, FREQ_FACTOR, DAMP_FACTOR);
+    for (int i = 0; i < 2; ++i) {
+        const double f = PAPER_FREQ_HZ[i], zeta = PAPER_DAMPING_RATIO[i];
+        const double sf = (double)res.frequency_std[i], sz = (double)res.damping_std[i];
+        assert_true(sf >= 0.5 * rms_frequency[i] * f && sf <= 2 * rms_frequency[i] * f);
+        assert_true(sz >= 0.5 * rms_damping[i] * zeta && sz <= 2 * rms_damping[i] * zeta);
+        assert_within(fabs((double)res.modes[i].frequency_hz - f), 4 * sf);
+        assert_within(fabs((double)res.modes[i].damping_ratio - zeta), 4 * sz);
+    }
+    okid_ambient_config bad = cfg;
+    okid_config_issue issue;
+    bad.segments = OKID_AMBIENT_MAX_SEGMENTS + 1;
+    assert_int_equal(okid_ambient_config_check(&bad, &issue), OKID_E_BAD_SIZE);
+    assert_string_equal(issue.field, "segments");
+    bad = cfg;
+    bad.segment_samples = 2 * AMB_L;
+    assert_int_equal(okid_ambient_config_check(&bad, &issue), OKID_E_BAD_SIZE);
+    assert_string_equal(issue.field, "segment_samples");
+    assert_true(issue.min == 2 * AMB_L + 1);
+    free(ws);
+    free(ws_one);
+    free(ws_plain);
+    free(y);
+}
+
+/* The correlations are the plain sums divided by the pairs, a gap (NaN) pairs nothing across it. */
+static void test_correlations_and_gap(void **state)
+{
+    (void)state;
+    const size_t count = 300;
+    okid_real *y = ambient_record(count, 3, 0.0);
+    okid_ambient_config cfg;
+    paper_config(&cfg);
+    cfg.hankel_rows = 2;
+    cfg.order = 2;
+    size_t bytes;
+    void *ws = ambient_workspace(&cfg, &bytes);
+    okid_ambient amb;
+    assert_int_equal(okid_ambient_init(&amb, &cfg, ws, bytes, NULL), OKID_OK);
+    const size_t gap = 120; /* sample 120 is NaN */
+    y[2 * gap + 1] = NAN;
+    size_t accepted = 0;
+    assert_int_equal(okid_ambient_push_block(&amb, count, y, 2, &accepted), OKID_E_NONFINITE_SAMPLE);
+    assert_int_equal(accepted, count - 1);
+    okid_ambient_result res;
+    assert_int_equal(okid_ambient_identify(&amb, &res), OKID_OK);
+    for (int k = 0; k <= 4; ++k) {
+        for (int a = 0; a < 2; ++a) {
+            for (int l = 0; l < 2; ++l) {
+                double s = 0;
+                size_t pairs = 0;
+                for (size_t t = k; t < count; ++t) {
+                    if (t == gap || (t - (size_t)k <= gap && t >= gap)) continue; /* no product spans the gap */
+                    s += (double)y[2 * t + a] * (double)y[2 * (t - (size_t)k) + l];
+                    ++pairs;
+                }
+                assert_relative(okid_matrix_at(res.correlations, a, 2 * k + l), s / (double)pairs, TOL(1e-13, 1e-5),
+                                "R(k)", k);
+            }
+        }
+    }
+    assert_int_equal(res.pairs, (gap - 4) + (count - gap - 1 - 4));
+    free(ws);
+    free(y);
+}
+
+/* Identify is a transaction: a failure leaves the last result's views as they were. */
+static void test_failed_identify_keeps_result(void **state)
+{
+    (void)state;
+    const size_t count = 4000;
+    okid_real *y = ambient_record(count, 2, 0.05);
+    okid_ambient_config cfg;
+    paper_config(&cfg);
+    size_t bytes;
+    void *ws = ambient_workspace(&cfg, &bytes);
+    okid_ambient amb;
+    okid_ambient_result res, again;
+    assert_int_equal(okid_ambient_init(&amb, &cfg, ws, bytes, NULL), OKID_OK);
+    assert_int_equal(okid_ambient_identify(&amb, &res), OKID_E_NOT_ENOUGH_DATA);
+    assert_int_equal(okid_ambient_push_block(&amb, count, y, 2, NULL), OKID_OK);
+    assert_int_equal(okid_ambient_identify(&amb, &res), OKID_OK);
+    const double f0 = (double)res.modes[0].frequency_hz, r1 = (double)okid_matrix_at(res.correlations, 0, 2);
+    assert_int_equal(okid_ambient_identify(&amb, &again), OKID_OK); /* twice: the same numbers */
+    assert_true((double)again.modes[0].frequency_hz == f0);
+    /* a sample whose square overflows: the sums are no longer finite numbers */
+#if OKID_REAL_IS_FLOAT
+    const okid_real huge[2] = {1e30f, 1e30f};
+#else
+    const okid_real huge[2] = {1e200, 1e200};
+#endif
+    assert_int_equal(okid_ambient_push(&amb, huge), OKID_OK);
+    okid_ambient_result failed;
+    memset(&failed, 0, sizeof failed);
+    assert_int_equal(okid_ambient_identify(&amb, &failed), OKID_E_DATA_RANGE);
+    assert_null(failed.modes);
+    assert_true((double)again.modes[0].frequency_hz == f0); /* the last good result's views */
+    assert_true((double)okid_matrix_at(again.correlations, 0, 2) == r1);
+    assert_int_equal(okid_ambient_reset(&amb), OKID_OK);
+    assert_int_equal(okid_ambient_identify(&amb, &failed), OKID_E_NOT_ENOUGH_DATA);
+    free(ws);
+    free(y);
+}
+
+static void test_macro_equals_function(void **state)
+{
+    (void)state;
+    const int cases[][5] = {{2, 0, 20, 4, 0}, {2, 1, 20, 0, 1}, {10, 3, 40, 12, 8}, {1, 0, 1, 1, 2}, {64, 4, 100, 0, 64}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        okid_ambient_config cfg;
+        assert_int_equal(okid_ambient_config_default(&cfg, cases[i][0]), OKID_OK);
+        cfg.num_references = cases[i][1];
+        for (int l = 0; l < cfg.num_references; ++l) cfg.reference_channels[l] = 2 * l < cfg.num_outputs ? 2 * l : l;
+        cfg.hankel_rows = cases[i][2];
+        cfg.order = cases[i][3];
+        cfg.segments = cases[i][4];
+        size_t bytes = 0;
+        assert_int_equal(okid_ambient_workspace_size(&cfg, &bytes), OKID_OK);
+        assert_int_equal(bytes, OKID_AMBIENT_WORKSPACE_BYTES(cases[i][0], cases[i][1], cases[i][2], cases[i][3],
+                                                             cases[i][4]));
+    }
+    /* the paper's firmware-sized case as a static buffer */
+    static _Alignas(OKID_WORKSPACE_ALIGN) unsigned char ws[OKID_AMBIENT_WORKSPACE_BYTES(2, 0, 20, 4, 0)];
+    okid_ambient_config cfg;
+    paper_config(&cfg);
+    okid_ambient amb;
+    size_t needed = 0;
+    assert_int_equal(okid_ambient_init(&amb, &cfg, ws, sizeof ws, &needed), OKID_OK);
+    assert_int_equal(needed, sizeof ws);
+    assert_int_equal(okid_ambient_init(&amb, &cfg, ws, sizeof ws - 16, &needed), OKID_E_WORKSPACE_TOO_SMALL);
+    assert_int_equal(needed, sizeof ws);
+    assert_int_equal(okid_ambient_push(&amb, (const okid_real[2]){1, 2}), OKID_E_NOT_INITIALIZED);
+    assert_int_equal(okid_ambient_init(&amb, &cfg, ws + 8, sizeof ws - 16, NULL), OKID_E_WORKSPACE_ALIGNMENT);
+}
+
+/* Every refused field is named with its value and the range valid with the other fields. */
+static void test_config_check(void **state)
+{
+    (void)state;
+    const struct {
+        const char *field;
+        int outputs, refs, ref0, ref1, lags, order;
+        double dt;
+        okid_status st;
+        double lo, hi;
+    } cases[] = {
+        {"num_outputs", 0, 0, 0, 0, 20, 0, 0.1, OKID_E_BAD_SIZE, 1, OKID_MAX_DIMENSION},
+        {"num_references", 2, 3, 0, 1, 20, 0, 0.1, OKID_E_BAD_SIZE, 0, 2},
+        {"reference_channels", 3, 2, 1, 1, 20, 0, 0.1, OKID_E_BAD_PARAMETER, 2, 2},
+        {"reference_channels", 3, 1, 3, 0, 20, 0, 0.1, OKID_E_BAD_PARAMETER, 0, 2},
+        {"hankel_rows", 2, 0, 0, 0, 0, 0, 0.1, OKID_E_BAD_SIZE, 1, OKID_MAX_HORIZON},
+        {"dt", 2, 0, 0, 0, 20, 0, 0.0, OKID_E_BAD_PARAMETER, (double)OKID_MAGNITUDE_MIN, (double)OKID_MAGNITUDE_MAX},
+        {"order", 3, 1, 0, 0, 5, 6, 0.1, OKID_E_BAD_ORDER, 0, 5},
+        {NULL, 3, 1, 2, 0, 5, 5, 0.1, OKID_OK, 0, 0},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        okid_ambient_config cfg;
+        assert_int_equal(okid_ambient_config_default(&cfg, cases[i].outputs), OKID_OK);
+        cfg.num_references = cases[i].refs;
+        cfg.reference_channels[0] = cases[i].ref0;
+        cfg.reference_channels[1] = cases[i].ref1;
+        cfg.hankel_rows = cases[i].lags;
+        cfg.order = cases[i].order;
+        cfg.dt = (okid_real)cases[i].dt;
+        okid_config_issue issue;
+        assert_int_equal(okid_ambient_config_check(&cfg, &issue), cases[i].st);
+        size_t bytes;
+        assert_int_equal(okid_ambient_workspace_size(&cfg, &bytes), cases[i].st);
+        if (cases[i].field == NULL) {
+            assert_null(issue.field);
+            continue;
+        }
+        assert_string_equal(issue.field, cases[i].field);
+        assert_true(issue.min == cases[i].lo && issue.max == cases[i].hi);
+    }
+    okid_ambient_config cfg;
+    okid_config_issue issue;
+    assert_int_equal(okid_ambient_config_default(NULL, 2), OKID_E_NULL_POINTER);
+    assert_int_equal(okid_ambient_config_default(&cfg, 2), OKID_OK);
+    cfg.sensing = (okid_sensing)7;
+    assert_int_equal(okid_ambient_config_check(&cfg, &issue), OKID_E_BAD_PARAMETER);
+    assert_string_equal(issue.field, "sensing");
+    assert_int_equal(okid_ambient_config_check(&cfg, NULL), OKID_E_NULL_POINTER);
+    assert_int_equal(okid_ambient_push(NULL, NULL), OKID_E_NULL_POINTER);
+    assert_int_equal(okid_ambient_identify(NULL, NULL), OKID_E_NULL_POINTER);
+    assert_int_equal(okid_ambient_reset(NULL), OKID_E_NULL_POINTER);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_paper_modes_noisy),
+        cmocka_unit_test(test_paper_modes_long_record),
+        cmocka_unit_test(test_one_reference),
+        cmocka_unit_test(test_segments_give_the_modes_uncertainty),
+        cmocka_unit_test(test_correlations_and_gap),
+        cmocka_unit_test(test_failed_identify_keeps_result),
+        cmocka_unit_test(test_macro_equals_function),
+        cmocka_unit_test(test_config_check),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
