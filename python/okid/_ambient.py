@@ -11,6 +11,7 @@ import numpy as np
 
 from . import _core
 from ._config import SENSING
+from ._document import Travelling
 from ._errors import BadParameterError, BadSizeError, NonFiniteSampleWarning, OK, check, error_for
 from ._mode import Mode, ModeArrays, WarningFlag, modes_from_dicts
 
@@ -18,7 +19,7 @@ __all__ = ["AmbientResult", "identify_ambient"]
 
 
 @dataclass(frozen=True, eq=False)
-class AmbientResult(ModeArrays):
+class AmbientResult(ModeArrays, Travelling):
     """An output-only identification. Immutable; every array is a read-only copy.
 
     Fields (n states, m outputs, r_ref references, L = hankel_rows; discrete at dt):

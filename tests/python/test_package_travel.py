@@ -140,6 +140,7 @@ def public_instances(record, result, refined, chosen, tmp_path_factory):
         "StabilityFlag": [max(flags, key=int)], "Refinement": [refined.refinement],
         "CramerRaoBound": [okid.crlb(u, DT, noise=0.05)], "Record": [okid.read_record(csv)],
         "Progress": [identifier.progress],
+        "AmbientResult": [okid.identify_ambient(y, DT, hankel_rows=20, order=4, segments=4)],
     }
 
 
