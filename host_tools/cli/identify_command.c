@@ -8,6 +8,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "auto_identify.h"
 #include "auto_modes.h"
 #include "auto_report.h"
 #include "auto_settings.h"
@@ -333,110 +334,50 @@ static int identify_and_refine(const identify_options *o, okid_config *cfg, reco
     return rc;
 }
 
-/* --observer-seconds, --hankel-seconds: counts of K dt; the ones not given keep their counts. 0, or an exit code. */
-static int horizon_seconds(const identify_options *o, okid_config *cfg)
+/* okid_config_horizons refused --observer-seconds/--hankel-seconds: the line and the exit code. */
+static int horizons_error(okid_status st, const okid_config *cfg)
 {
-    if (!(o->observer_seconds > 0 || o->hankel_seconds > 0)) {
-        return 0;
-    }
     const double step = (double)cfg->dt * (cfg->decimation > 1 ? cfg->decimation : 1);
-    const okid_status st = okid_config_horizons(
-        cfg, (okid_real)(o->observer_seconds > 0 ? o->observer_seconds : cfg->observer_order * step),
-        (okid_real)(o->hankel_seconds > 0 ? o->hankel_seconds : cfg->hankel_rows * step),
-        (okid_real)(o->hankel_seconds > 0 ? o->hankel_seconds : cfg->hankel_cols * step));
-    return st == OKID_OK ? 0
-                         : cli_error(EXIT_USAGE, "--observer-seconds/--hankel-seconds: %s (at most %d blocks of K dt = %g s)",
-                                     okid_status_str(st), OKID_MAX_HORIZON, step);
+    return cli_error(EXIT_USAGE, "--observer-seconds/--hankel-seconds: %s (at most %d blocks of K dt = %g s)",
+                     okid_status_str(st), OKID_MAX_HORIZON, step);
 }
 
 /*
- * okid identify with a setting or the order left to the data (auto_settings.h, auto_modes.h): the
- * record into memory, the band of its outputs, the settings, the physical modes over the Hankel
- * windows (when the order is not given), and the model at the chosen order.
+ * okid identify with a setting or the order left to the data (auto_identify.h): the record into
+ * memory, then the host library's automatic identification, then the report.
  */
-static int identify_auto(const identify_options *o, okid_config *cfg, record_reader *reader,
+static int identify_auto(const identify_options *o, const okid_config *cfg, record_reader *reader,
                          const record_columns *cols, const record_scan *scan, const column_choice *cc)
 {
-    const size_t n = scan->samples;
+    auto_request rq = {.cfg = *cfg, .given = o->given, .observer_seconds = o->observer_seconds,
+                       .hankel_seconds = o->hankel_seconds, .n = scan->samples};
     okid_real *u, *y;
-    int rc = load_samples(reader, cols, n, &u, &y);
+    int rc = load_samples(reader, cols, rq.n, &u, &y);
     if (rc != 0) {
         return rc;
     }
+    rq.u = u, rq.y = y;
     struct timespec t0, t1;
     timespec_get(&t0, TIME_UTC);
-    auto_band band;
-    /* too short or flat to choose from, or a flat input (its rank check must see it undecimated):
-       the library's defaults, and their refusals */
-    auto_band input_band;
-    if (auto_channel_band(y, n, cols->m, (double)cfg->dt, &band) != 0 ||
-        auto_channel_band(u, n, cols->r, (double)cfg->dt, &input_band) != 0) {
-        band = (auto_band){0, 0, 0};
-    }
-    auto_choice choice;
-    auto_choose(cfg, o->given, n, &band, &choice);        /* the decimation first: */
-    rc = horizon_seconds(o, cfg);                         /* the spans in seconds count K dt, */
-    auto_choose(cfg, o->given | AUTO_GIVEN_DECIMATION, n, &band, &choice); /* then the rest */
-    choice.given = o->given;
-    size_t bytes = 0;
-    okid_status st = rc == 0 ? okid_workspace_size(cfg, &bytes) : OKID_OK;
-    char shortfall[512];
-    if (rc == 0 && st != OKID_OK) {
-        rc = settings_error(cfg, st);
-    } else if (rc == 0 && config_data_shortfall(cfg, n, shortfall, sizeof shortfall)) {
-        rc = cli_error(EXIT_DATA, "%s", shortfall);
-    }
-    auto_modes *am = NULL;
-    /* the correlation form's guard may refuse (okid/identifier.h): then the QR fold, said in the warnings */
-    int fallback = 0;
-    if (rc == 0 && cfg->order == 0) {
-        if ((am = malloc(sizeof *am)) == NULL) {
-            rc = cli_error(EXIT_DATA, "out of memory");
-        } else if ((st = auto_modes_find(&choice, cfg, n, u, y, am)) == OKID_E_DECOMPOSITION_FAILED &&
-                   cfg->estimator == OKID_ESTIMATOR_CORRELATION) {
-            auto_modes_free(am);
-            cfg->estimator = OKID_ESTIMATOR_LEAST_SQUARES;
-            fallback = 1;
-            st = auto_modes_find(&choice, cfg, n, u, y, am);
-        }
-        if (rc == 0 && st != OKID_OK) {
-            rc = identify_failure(cfg, &am->runs[0].id, st, cc, scan);
-        } else if (rc == 0) {
-            /* the model: the order whose poles hold the physical modes, else the library's own choice */
-            cfg->order = am->num_modes > 0 ? am->order : am->runs[0].result.order;
-        }
-    }
-    void *ws = NULL;
-    okid_identifier id;
-    okid_result res;
-    if (rc == 0 && ((st = okid_workspace_size(cfg, &bytes)) != OKID_OK ||
-                    (ws = aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16)) == NULL)) {
-        rc = st != OKID_OK ? settings_error(cfg, st) : cli_error(EXIT_DATA, "out of memory (workspace of %zu bytes)", bytes);
-    }
-    if (rc == 0) {
-        st = okid_init(&id, cfg, ws, bytes, NULL);
-        if (st == OKID_OK) st = okid_push_block(&id, n, u, (size_t)cols->r, y, (size_t)cols->m, NULL);
-        if (st == OKID_OK) st = okid_identify(&id, &res);
-        if (st == OKID_E_DECOMPOSITION_FAILED && cfg->estimator == OKID_ESTIMATOR_CORRELATION) {
-            cfg->estimator = OKID_ESTIMATOR_LEAST_SQUARES;
-            fallback = 1;
-            st = okid_init(&id, cfg, ws, bytes, NULL);
-            if (st == OKID_OK) st = okid_push_block(&id, n, u, (size_t)cols->r, y, (size_t)cols->m, NULL);
-            if (st == OKID_OK) st = okid_identify(&id, &res);
-        }
-        if (fallback) res.warnings |= OKID_W_CORRELATION_FALLBACK;
-        timespec_get(&t1, TIME_UTC);
-        const double elapsed = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
-        okid_config shown = *cfg; /* "config": the order as given (0: chosen, "chosen" says how) */
+    auto_identification ai;
+    const okid_status st = auto_identify(&rq, &ai);
+    timespec_get(&t1, TIME_UTC);
+    const double elapsed = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    switch (ai.failure) {
+    case AUTO_OK: {
+        okid_config shown = ai.cfg; /* "config": the order as given (0: chosen, "chosen" says how) */
         shown.order = o->cfg.order;
-        rc = st == OKID_OK ? report(o, &shown, &id, &res, cc, elapsed, NULL, NULL, &choice, am)
-                           : identify_failure(cfg, &id, st, cc, scan);
+        rc = report(o, &shown, &ai.id, &ai.result, cc, elapsed, NULL, NULL, &ai.choice, ai.modes);
+        break;
     }
-    if (am != NULL) {
-        auto_modes_free(am);
-        free(am);
+    case AUTO_FAILED_HORIZONS: rc = horizons_error(st, &ai.cfg); break;
+    case AUTO_FAILED_SETTINGS: rc = settings_error(&ai.cfg, st); break;
+    case AUTO_FAILED_DATA: rc = cli_error(EXIT_DATA, "%s", ai.shortfall); break;
+    case AUTO_FAILED_MEMORY: rc = cli_error(EXIT_DATA, "out of memory"); break;
+    case AUTO_FAILED_MODES:
+    case AUTO_FAILED_MODEL: rc = identify_failure(&ai.cfg, auto_failed_identifier(&ai), st, cc, scan); break;
     }
-    free(ws);
+    auto_identification_free(&ai);
     free(u);
     free(y);
     return rc;
@@ -481,9 +422,9 @@ static int run(identify_options *o, record_reader *reader, const char *label)
     cfg.num_outputs = m;
     cfg.dt = (okid_real)dt;
     okid_status st = OKID_OK;
-    if ((rc = horizon_seconds(o, &cfg)) != 0) {
+    if ((st = auto_horizon_seconds(&cfg, o->observer_seconds, o->hankel_seconds)) != OKID_OK) {
         free(cc);
-        return rc;
+        return horizons_error(st, &cfg);
     }
     /* settings not given, or the order: chosen from the data, the physical modes selected */
     const unsigned all = AUTO_GIVEN_DECIMATION | AUTO_GIVEN_OBSERVER | AUTO_GIVEN_HANKEL;
