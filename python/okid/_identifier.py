@@ -70,6 +70,15 @@ class Identifier:
         self._last: Optional[Result] = None
         check(self._core.init(self._config), "okid_init")
 
+    @classmethod
+    def _adopt(cls, num_inputs: int, num_outputs: int, dt: float, options: Dict[str, Any], core: Any) -> "Identifier":
+        """An Identifier over a core the host library already identified with these options."""
+        self = cls.__new__(cls)
+        self._config = _config.build(num_inputs, num_outputs, dt, options)
+        self.num_inputs, self.num_outputs, self.dt = num_inputs, num_outputs, self._config["dt"]
+        self._core, self._last = core, None
+        return self
+
     def __copy__(self) -> "Identifier":
         raise TypeError("an okid.Identifier cannot be copied: the copy would share its C core (the pushed "
                         "samples); create another Identifier and push the same samples into it")
@@ -313,20 +322,21 @@ def identify(u: Any, y: Any, dt: float, *,
                 return result, None
         options, search = choose_start(trial, options)
         identifier = Identifier(r, m, dt, **options)
-    auto, fallback = None, False
     if chosen_from_data:
-        status, settings, auto_json, selected, verdicts = _core.auto_identify(config, given, ub, yb)
-        if status == E_DECOMPOSITION_FAILED and options["estimator"] == "correlation":
-            # the correlation form's guard refused: the QR fold, as below and as the CLI does
-            options["estimator"], fallback = "least_squares", True
-            config = _config.build(r, m, dt, options)
-            status, settings, auto_json, selected, verdicts = _core.auto_identify(config, given, ub, yb)
-        if status == E_NOT_ENOUGH_DATA:  # auto_json holds the host library's refusal (config_explain.c)
+        # okid identify's own automatic identification (host_tools/common/auto_identify.c): the
+        # settings, the physical modes and the model, identified once (the correlation form's
+        # fallback to the QR fold included)
+        status, settings, auto_json, selected, verdicts, model = _core.auto_identify(config, given, ub, yb, progress)
+        if status == E_NOT_ENOUGH_DATA and auto_json is not None:  # the host library's refusal (config_explain.c)
             raise NotEnoughDataError(auto_json, E_NOT_ENOUGH_DATA)
         check(status, "identify")
         user_order = options["order"]
-        options.update(settings)
-        auto = (user_order, auto_json, selected, verdicts)
+        code = settings.pop("estimator")  # least_squares after the fallback
+        options.update(settings, estimator=next(k for k, v in _config.ENUMS["estimator"].items() if v == code))
+        identifier = Identifier._adopt(r, m, dt, options, model[0])
+        result = Result._from_core(model[1], identifier.config, model[0], model[0].generation)
+        identifier._last = result
+        return _with_choices(result, user_order, auto_json, selected, verdicts)
     identifier = Identifier(r, m, dt, **options)
     status, accepted = identifier._core.push_block(ub, yb, progress)
     if status == E_NONFINITE_SAMPLE:
@@ -346,10 +356,6 @@ def identify(u: Any, y: Any, dt: float, *,
         identifier._core.push_block(ub, yb)
         result = identifier.identify()
         result = replace(result, warnings=result.warnings | WarningFlag.CORRELATION_FALLBACK)
-    if fallback:
-        result = replace(result, warnings=result.warnings | WarningFlag.CORRELATION_FALLBACK)
-    if auto is not None:
-        return _with_choices(result, *auto)
     if not refine:
         return result
     return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2, progress=progress),

@@ -222,6 +222,19 @@ struct IdentifierCore {
 using CBlock = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 using CVector = nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 
+nb::tuple adopt_identifier(const okid_config &cfg, void *workspace, const okid_identifier &id, const okid_result &res)
+{
+    Workspace owned(workspace);
+    auto core = std::make_unique<IdentifierCore>();
+    auto copy = std::make_unique<ResultCore>(cfg, res);
+    core->cfg = cfg;
+    core->ws = std::move(owned);
+    core->id = id;  // its views point into the workspace, never into itself
+    core->generation = 1;
+    return nb::make_tuple(nb::cast(core.release(), nb::rv_policy::take_ownership),
+                          nb::cast(copy.release(), nb::rv_policy::take_ownership));
+}
+
 okid_config config_from_dict(const nb::dict &d)
 {
     okid_config c{};
@@ -313,10 +326,8 @@ void bind_identifier(nb::module_ &m)
                 if (!guard.acquired()) return nb::make_tuple(STATUS_BUSY, (size_t)0);
                 size_t accepted = 0;
                 const size_t r = u.shape(1), mo = y.shape(1);
-                // in chunks: Ctrl-C raises between two (the rows pushed so far stay pushed); a row's
-                // fold costs about w^2 multiply-adds, w = r + (r + m) p + m the factor's width
-                const double w = (double)(r + (r + mo) * (size_t)self.cfg.observer_order + mo);
-                const int s = feed_in_chunks(u.shape(0), chunk_rows(w * w), progress, 0, u.shape(0),
+                // in chunks: Ctrl-C raises between two (the rows pushed so far stay pushed)
+                const int s = feed_in_chunks(u.shape(0), push_chunk_rows(self.cfg), progress, 0, u.shape(0),
                                              [&](size_t first, size_t count) {
                     size_t taken = 0;
                     const int st = okid_push_block(&self.id, count, u.data() + first * r, r, y.data() + first * mo,
