@@ -14,13 +14,12 @@ import numpy as np
 
 from . import _config, _core
 from ._config import DEFAULTS, Estimator, Realization, Scaling, Sensing
-from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DECOMPOSITION_FAILED, E_NONFINITE_SAMPLE, E_NOT_AVAILABLE,
-                      E_NOT_ENOUGH_DATA, OK, BadParameterError, BadSizeError, DecompositionError, NonFiniteSampleWarning,
-                      NotEnoughDataError, OkidError, check, error_for)
+from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_AVAILABLE, E_NOT_ENOUGH_DATA, OK,
+                      BadParameterError, BadSizeError, DecompositionError, NonFiniteSampleWarning, NotEnoughDataError,
+                      check, error_for)
 from ._mode import Mode, Pole, SelectedMode, WarningFlag
 from ._refine import REFINE_DEFAULTS, ProgressCallback, check_settings
 from ._result import Result
-from ._start_search import choose_start
 
 
 @dataclass(frozen=True)
@@ -308,20 +307,11 @@ def identify(u: Any, y: Any, dt: float, *,
         raise NotEnoughDataError(shortfall, E_NOT_ENOUGH_DATA)
     search = None
     if refine and not horizons_given:
-        def trial(opts):
-            start = Identifier(r, m, dt, **opts)
-            if start._core.push_block(ub, yb)[0] != OK:
-                return None, None
-            try:
-                result = start.identify()
-            except OkidError:
-                return None, None
-            try:
-                return result, result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2).refinement
-            except OkidError:
-                return result, None
-        options, search = choose_start(trial, options)
-        identifier = Identifier(r, m, dt, **options)
+        # okid identify --refine's own start search (host_tools/common/start_search.c), each start
+        # refined with these max_passes and step_tolerance, quietly
+        chosen, search_json = _core.start_search(config, ub, yb, max_passes, step_tolerance)
+        options.update(chosen)
+        search = json.loads("{" + search_json.lstrip().lstrip(",") + "}")["start_search"]
     if chosen_from_data:
         # okid identify's own automatic identification (host_tools/common/auto_identify.c): the
         # settings, the physical modes and the model, identified once (the correlation form's

@@ -557,7 +557,7 @@ PACKAGE_LAYERS = {
     "_config": 2, "model": 2, "_mode": 2,
     "_statespace": 3,
     "_refine": 4, "_record": 4,
-    "_result": 5, "_start_search": 5,
+    "_result": 5,
     "_identifier": 6, "plot": 6,
     "__init__": 7,
     "tools": 8, "fleet": 8,  # the user tools, on top of the package
