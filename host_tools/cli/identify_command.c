@@ -18,6 +18,7 @@
 #include "identify_options.h"
 #include "identify_refine.h"
 #include "json_writer.h"
+#include "output_fit.h"
 #include "record_channels.h"
 #include "record_reader.h"
 
@@ -60,6 +61,38 @@ static void print_header(const okid_config *cfg, const okid_result *res, const c
             printf("warning: %s\n", okid_warning_str(bit));
         }
     }
+}
+
+/* How much of each output the model explains (output_fit.h). */
+static void print_fit(const double *fit, const column_choice *cc)
+{
+    printf("fit of each output (%% explained by the model's response from rest, as MATLAB's compare):");
+    for (int i = 0; i < cc->m; ++i) printf(" %s %.2f %%", cc->output_names[i], fit[i]);
+    printf("\n");
+}
+
+/* The fit of each output over the record, the temporary file of samples read once more; its
+   warning into res. 0, or -1 when there is no fit (output_fit_begin). */
+static int record_fit(record_reader *reader, const record_columns *cols, okid_result *res, double *fit)
+{
+    enum { BLOCK = 4096 };
+    output_fit *f = output_fit_begin(res);
+    okid_real *u = malloc(sizeof(okid_real) * BLOCK * (size_t)cols->r);
+    okid_real *y = malloc(sizeof(okid_real) * BLOCK * (size_t)cols->m);
+    char error[512];
+    int rc = f != NULL && u != NULL && y != NULL && fseek(reader->samples, 0, SEEK_SET) == 0 ? 0 : -1;
+    for (long got = 1; rc == 0 && got > 0;) {
+        got = record_read_block(reader, cols, BLOCK, u, y, error, sizeof error);
+        if (got < 0) rc = -1;
+        if (got > 0) output_fit_push(f, (size_t)got, u, y);
+    }
+    if (f != NULL) {
+        const unsigned warning = output_fit_end(f, fit);
+        if (rc == 0) res->warnings |= warning;
+    }
+    free(u);
+    free(y);
+    return rc;
 }
 
 /* The model's modes and their shapes (eq. 64). */
@@ -127,7 +160,7 @@ static void print_stabilization(const okid_stabilization *st)
 /* Print the result (and the stabilization diagram and refinement when asked) as a table or JSON. */
 static int report(const identify_options *o, const okid_config *cfg, okid_identifier *id, const okid_result *res,
                   const column_choice *cc, double elapsed, const okid_refine_result *refined,
-                  const start_search *search, const auto_choice *choice, const auto_modes *am)
+                  const start_search *search, const auto_choice *choice, const auto_modes *am, const double *fit)
 {
     okid_stabilization st;
     void *stab_ws = NULL;
@@ -160,11 +193,13 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
         } else {
             json_result(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
         }
+        if (refined == NULL && fit != NULL) json_output_fit(stdout, fit, cfg->num_outputs);
         if (stab_ws != NULL) json_stabilization(stdout, &st, o->stabilization, 2, cfg->num_outputs);
         if (refined != NULL && search->count > 0) json_start_search(stdout, search);
         fputs("\n}\n", stdout);
     } else {
         print_header(cfg, res, cc, o->file);
+        if (refined == NULL && fit != NULL) print_fit(fit, cc);
         if (choice != NULL) auto_print_choice(choice, (double)cfg->dt);
         if (am != NULL) {
             auto_print_modes(am, res, cc->output_names, cfg->num_outputs, o->all_poles);
@@ -325,7 +360,7 @@ static int identify_and_refine(const identify_options *o, okid_config *cfg, reco
         okid_refine_result refined;
         void *rf_ws = NULL;
         rc = identify_refine(o, &res, n, u, y, 0, &rf, &rf_ws, &refined);
-        if (rc == 0) rc = report(o, cfg, &id, &res, cc, -1, &refined, &search, NULL, NULL);
+        if (rc == 0) rc = report(o, cfg, &id, &res, cc, -1, &refined, &search, NULL, NULL, NULL);
         free(rf_ws);
     }
     free(grown);
@@ -367,7 +402,11 @@ static int identify_auto(const identify_options *o, const okid_config *cfg, reco
     case AUTO_OK: {
         okid_config shown = ai.cfg; /* "config": the order as given (0: chosen, "chosen" says how) */
         shown.order = o->cfg.order;
-        rc = report(o, &shown, &ai.id, &ai.result, cc, elapsed, NULL, NULL, &ai.choice, ai.modes);
+        double fit[OKID_MAX_DIMENSION];
+        unsigned warning = 0;
+        const int have_fit = output_fit_record(&ai.result, rq.n, u, y, fit, &warning) == 0;
+        ai.result.warnings |= warning;
+        rc = report(o, &shown, &ai.id, &ai.result, cc, elapsed, NULL, NULL, &ai.choice, ai.modes, have_fit ? fit : NULL);
         break;
     }
     case AUTO_FAILED_HORIZONS: rc = horizons_error(st, &ai.cfg); break;
@@ -474,8 +513,10 @@ static int run(identify_options *o, record_reader *reader, const char *label)
             res.warnings |= OKID_W_CORRELATION_FALLBACK;
         }
     }
+    double fit[OKID_MAX_DIMENSION];
+    const int have_fit = rc == 0 && st == OKID_OK && record_fit(reader, &cols, &res, fit) == 0;
     if (rc == 0) {
-        rc = st == OKID_OK ? report(o, &cfg, &id, &res, cc, elapsed, NULL, NULL, NULL, NULL)
+        rc = st == OKID_OK ? report(o, &cfg, &id, &res, cc, elapsed, NULL, NULL, NULL, NULL, have_fit ? fit : NULL)
                            : identify_failure(&cfg, &id, st, cc, &scan);
     }
     free(ws);

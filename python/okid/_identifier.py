@@ -324,8 +324,8 @@ def identify(u: Any, y: Any, dt: float, *,
         code = settings.pop("estimator")  # least_squares after the fallback
         options.update(settings, estimator=next(k for k, v in _config.ENUMS["estimator"].items() if v == code))
         identifier = Identifier._adopt(r, m, dt, options, model[0])
+        model[1].measure_fit(ub, yb)  # as okid identify: the fit of each output, its warning
         result = Result._from_core(model[1], identifier.config, model[0], model[0].generation)
-        identifier._last = result
         return _with_choices(result, user_order, auto_json, selected, verdicts)
     identifier = Identifier(r, m, dt, **options)
     status, accepted = identifier._core.push_block(ub, yb, progress)
@@ -347,9 +347,18 @@ def identify(u: Any, y: Any, dt: float, *,
         result = identifier.identify()
         result = replace(result, warnings=result.warnings | WarningFlag.CORRELATION_FALLBACK)
     if not refine:
-        return result
+        return _measured(result, ub, yb)
     return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2, progress=progress),
                    start_search=search)
+
+
+def _measured(result: Result, u: np.ndarray, y: np.ndarray) -> Result:
+    """The result with the fit of each output over the record it came from, and its warning (the
+    host library's output_fit.c, as okid identify)."""
+    if not result._core.measure_fit(u, y):
+        return result
+    f = result._core.fields()
+    return replace(result, fit_percent=f["fit_percent"], warnings=result.warnings | WarningFlag(f["warnings"]))
 
 
 def _with_choices(result: Result, user_order: int, auto_json: str, selected, verdicts) -> Result:

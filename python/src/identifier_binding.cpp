@@ -18,6 +18,7 @@
 extern "C" {
 #include "json_writer.h"
 #include "okid_fields.h"
+#include "output_fit.h"
 }
 
 namespace okid_py {
@@ -125,12 +126,27 @@ struct ResultCore {
         res.modes = modes.data();
     }
 
+    std::vector<double> fit;  // output_fit.h over the record okid.identify() was given, else empty
+
     nb::str to_json() const
     {
         return write_to_string([this](FILE *out) {
             json_result(out, &cfg, &res, nullptr, nullptr, -1);
+            if (!fit.empty()) json_output_fit(out, fit.data(), cfg.num_outputs);
             std::fputs("\n}\n", out);
         });
+    }
+
+    // The fit of each output over the record (u, y), as okid identify reports it, and its warning
+    // into res.warnings. False when none is computed (a decimated model).
+    bool measure_fit(const double *u, const double *y, size_t count)
+    {
+        std::vector<double> values((size_t)cfg.num_outputs);
+        unsigned warning = 0;
+        if (output_fit_record(&res, count, u, y, values.data(), &warning) != 0) return false;
+        fit = std::move(values);
+        res.warnings |= warning;
+        return true;
     }
 
     // okid identify --refine --json's opening (the run's settings and sizes) and "start" (this
@@ -162,6 +178,7 @@ struct ResultCore {
         f["observer_gain_markov"] =
             res.observer_gain_markov.data ? nb::cast(matrix_array(res.observer_gain_markov)) : nb::none();
         f["warnings"] = res.warnings;
+        f["fit_percent"] = fit.empty() ? nb::none() : nb::cast(vector_array(fit.data(), cfg.num_outputs));
         f["input_scales"] = res.input_scales ? nb::cast(vector_array(res.input_scales, cfg.num_inputs)) : nb::none();
         f["output_scales"] =
             res.output_scales ? nb::cast(vector_array(res.output_scales, cfg.num_outputs)) : nb::none();
@@ -308,7 +325,15 @@ void bind_identifier(nb::module_ &m)
         .def("to_json", &ResultCore::to_json, "The CLI's `okid identify --json` object for this result.")
         .def("to_json_refined_start", &ResultCore::to_json_refined_start,
              "okid identify --refine --json's opening members and \"start\" (this result).")
-        .def("fields", &ResultCore::fields);
+        .def("fields", &ResultCore::fields)
+        .def(
+            "measure_fit",
+            [](ResultCore &self, CBlock u, CBlock y) {
+                nb::gil_scoped_release release;
+                return self.measure_fit(u.data(), y.data(), u.shape(0));
+            },
+            "output_fit_record() over the record (u, y) (the fit of each output, percent, as MATLAB's compare), kept "
+            "for fields() and to_json(), its warning into the result's: False when none (a decimated model).");
 
     nb::class_<StabilizationCore>(m, "StabilizationCore")
         .def("to_json", &StabilizationCore::to_json)
