@@ -187,13 +187,14 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
             json_result_header(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
             json_start(stdout, cfg, res);
             json_refined_result(stdout, &o->refine_cfg, refined, cfg->num_outputs);
-        } else if (choice != NULL) {
+        } else if (choice != NULL) { /* the fit before "chosen": after the model's members, as okid.Result.to_dict() */
             json_result_fields(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
+            if (fit != NULL) json_output_fit(stdout, fit, cfg->num_outputs);
             auto_json(stdout, choice, (double)cfg->dt, am, res, cfg->num_outputs);
         } else {
             json_result(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
+            if (fit != NULL) json_output_fit(stdout, fit, cfg->num_outputs);
         }
-        if (refined == NULL && fit != NULL) json_output_fit(stdout, fit, cfg->num_outputs);
         if (stab_ws != NULL) json_stabilization(stdout, &st, o->stabilization, 2, cfg->num_outputs);
         if (refined != NULL && search->count > 0) json_start_search(stdout, search);
         fputs("\n}\n", stdout);

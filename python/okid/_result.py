@@ -97,6 +97,8 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
       band band_hz [Hz] (docs/quality.md section 8), else None; poles: with the order chosen,
       every pole of the model as okid.Pole (verdict, reason), while modes holds the physical
       modes as okid.SelectedMode (their spread across orders [Hz, -]), else None
+    - fit_percent: (m,) how much of each output the model's response from rest explains [%], as
+      MATLAB's compare (okid.identify() only: the record is needed; None with decimation > 1)
     """
     order: int                          #: n, the realized order (states)
     A: np.ndarray                       #: (n, n) discrete state matrix

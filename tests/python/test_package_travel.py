@@ -351,7 +351,8 @@ def test_progress_is_reported_and_chunks_change_no_bit(record):
     ident = okid.Identifier(1, 2, 0.01, **PAPER)
     for k in range(0, n, 5000):
         ident.push(long_u[k:k + 5000], long_y[k:k + 5000])
-    assert ident.identify().to_dict() == res.to_dict()
+    # (okid.identify also has the fit of each output, from the record an Identifier does not keep)
+    assert ident.identify().to_dict() == {k: v for k, v in res.to_dict().items() if k != "fit_percent"}
 
 
 def test_refine_progress_counts_the_passes(record):
@@ -374,7 +375,8 @@ def test_an_exception_in_the_progress_callback_stops_the_push(record):
         ident.push(long_u, long_y, progress=stop)
     assert ident.progress.samples == 16384  # the chunk done stays pushed
     ident.push(long_u[16384:], long_y[16384:])
-    assert ident.identify().to_dict() == okid.identify(long_u, long_y, 0.01, **PAPER).to_dict()
+    whole = okid.identify(long_u, long_y, 0.01, **PAPER).to_dict()
+    assert ident.identify().to_dict() == {k: v for k, v in whole.items() if k != "fit_percent"}
 
 
 _CHILD = textwrap.dedent("""
