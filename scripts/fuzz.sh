@@ -14,16 +14,28 @@ common=(-G Ninja -DBUILD_TESTING=OFF -DOKID_BUILD_FMU=OFF -DOKID_BUILD_EXAMPLES=
 CC=clang cmake -S . -B build-fuzz "${common[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build build-fuzz
 mkdir -p build-fuzz/findings
-for target in api csv fmu; do
+# The three fuzzers run side by side (each is one process on one core; 2 cores here), each for
+# $seconds of wall time; a finding fails the step with its log's tail.
+targets=(api csv fmu)
+pids=()
+for target in "${targets[@]}"; do
     work=build-fuzz/corpus/$target
     mkdir -p "$work"
-    echo "=== fuzz_$target for ${seconds}s"
     build-fuzz/fuzz/fuzz_$target -max_total_time="$seconds" -print_final_stats=1 -timeout=20 \
-        -artifact_prefix=build-fuzz/findings/$target- "$work" fuzz/corpus/$target 2>build-fuzz/fuzz_$target.log ||
-        { tail -40 build-fuzz/fuzz_$target.log; echo "fuzz_$target found a problem: build-fuzz/findings/"; exit 1; }
+        -artifact_prefix=build-fuzz/findings/$target- "$work" fuzz/corpus/$target 2>build-fuzz/fuzz_$target.log &
+    pids+=($!)
+done
+failed=0
+for i in "${!targets[@]}"; do
+    target=${targets[$i]}
+    echo "=== fuzz_$target for ${seconds}s"
+    if ! wait "${pids[$i]}"; then
+        tail -40 build-fuzz/fuzz_$target.log; echo "fuzz_$target found a problem: build-fuzz/findings/"; failed=1; continue
+    fi
     grep -E "stat::number_of_executed_units|stat::peak_rss_mb" build-fuzz/fuzz_$target.log | sed 's/^/  /'
     grep -E "^#[0-9]+.*DONE" build-fuzz/fuzz_$target.log | tail -1 | sed 's/^/  /'
 done
+((failed == 0))
 
 # Coverage of lib/ by the corpus the fuzzers built (seeds included).
 CC=clang cmake -S . -B build-fuzz-cov "${common[@]}" -DCMAKE_BUILD_TYPE=Debug \

@@ -6,7 +6,7 @@
 # compared), the float build, the double and float C suites again under reference BLAS and each
 # OpenBLAS kernel this CPU runs, the Eigen-backend build, the 32-bit (gcc -m32) build, the firmware
 # cross-builds (Cortex-M4F, M7, M33, M55, RISC-V) with their tests under QEMU and the footprint
-# report, the whole suite again under ASan + UBSan, valgrind memcheck, and bounded fuzzing. Stops at
+# report, the C and CLI suites again under ASan + UBSan, valgrind memcheck, and bounded fuzzing. Stops at
 # the first failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -82,28 +82,7 @@ cmake --build --preset asan -j "$jobs"
 ctest --preset asan -j "$jobs"
 
 step "valgrind memcheck: every C test, the example, the CLI, the FMUs through a C importer"
-vg=(valgrind --error-exitcode=1 --leak-check=full --errors-for-leak-kinds=definite,indirect -q)
-for test in build/tests/test_*; do
-    # test_refine: 3 noise realisations, not 200; test_mode_selection: one seed per case, not 6
-    OKID_MONTE_CARLO_DRAWS=3 OKID_SELECTION_SEEDS=1 "${vg[@]}" "$test" >/dev/null
-done
-"${vg[@]}" build/tests/fuzz_replay_api fuzz/corpus/api/* >/dev/null
-"${vg[@]}" build/tests/fuzz_replay_csv fuzz/corpus/csv/* >/dev/null
-"${vg[@]}" build/examples/paper_2dof/paper_2dof >/dev/null
-csv=$(mktemp --suffix=.csv)
-trap 'rm -f "$csv"' EXIT
-"${vg[@]}" build/host_tools/cli/okid simulate --output "$csv"
-"${vg[@]}" build/host_tools/cli/okid identify --json --order 4 "$csv" >/dev/null
-"${vg[@]}" build/host_tools/cli/okid identify --json --order 4 --refine --observer-order 20 "$csv" >/dev/null
-"${vg[@]}" build/host_tools/cli/okid crlb --noise 0.02 >/dev/null
-"${vg[@]}" build/tests/fmu_cosim build/fmu/fmi2/okid_plant_2dof build/fmu/fmi2/okid_identifier >/dev/null
-"${vg[@]}" build/tests/fmu3_chain build/fmu/fmi3/okid_identifier >/dev/null
-# an FMI 2 FMU written by okid-fmu: the binary reads its configuration from resources/
-rm -rf build/fmu-generated
-.venv/bin/okid-fmu --base build/fmu/fmi2/okid_identifier.fmu --inputs 1 --outputs 2 --max-modes 4 --hankel-rows 20 \
-    -o build/fmu-generated/paper.fmu >/dev/null
-.venv/bin/python -m zipfile -e build/fmu-generated/paper.fmu build/fmu-generated/paper
-"${vg[@]}" build/tests/fmu_cosim build/fmu/fmi2/okid_plant_2dof build/fmu-generated/paper >/dev/null
+bash scripts/valgrind.sh
 
 step "bounded fuzzing (libFuzzer, ASan + UBSan), ${FUZZ_SECONDS:-60} s per target"
 bash scripts/fuzz.sh

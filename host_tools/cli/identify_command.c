@@ -21,6 +21,7 @@
 #include "output_fit.h"
 #include "record_channels.h"
 #include "record_reader.h"
+#include "warning_poles.h"
 
 /* Names of the chosen columns, for the table and the JSON. */
 typedef struct column_choice {
@@ -58,7 +59,9 @@ static void print_header(const okid_config *cfg, const okid_result *res, const c
     printf("%s\n", res->num_singular_values > 12 ? " ..." : "");
     for (unsigned bit = 1; bit != 0 && bit <= res->warnings; bit <<= 1) {
         if (res->warnings & bit) {
-            printf("warning: %s\n", okid_warning_str(bit));
+            char poles[512]; /* the poles it is about, by frequency */
+            warning_poles_text(res->modes, res->num_modes, bit, poles, sizeof poles);
+            printf("warning: %s%s\n", okid_warning_str(bit), poles);
         }
     }
 }
@@ -111,8 +114,17 @@ static void print_model_modes(const okid_config *cfg, const okid_result *res, co
         }
         printf("\n");
     }
+    /* what the sensors see first, by output name (for acceleration sensing eq. 64's displacement and
+       velocity are derived from it) */
+    printf("\nsensor shapes C psi (largest component 1); columns:");
+    for (int i = 0; i < cc->m; ++i) printf(" %s", cc->output_names[i]);
+    printf("\n");
+    for (int i = 0; i < res->num_modes; ++i) {
+        printf("%5d", i + 1);
+        auto_print_sensor_shape(&res->modes[i], cfg->num_outputs);
+    }
     /* eq. 64: the displacement, then the velocity, at each sensor location */
-    printf("\nmode shapes (eq. 64, unit norm); columns:");
+    printf("\nmode shapes (eq. 64, unit norm; displacement and velocity whatever the sensing); columns:");
     for (int a = 0; a < 2 * cc->m; ++a) {
         printf(" %s(%s)", a < cc->m ? "disp" : "vel", cc->output_names[a % cc->m]);
     }
@@ -210,7 +222,10 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
         if (stab_ws != NULL && st.num_orders > 0) print_stabilization(&st);
         if (refined != NULL && search->count > 0) print_start_search(search);
         if (refined != NULL) print_refinement(refined, cfg->num_outputs, cc->output_names);
-        if (o->timing) printf("\nelapsed from okid_init to the modes: %.6f s\n", elapsed);
+        if (o->timing) {
+            printf("\nelapsed from okid_init to the %s: %.6f s\n",
+                   refined != NULL ? "refined modes (start search, OKID/ERA, refinement)" : "modes", elapsed);
+        }
     }
     free(stab_ws);
     return 0;
@@ -339,6 +354,8 @@ static int identify_and_refine(const identify_options *o, okid_config *cfg, reco
     }
     start_search search = {.count = 0, .best = -1};
     void *grown = NULL;
+    struct timespec t0, t1; /* --timing: the start search, OKID/ERA and the refinement */
+    timespec_get(&t0, TIME_UTC);
     if (!o->horizons_given && cfg->decimation <= 1) {
         identify_choose_start(o, cfg, n, u, y, &search);
         if (okid_workspace_size(cfg, &bytes) != OKID_OK ||
@@ -361,7 +378,9 @@ static int identify_and_refine(const identify_options *o, okid_config *cfg, reco
         okid_refine_result refined;
         void *rf_ws = NULL;
         rc = identify_refine(o, &res, n, u, y, 0, &rf, &rf_ws, &refined);
-        if (rc == 0) rc = report(o, cfg, &id, &res, cc, -1, &refined, &search, NULL, NULL, NULL);
+        timespec_get(&t1, TIME_UTC);
+        const double elapsed = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+        if (rc == 0) rc = report(o, cfg, &id, &res, cc, elapsed, &refined, &search, NULL, NULL, NULL);
         free(rf_ws);
     }
     free(grown);

@@ -46,7 +46,7 @@ void auto_print_choice(const auto_choice *c, double dt)
 }
 
 /* A reported mode's sensor shape C psi, scaled so that its largest component is 1 (real and positive). */
-static void print_sensor_shape(const okid_mode *md, int m)
+void auto_print_sensor_shape(const okid_mode *md, int m)
 {
     int big = 0;
     for (int i = 1; i < m; ++i) {
@@ -89,7 +89,7 @@ void auto_print_modes(const auto_modes *am, const okid_result *res, const char *
         printf("\n");
         for (int k = 0; k < am->num_modes; ++k) {
             printf("%5d", k + 1);
-            print_sensor_shape(&am->modes[k].selected->mode, m);
+            auto_print_sensor_shape(&am->modes[k].selected->mode, m);
         }
     }
     printf("\nmodel: order %d of the %d-block window%s\n", res->order, am->runs[0].cfg.hankel_rows,

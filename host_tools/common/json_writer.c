@@ -4,6 +4,7 @@
 
 #include "config_names.h"
 #include "okid_fields.h"
+#include "warning_poles.h"
 
 #include <math.h>
 #include <string.h>
@@ -114,6 +115,26 @@ static void json_warnings(FILE *out, unsigned warnings)
     fputc(']', out);
 }
 
+/* "warning_poles": {"unstable_pole": [eigenvalues], ...}: the poles a warning is about (only when there are). */
+static void json_warning_poles(FILE *out, const okid_result *res)
+{
+    const unsigned bits[2] = {OKID_W_UNSTABLE_POLE, OKID_W_NONPHYSICAL_POLE};
+    int first = 1;
+    for (int b = 0; b < 2; ++b) {
+        int which[OKID_MAX_ORDER];
+        const int count = (res->warnings & bits[b]) ? warning_poles(res->modes, res->num_modes, bits[b], which, OKID_MAX_ORDER) : 0;
+        if (count == 0) continue;
+        fprintf(out, "%s\"%s\": [", first ? ",\n  \"warning_poles\": {" : ", ", warning_poles_key(bits[b]));
+        for (int i = 0; i < count; ++i) {
+            if (i) fputs(", ", out);
+            json_complex(out, res->modes[which[i]].eigenvalue);
+        }
+        fputc(']', out);
+        first = 0;
+    }
+    if (!first) fputc('}', out);
+}
+
 static void json_string_list(FILE *out, const char *const *texts, int count)
 {
     fputc('[', out);
@@ -209,6 +230,7 @@ void json_result_model(FILE *out, const okid_result *res)
 #undef REAL
     fprintf(out, ",\n  \"warning_bits\": %u,\n  \"warnings\": ", res->warnings);
     json_warnings(out, res->warnings);
+    json_warning_poles(out, res);
     fputs(",\n  \"singular_values\": ", out);
     json_vector(out, res->singular_values, res->num_singular_values);
     const char *names[4] = {"A", "B", "C", "D"};

@@ -22,12 +22,13 @@ from ._record import Record, read_record
 from ._refine import REFINE_DEFAULTS, CramerRaoBound, Refinement, RefinementWarning, ResidualWarning, crlb
 from ._result import FORMAT, FORMAT_VERSION, Result, Stabilization, StabilizationOrder, load
 from . import model, plot
+from .plot import plot_stabilization
 
 __version__ = _core.VERSION
 
 __all__ = [
     "identify", "Identifier", "Progress", "Result", "Mode", "SelectedMode", "Pole", "WarningFlag", "Stabilization",
-    "StabilizationOrder", "StabilityFlag", "model", "plot", "DEFAULTS", "OPTION_NAMES", "Refinement",
+    "StabilizationOrder", "StabilityFlag", "model", "plot", "plot_stabilization", "DEFAULTS", "OPTION_NAMES", "Refinement",
     "RefinementWarning", "ResidualWarning", "REFINE_DEFAULTS", "crlb", "CramerRaoBound", "read_record", "Record",
     "RecordError", "load", "FORMAT", "FORMAT_VERSION",
     "OkidError", "ConfigurationError", "BadSizeError", "BadOrderError", "BadParameterError", "NotEnoughDataError",

@@ -13,7 +13,9 @@ from __future__ import annotations
 import collections.abc
 import dataclasses
 import enum
+import json
 import math
+import os
 import typing
 from types import MappingProxyType
 from typing import Any, Callable, Dict, Mapping, Optional, Tuple, Type, TypeVar, Union
@@ -94,8 +96,9 @@ def _strip_optional(hint: Any) -> Tuple[Any, bool]:
     return hint, False
 
 
-def convert(hint: Any, value: Any) -> Any:
-    """One JSON value as the Python value of a field with this type hint."""
+def convert(hint: Any, value: Any, fallbacks: Optional[Fallbacks] = None) -> Any:
+    """One JSON value as the Python value of a field with this type hint (a dataclass in it read
+    with fallbacks, see read())."""
     hint, optional = _strip_optional(hint)
     if value is None and optional:
         return None
@@ -116,13 +119,13 @@ def convert(hint: Any, value: Any) -> Any:
     origin = typing.get_origin(hint)
     if origin in (tuple, Tuple):
         args = typing.get_args(hint)
-        return tuple(convert(args[0], v) for v in value)
+        return tuple(convert(args[0], v, fallbacks) for v in value)
     if origin in (dict, collections.abc.Mapping) or hint in (dict, Mapping):
         return MappingProxyType(dict(value))
     if isinstance(hint, type) and issubclass(hint, enum.Enum):
         return hint(value)
     if dataclasses.is_dataclass(hint):
-        return read(hint, value)
+        return read(hint, value, fallbacks)
     return value
 
 
@@ -164,7 +167,7 @@ def read(cls: Type[T], obj: Mapping[str, Any], fallbacks: Optional[Fallbacks] = 
         if dataclasses.is_dataclass(base) and raw is not None:
             values[f.name] = read(base, raw, fallbacks, values, aliases)
         else:
-            values[f.name] = convert(hint, raw)
+            values[f.name] = convert(hint, raw, fallbacks)
     return cls(**values)
 
 
@@ -228,3 +231,46 @@ def merged(obj: Mapping[str, Any], extra: Mapping[str, Any]) -> Dict[str, Any]:
         else:
             out[name] = value
     return out
+
+
+def save(instance: Any, document: Mapping[str, Any], path: Union[str, "os.PathLike[str]"], fmt: str,
+         version: int) -> None:
+    """Write instance's JSON document to path: "format" and "format_version" first, then the
+    document's members, then under "python" the public fields it does not carry (missing()). An
+    existing file is refused (FileExistsError): the caller removes it."""
+    extra = missing(instance, document)
+    text = json.dumps({"format": fmt, "format_version": version, **document, **({"python": extra} if extra else {})},
+                      indent=1, allow_nan=False)
+    with open(path, "x", encoding="utf-8") as f:
+        f.write(text + "\n")
+
+
+def open_document(document: Mapping[str, Any], fmt: str, version: int, readers: str,
+                  default_format: Optional[str] = None) -> Tuple[Dict[str, Any], Dict[str, Any]]:
+    """(the members, the "python" extras) of a document of format fmt, versions 1..version; a
+    document without "format" is default_format's (the CLI's JSON is a Result). readers says what
+    reads fmt, for the refusal of another format."""
+    document = dict(document)
+    found = document.pop("format", default_format)
+    got = document.pop("format_version", version)
+    if found != fmt:
+        raise ValueError(f"format = {found!r}: {readers}{_OTHER_READERS.get(found, '')}")
+    if isinstance(got, bool) or not isinstance(got, int) or not 1 <= got <= version:
+        raise ValueError(f"format_version = {got!r}: this okid reads versions 1..{version} "
+                         f"(a newer okid wrote the file: upgrade okid)")
+    return document, dict(document.pop("python", {}))
+
+
+#: who reads each format (a refusal points to it)
+_OTHER_READERS = {"okid.Result": "; okid.load reads that one",
+                  "okid.Stabilization": "; okid.Stabilization.load reads that one",
+                  "okid.CramerRaoBound": "; okid.CramerRaoBound.load reads that one"}
+
+
+def load_json(path: Union[str, "os.PathLike[str]"], what: str) -> Dict[str, Any]:
+    """The JSON object of a file, or a ValueError naming what writes one."""
+    with open(path, encoding="utf-8") as f:
+        document = json.load(f)
+    if not isinstance(document, dict):
+        raise ValueError(f"{os.fspath(path)}: not a JSON object ({what} writes one)")
+    return document

@@ -2,6 +2,8 @@
 """Exceptions of okid, one per okid_status, and the warning for rejected samples."""
 from __future__ import annotations
 
+from typing import Any, Tuple
+
 from . import _core
 
 __all__ = [
@@ -34,6 +36,10 @@ class OkidError(Exception):
     def __init__(self, message: str, status: int):
         super().__init__(message)
         self.status = status
+
+    def __reduce__(self) -> Tuple[Any, ...]:
+        # by (message, status): an error raised in a process pool's worker crosses back as itself
+        return type(self), (str(self), self.status)
 
 
 class ConfigurationError(OkidError, ValueError):

@@ -8,7 +8,7 @@ import json
 import warnings
 from dataclasses import dataclass, fields, replace
 from types import MappingProxyType
-from typing import Any, Dict, Optional
+from typing import Any, Dict, Optional, Tuple
 
 import numpy as np
 
@@ -18,7 +18,8 @@ from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_AVA
                       BadParameterError, BadSizeError, DecompositionError, NonFiniteSampleWarning, NotEnoughDataError,
                       check, error_for)
 from ._mode import Mode, Pole, SelectedMode, WarningFlag
-from ._refine import REFINE_DEFAULTS, ProgressCallback, check_settings
+from ._progress import CALLER, ProgressArg, phase, reported, run_interruptibly
+from ._refine import REFINE_DEFAULTS, check_settings
 from ._result import Result
 
 
@@ -85,6 +86,10 @@ class Identifier:
     def __deepcopy__(self, memo: Dict[int, Any]) -> "Identifier":
         return self.__copy__()
 
+    def __reduce__(self) -> Tuple[Any, ...]:
+        raise TypeError("an okid.Identifier cannot be pickled: its C core (the pushed samples) stays in this "
+                        "process; pickle its Results, or push the same samples into an Identifier there")
+
     @property
     def config(self) -> Dict[str, Any]:
         """The okid_config in use: keyword names, enumerations by name."""
@@ -98,7 +103,8 @@ class Identifier:
             raise ValueError("this Identifier is closed")
         return self._core
 
-    def push(self, u: Any, y: Any, *, progress: Optional[ProgressCallback] = None) -> int:
+    @reported
+    def push(self, u: Any, y: Any, *, progress: ProgressArg = None) -> int:
         """Push one sample (u: r values, y: m values) or a block (u: (count, r), y: (count, m)).
 
         A 2-D y is a block, anything else one sample. Samples holding NaN or Inf are rejected (a
@@ -108,7 +114,8 @@ class Identifier:
         A block is folded in chunks (some 10-50 ms of work: 16384 samples for the paper's case, fewer
         for a wider regressor): Ctrl-C raises KeyboardInterrupt between two
         (the samples of the chunks done stay pushed: ``progress.samples`` counts them, and the
-        identifier stays usable), and progress(done, count), when given, is called after each.
+        identifier stays usable), and progress(done, count), when given, is called after each
+        (progress=True: a bar on stderr, tqdm's when installed, else a plain line).
         """
         core = self._live()
         if np.ndim(y) == 2:
@@ -116,14 +123,14 @@ class Identifier:
             yb = _block(y, self.num_outputs, "y")
             if ub.shape[0] != yb.shape[0]:
                 raise BadSizeError(f"u has {ub.shape[0]} samples and y {yb.shape[0]}: push equal counts", E_BAD_SIZE)
-            status, accepted = core.push_block(ub, yb, progress)
+            status, accepted = core.push_block(ub, yb, phase(progress, "push"))
             count = ub.shape[0]
         else:
             status = core.push(_sample(u, self.num_inputs, "u"), _sample(y, self.num_outputs, "y"))
             count, accepted = 1, 1 if status == OK else 0
         if status == E_NONFINITE_SAMPLE:
             warnings.warn(f"{count - accepted} of {count} samples held NaN or Inf and were rejected",
-                          NonFiniteSampleWarning, stacklevel=2)
+                          NonFiniteSampleWarning, stacklevel=CALLER)
         elif status != OK:
             raise error_for(status, "push")
         return int(accepted)
@@ -140,16 +147,17 @@ class Identifier:
         self._last = Result._from_core(result, self.config, core, core.generation)
         return self._last
 
+    @reported
     def refine(self, u: Any, y: Any, *, max_passes: int = REFINE_DEFAULTS["max_passes"],
                step_tolerance: float = REFINE_DEFAULTS["step_tolerance"],
-               progress: Optional[ProgressCallback] = None) -> Result:
+               progress: ProgressArg = None) -> Result:
         """The last identify()'s result refined over the record (u, y) the caller gives: the
         samples that model describes, (N, r) and (N, m) at dt (the identifier keeps no record).
         See :meth:`okid.Result.refine`; a refinement that stops without converging warns
         (okid.RefinementWarning)."""
         if self._last is None:
             raise error_for(E_NOT_AVAILABLE, "refine() before identify(): nothing to refine")
-        return self._last._refine(u, y, max_passes, step_tolerance, stacklevel=2, progress=progress)
+        return self._last._refine(u, y, max_passes, step_tolerance, stacklevel=CALLER, progress=progress)
 
     def predict(self, u: Any) -> np.ndarray:
         """One-step-ahead prediction of y(k) (m values) from u(k) and the last observer_order samples,
@@ -190,6 +198,7 @@ class Identifier:
                 f"observer_order={self._config['observer_order']}, order={self._config['order']})")
 
 
+@reported
 def identify(u: Any, y: Any, dt: float, *,
              observer_order: Optional[int] = None,
              order: int = DEFAULTS["order"],
@@ -208,7 +217,7 @@ def identify(u: Any, y: Any, dt: float, *,
              refine: bool = False,
              max_passes: int = REFINE_DEFAULTS["max_passes"],
              step_tolerance: float = REFINE_DEFAULTS["step_tolerance"],
-             progress: Optional[ProgressCallback] = None) -> Result:
+             progress: ProgressArg = None) -> Result:
     """Identify a state-space model and its modes from one record (OKID/ERA).
 
     u: forces, (N, r) or (N,) for one input; y: responses, (N, m) or (N,); time along axis 0.
@@ -252,7 +261,11 @@ def identify(u: Any, y: Any, dt: float, *,
     progress: called as progress(done, total) after each chunk (some 10-50 ms of work: 16384
     samples for the paper's case, fewer for larger problems), first of the push
     (samples folded of N), then of the refinement (samples fed of N x max_passes). Ctrl-C raises
-    KeyboardInterrupt within one chunk, during the push and the refinement alike.
+    KeyboardInterrupt within one chunk, during the push and the refinement alike. With settings
+    chosen from the data, the choice and the model (one C call without chunks) replace the push:
+    progress(0, N) before it and (N, N) after; Ctrl-C during it raises KeyboardInterrupt within 0.1 s, while the
+    choice runs on to its end in a background thread and is dropped. progress=True: a bar on
+    stderr for each phase instead (tqdm's when tqdm is installed, else a plain line).
 
     Numbers are numbers: a count (observer_order, order, ..., max_passes) is an int or a float
     with an integral value (4.0 reads as 4), a real setting (dt, ...) an int or a float; bool,
@@ -316,7 +329,7 @@ def identify(u: Any, y: Any, dt: float, *,
         # okid identify's own automatic identification (host_tools/common/auto_identify.c): the
         # settings, the physical modes and the model, identified once (the correlation form's
         # fallback to the QR fold included)
-        status, settings, auto_json, selected, verdicts, model = _core.auto_identify(config, given, ub, yb, progress)
+        status, settings, auto_json, selected, verdicts, model = _choose(config, given, ub, yb, progress)
         if status == E_NOT_ENOUGH_DATA and auto_json is not None:  # the host library's refusal (config_explain.c)
             raise NotEnoughDataError(auto_json, E_NOT_ENOUGH_DATA)
         check(status, "identify")
@@ -328,10 +341,10 @@ def identify(u: Any, y: Any, dt: float, *,
         result = Result._from_core(model[1], identifier.config, model[0], model[0].generation)
         return _with_choices(result, user_order, auto_json, selected, verdicts)
     identifier = Identifier(r, m, dt, **options)
-    status, accepted = identifier._core.push_block(ub, yb, progress)
+    status, accepted = identifier._core.push_block(ub, yb, phase(progress, "push"))
     if status == E_NONFINITE_SAMPLE:
         warnings.warn(f"{ub.shape[0] - accepted} of {ub.shape[0]} samples held NaN or Inf and were rejected",
-                      NonFiniteSampleWarning, stacklevel=2)
+                      NonFiniteSampleWarning, stacklevel=CALLER)
     elif status != OK:
         raise error_for(status, "push")
     try:
@@ -348,7 +361,7 @@ def identify(u: Any, y: Any, dt: float, *,
         result = replace(result, warnings=result.warnings | WarningFlag.CORRELATION_FALLBACK)
     if not refine:
         return _measured(result, ub, yb)
-    return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2, progress=progress),
+    return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=CALLER, progress=progress),
                    start_search=search)
 
 
@@ -359,6 +372,14 @@ def _measured(result: Result, u: np.ndarray, y: np.ndarray) -> Result:
         return result
     f = result._core.fields()
     return replace(result, fit_percent=f["fit_percent"], warnings=result.warnings | WarningFlag(f["warnings"]))
+
+
+def _choose(config: Dict[str, Any], given: int, ub: np.ndarray, yb: np.ndarray, progress: Any) -> Tuple[Any, ...]:
+    """_core.auto_identify (the settings, the physical modes and the model chosen from the data: one
+    C call, its push without a progress callback since it runs in a thread) so that Ctrl-C stops the
+    wait; progress sees (0, N) and (N, N) around it."""
+    return run_interruptibly(_core.auto_identify, (config, given, ub, yb, None), progress,
+                             "choosing the settings from the data", ub.shape[0])
 
 
 def _with_choices(result: Result, user_order: int, auto_json: str, selected, verdicts) -> Result:

@@ -4,12 +4,13 @@ so a file gives the same samples, dt and refusals here, in ``okid identify`` and
 from __future__ import annotations
 
 import os
-from typing import NamedTuple, Optional, Tuple, Union
+from typing import Any, NamedTuple, Optional, Tuple, Union
 
 import numpy as np
 
 from . import _core
 from ._config import real_number
+from ._document import frozen
 from ._errors import RecordError
 
 
@@ -21,6 +22,13 @@ class Record(NamedTuple):
     input_names: Tuple[str, ...]
     output_names: Tuple[str, ...]
     start: Optional[float]         #: the time column's first stamp [s] (None without a time column)
+
+    def __reduce__(self) -> Tuple[Any, ...]:
+        return _unpickled, tuple(self)  # the arrays read-only again (an unpickled array is writable)
+
+
+def _unpickled(u: np.ndarray, y: np.ndarray, *rest: Any) -> Record:
+    return Record(frozen(u), frozen(y), *rest)
 
 
 def _spec(name: str, value: Union[None, int, str]) -> Optional[str]:

@@ -4,25 +4,23 @@ okid_refine_* API over the caller's arrays, fed once per pass without a copy."""
 from __future__ import annotations
 
 import math
+import os
 import warnings
 from dataclasses import dataclass
-from typing import Any, Callable, Dict, Optional, Tuple
+from typing import Any, Dict, Mapping, Optional, Tuple, Union
 
 import numpy as np
 
-from . import _core
+from . import _core, _document
 from . import model as _model_mod
 from ._config import SENSING, Sensing, integer, real_array, real_number
 from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DATA_RANGE, E_NONFINITE_SAMPLE, E_RANK_DEFICIENT, OK,
                       BadParameterError, BadSizeError, NonFiniteSampleError, NotPersistentlyExcitingError, check)
 from ._document import Travelling
 from ._mode import Mode, ModeArrays, WarningFlag, modes_from_dicts
+from ._progress import ProgressArg, phase
 from ._statespace import StateSpaceModel
 
-#: progress(done, total) of a long call: samples fed so far and the most it can take (for a
-#: refinement samples x max_passes: it usually converges sooner), called after each chunk of
-#: some 10-50 ms of work (16384 samples for the paper's case, fewer for larger models).
-ProgressCallback = Callable[[int, int], Any]
 
 _MAX_PASSES, _STEP_TOLERANCE = _core.refine_config_default()
 #: okid_refine_config_default()'s values (docs/cli.md: --max-passes, --step-tolerance).
@@ -145,13 +143,13 @@ def _model(a, b, c, d) -> Tuple[np.ndarray, ...]:
 
 
 def run(model, dt: float, sensing: str, u: Any, y: Any, max_passes: int, step_tolerance: float,
-        noise_std: Optional[np.ndarray] = None, what: str = "refine", progress: Optional[ProgressCallback] = None):
+        noise_std: Optional[np.ndarray] = None, what: str = "refine", progress: ProgressArg = None):
     """okid_refine_* over the record: (RefineCore, Refinement). Ctrl-C raises KeyboardInterrupt
     within one chunk; progress(done, total) follows the samples fed."""
     a, b, c, d = _model(*model)
     ua, ya = _record(u, y, b.shape[1], c.shape[0])
     status, core = _core.refine(a, b, c, d, float(dt), SENSING[sensing], ua, ya, max_passes, step_tolerance,
-                                noise_std, progress)
+                                noise_std, phase(progress, "refinement"))
     check(status, f"{what} (n = {a.shape[0]}, r = {b.shape[1]}, m = {c.shape[0]}, {ua.shape[0]} samples: more "
                   f"output samples than parameters, finite inputs)")
     return core, _refinement(core)
@@ -188,9 +186,36 @@ class CramerRaoBound(_ModeArrays, Travelling):
     below which no unbiased estimate of a mode's frequency or damping ratio can go."""
     modes: Tuple[Mode, ...]    #: the model's modes (okid.Mode), their *_std fields the bound
     noise_std: np.ndarray      #: (m,) the output noise standard deviations used [output units]
-    num_parameters: int        #: parameters of the model class (order n with feedthrough and x(0))
-    samples: int               #: N
+    num_parameters: int        #: parameters of the model class (order n with feedthrough and x(0)) [counts]
+    samples: int               #: N [samples]
 
+    def to_dict(self) -> Dict[str, Any]:
+        """The bound as a JSON object: its fields by name (arrays as lists, complex as [re, im])."""
+        return _document.encode(self)
+
+    def save(self, path: Union[str, "os.PathLike[str]"]) -> None:
+        """Write the bound to path as JSON (format CRLB_FORMAT, version CRLB_FORMAT_VERSION:
+        docs/python.md); CramerRaoBound.load(path) gives it back equal. An existing file is
+        refused (FileExistsError)."""
+        _document.save(self, self.to_dict(), path, CRLB_FORMAT, CRLB_FORMAT_VERSION)
+
+    @classmethod
+    def from_dict(cls, document: Mapping[str, Any]) -> "CramerRaoBound":
+        """The bound from CramerRaoBound.save()'s (or to_dict()'s) object."""
+        document, extra = _document.open_document(document, CRLB_FORMAT, CRLB_FORMAT_VERSION,
+                                                  f"okid.CramerRaoBound.load reads {CRLB_FORMAT!r} files",
+                                                  default_format=CRLB_FORMAT)
+        return _document.read(cls, _document.merged(document, extra))
+
+    @classmethod
+    def load(cls, path: Union[str, "os.PathLike[str]"]) -> "CramerRaoBound":
+        """The bound a file holds (CramerRaoBound.save()'s)."""
+        return cls.from_dict(_document.load_json(path, "CramerRaoBound.save()"))
+
+
+#: CramerRaoBound.save()'s file: "format", "format_version", then the bound's fields.
+CRLB_FORMAT = "okid.CramerRaoBound"
+CRLB_FORMAT_VERSION = 1
 
 
 #: why okid_refine_result::std_status is not OKID_OK (the words of okid crlb's refusal)

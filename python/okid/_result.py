@@ -18,9 +18,9 @@ from . import _document
 from ._config import integer
 from ._document import Travelling
 from ._errors import E_BAD_PARAMETER, E_NOT_AVAILABLE, BadParameterError, check, error_for
-from ._mode import Mode, ModeArrays, StabilityFlag, WarningFlag, modes_from_dicts
-from ._refine import (REFINE_DEFAULTS, ProgressCallback, Refinement, check_settings, run as _run_refinement,
-                      warn_if_stopped)
+from ._mode import Mode, ModeArrays, Pole, SelectedMode, StabilityFlag, WarningFlag, modes_from_dicts
+from ._progress import CALLER, ProgressArg, reported
+from ._refine import REFINE_DEFAULTS, Refinement, check_settings, run as _run_refinement, warn_if_stopped
 from ._statespace import StateSpaceModel
 
 #: Result.save()'s file: "format" and "format_version" first, then the members of ``okid identify
@@ -30,30 +30,79 @@ FORMAT = "okid.Result"
 FORMAT_VERSION = 1
 
 
+#: Stabilization.save()'s file: "format" and "format_version", then the members of ``okid identify
+#: --json --stabilization``'s "stabilization" object (Stabilization.to_dict()).
+STABILIZATION_FORMAT = "okid.Stabilization"
+STABILIZATION_FORMAT_VERSION = 1
+
+
 @dataclass(frozen=True)
-class StabilizationOrder:
+class StabilizationOrder(Travelling):
     """The modes of one model order of a stabilization diagram, with their stability flags."""
-    order: int
-    modes: Tuple[Mode, ...]
-    stability: Tuple[StabilityFlag, ...]
+    order: int                          #: the model order n [states]
+    modes: Tuple[Mode, ...]             #: its modes, sorted by frequency
+    stability: Tuple[StabilityFlag, ...]  #: each mode's stability against the previous order
 
 
-class Stabilization:
-    """Stabilization diagram data: the modes of orders step, 2 step, ..., max_order from one SVD."""
+@dataclass(frozen=True, eq=False)
+class Stabilization(Travelling):
+    """Stabilization diagram data: the modes of orders step, 2 step, ..., max_order from one SVD.
+    Immutable; pickles, copies and saves (save(), Stabilization.load()) as a detached diagram with
+    the same fields and to_dict()."""
+    max_order: int                          #: the highest order asked for [states]
+    step: int                               #: the order step [states]
+    rank_limit: int                         #: largest order the Hankel matrix supports [states]
+    orders: Tuple[StabilizationOrder, ...]  #: one entry per order computed, increasing
+    _core: Any = field(repr=False, default=None)
+    _document: Optional[Mapping[str, Any]] = field(repr=False, default=None)  # to_dict() of a detached diagram
 
-    def __init__(self, core: Any, max_order: int, step: int):
-        self._core = core
-        self.max_order = max_order
-        self.step = step
-        self.rank_limit: int = core.rank_limit  #: largest order the Hankel matrix supports
-        self.orders: Tuple[StabilizationOrder, ...] = tuple(
-            StabilizationOrder(order, modes_from_dicts(modes), tuple(StabilityFlag(f) for f in flags))
-            for order, modes, flags in core.orders())
+    @classmethod
+    def _from_core(cls, core: Any, max_order: int, step: int) -> "Stabilization":
+        orders = tuple(StabilizationOrder(order, modes_from_dicts(modes), tuple(StabilityFlag(f) for f in flags))
+                       for order, modes, flags in core.orders())
+        return cls(max_order, step, core.rank_limit, orders, _core=core)
 
     def to_dict(self) -> Dict[str, Any]:
-        """The "stabilization" object of ``okid identify --json --stabilization`` (the CLI's writer)."""
-        text = self._core.to_json()
-        return json.loads(text[text.index("{"):])
+        """The "stabilization" object of ``okid identify --json --stabilization`` (the CLI's writer;
+        a detached diagram gives the object it was detached with)."""
+        if self._core is not None:
+            text = self._core.to_json()
+            return json.loads(text[text.index("{"):])
+        return copy.deepcopy(_document.thaw_mapping(self._document or {}))
+
+    def _private_state(self) -> Dict[str, Any]:
+        return {"_document": self.to_dict()}
+
+    def save(self, path: Union[str, "os.PathLike[str]"]) -> None:
+        """Write the diagram to path as JSON (format STABILIZATION_FORMAT, version
+        STABILIZATION_FORMAT_VERSION: docs/python.md); Stabilization.load(path) gives it back
+        equal. An existing file is refused (FileExistsError)."""
+        _document.save(self, self.to_dict(), path, STABILIZATION_FORMAT, STABILIZATION_FORMAT_VERSION)
+
+    @classmethod
+    def from_dict(cls, document: Mapping[str, Any]) -> "Stabilization":
+        """A detached diagram from Stabilization.save()'s object or the CLI's "stabilization" object."""
+        document, extra = _document.open_document(
+            document, STABILIZATION_FORMAT, STABILIZATION_FORMAT_VERSION,
+            f"okid.Stabilization.load reads {STABILIZATION_FORMAT!r} files and the \"stabilization\" object of "
+            f"okid identify --json --stabilization", default_format=STABILIZATION_FORMAT)
+        values = _document.read(cls, _document.merged(document, extra), _STABILIZATION_FALLBACKS)
+        return replace(values, _document=MappingProxyType(document))
+
+    @classmethod
+    def load(cls, path: Union[str, "os.PathLike[str]"]) -> "Stabilization":
+        """The diagram a file holds: Stabilization.save()'s (or the CLI's "stabilization" object)."""
+        return cls.from_dict(_document.load_json(path, "Stabilization.save()"))
+
+
+def _stability(obj: Mapping[str, Any], outer: Mapping[str, Any]) -> Tuple[StabilityFlag, ...]:
+    """A mode's flags from the JSON's stable_frequency, stable_damping, stable_shape."""
+    return tuple(StabilityFlag((StabilityFlag.FREQUENCY if m["stable_frequency"] else 0) |
+                               (StabilityFlag.DAMPING if m["stable_damping"] else 0) |
+                               (StabilityFlag.SHAPE if m["stable_shape"] else 0)) for m in obj["modes"])
+
+
+_STABILIZATION_FALLBACKS: _document.Fallbacks = {"StabilizationOrder.stability": _stability}
 
 
 #: Result's fields from the binding's fields(): okid_result's scalars (OKID_RESULT_SCALARS of
@@ -140,7 +189,7 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
     chosen: Optional[Mapping[str, Any]] = None
     #: with the order chosen (order=0): every pole of the model with its verdict (okid.Pole), while
     #: ``modes`` holds the physical modes (okid.SelectedMode); else None
-    poles: Optional[Tuple[Any, ...]] = None
+    poles: Optional[Tuple[Pole, ...]] = None
     #: (m,) how much of each output the model explains [%], as MATLAB's compare: 100 (1 - |y - yhat|
     #: / |y - mean y|), yhat the model's response to u from rest (okid identify's "fit_percent";
     #: WarningFlag.NO_OUTPUT_EXPLAINED when every one is below 50); after a refinement the refined
@@ -190,27 +239,21 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
         """Write this result to path as JSON (the format FORMAT, version FORMAT_VERSION:
         docs/python.md, "Results that travel"); okid.load(path) gives it back equal. An existing
         file is refused (FileExistsError): the caller removes it."""
-        document = self.to_dict()
-        extra = _document.missing(self, document)
-        text = json.dumps({"format": FORMAT, "format_version": FORMAT_VERSION, **document,
-                           **({"python": extra} if extra else {})}, indent=1, allow_nan=False)
-        with open(path, "x", encoding="utf-8") as f:
-            f.write(text + "\n")
+        _document.save(self, self.to_dict(), path, FORMAT, FORMAT_VERSION)
+
+    @classmethod
+    def load(cls, path: Union[str, "os.PathLike[str]"]) -> "Result":
+        """okid.load(path): the Result a file holds (Result.save()'s, or ``okid identify --json``'s)."""
+        return load(path)
 
     @classmethod
     def from_dict(cls, document: Mapping[str, Any]) -> "Result":
         """A detached Result from a JSON object: Result.save()'s, or the CLI's ``okid identify
         --json`` (with --refine too). Fields the CLI's JSON lacks (observer_gain_markov; a
         refinement's order, dt, cost) are None, derived or nan."""
-        document = dict(document)
-        fmt = document.pop("format", FORMAT)
-        version = document.pop("format_version", FORMAT_VERSION)
-        if fmt != FORMAT:
-            raise ValueError(f"format = {fmt!r}: okid.load reads {FORMAT!r} files and the JSON of okid identify --json")
-        if isinstance(version, bool) or not isinstance(version, int) or not 1 <= version <= FORMAT_VERSION:
-            raise ValueError(f"format_version = {version!r}: this okid reads versions 1..{FORMAT_VERSION} "
-                             f"(a newer okid wrote the file: upgrade okid)")
-        extra = document.pop("python", {})
+        document, extra = _document.open_document(
+            document, FORMAT, FORMAT_VERSION, f"okid.load reads {FORMAT!r} files and the JSON of okid identify --json",
+            default_format=FORMAT)
         for name in ("inputs", "outputs", "elapsed_seconds"):  # the CLI's, not the result's
             document.pop(name, None)
         # okid identify --refine: the top-level modes and warnings are the refined ones, the model
@@ -220,10 +263,11 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
         if isinstance(start_doc, Mapping):
             fields.pop("start")
             fields.update({k: v for k, v in start_doc.items() if k not in ("modes", "warnings", "warning_bits")})
-        extra = dict(extra)
         start_extra = extra.pop("start", None)
-        values = _document.read(cls, _document.merged(fields, extra), _CLI_FALLBACKS,
-                                aliases={"warnings": "warning_bits"})
+        fields = _document.merged(fields, extra)
+        values = _document.read(cls, fields, _CLI_FALLBACKS, aliases={"warnings": "warning_bits"})
+        if values.poles is not None:  # the order chosen: the modes are the physical ones the selection kept
+            values = replace(values, modes=tuple(_document.read(SelectedMode, m) for m in fields["modes"]))
         if isinstance(start_doc, Mapping):
             refined_only = ("start", "refinement", "std_covariance", "initial_state", "modes", "warnings",
                             "warning_bits", "A", "B", "C", "D")
@@ -232,9 +276,10 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
             values = replace(values, start=cls.from_dict(start))
         return replace(values, _document=MappingProxyType(document))
 
+    @reported
     def refine(self, u: Any, y: Any, *, max_passes: int = REFINE_DEFAULTS["max_passes"],
                step_tolerance: float = REFINE_DEFAULTS["step_tolerance"],
-               progress: Optional[ProgressCallback] = None) -> "Result":
+               progress: ProgressArg = None) -> "Result":
         """This result with its prediction-error refinement over the record (u, y): the same
         arrays this model describes, (N, r) and (N, m), at its sample interval dt (docs/refinement.md).
 
@@ -247,16 +292,17 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
 
         The record goes in chunks (some 10-50 ms of work each): Ctrl-C raises KeyboardInterrupt
         between two, and progress(done, total), when given, is called after each with the samples
-        fed and samples x max_passes.
+        fed and samples x max_passes; progress=True shows a bar on stderr instead (tqdm's when
+        installed, else a plain line).
         """
         if self.decimation > 1:
             raise BadParameterError(f"refine() of a result with decimation = {self.decimation}: the refinement needs "
                                     f"the record at the model's sample interval; identify without decimation",
                                     E_BAD_PARAMETER)
-        return self._refine(u, y, max_passes, step_tolerance, stacklevel=2, progress=progress)
+        return self._refine(u, y, max_passes, step_tolerance, stacklevel=CALLER, progress=progress)
 
     def _refine(self, u: Any, y: Any, max_passes: Any, step_tolerance: Any, stacklevel: int,
-                progress: Optional[ProgressCallback] = None) -> "Result":
+                progress: ProgressArg = None) -> "Result":
         passes, tol = check_settings(max_passes, step_tolerance)
         core, refined = _run_refinement((self.A, self.B, self.C, self.D), self.dt, self.config["sensing"], u, y,
                                         passes, tol, progress=progress)
@@ -291,7 +337,7 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
                                                       float(mac_min))
         check(status, f"stabilization(max_order={max_order}, step={step}) (max_order 1.."
                       f"{len(self.singular_values)}, step 1..max_order; only for the identifier's latest result)")
-        return Stabilization(core, max_order, step)
+        return Stabilization._from_core(core, max_order, step)
 
 
 #: What the CLI's JSON lacks that a Result needs: its refinement's order, dt and cost.
@@ -312,8 +358,4 @@ _CLI_FALLBACKS: _document.Fallbacks = {
 def load(path: Union[str, "os.PathLike[str]"]) -> Result:
     """The Result a file holds: one Result.save() wrote, or the output of ``okid identify --json``
     (with or without --refine). Detached: the same fields and to_dict(), no stabilization()."""
-    with open(path, encoding="utf-8") as f:
-        document = json.load(f)
-    if not isinstance(document, dict):
-        raise ValueError(f"{os.fspath(path)}: not a JSON object (okid identify --json or Result.save() writes one)")
-    return Result.from_dict(document)
+    return Result.from_dict(_document.load_json(path, "okid identify --json or Result.save()"))

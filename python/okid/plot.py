@@ -21,7 +21,8 @@ import numpy as np
 from ._mode import Mode, StabilityFlag
 from ._result import Result, Stabilization
 
-__all__ = ["mac", "mac_matrix", "mode_shapes", "response", "fit_percent", "frequency_response", "stabilization"]
+__all__ = ["mac", "mac_matrix", "mode_shapes", "response", "fit_percent", "frequency_response", "stabilization",
+           "measured_frequency_response", "plot_stabilization"]
 
 #: what has modes: a Result, a Refinement, a CramerRaoBound, or the modes themselves
 Modes = Union[Any, Sequence[Mode]]
@@ -174,4 +175,66 @@ def stabilization(diagram: Stabilization, *, ax: Any = None, max_frequency: Opti
     ax.set_ylabel("model order")
     ax.legend(fontsize=8)
     ax.set_title("stabilization diagram")
+    return ax
+
+
+def measured_frequency_response(u: Any, y: Any, dt: float, segment: Optional[int] = None) -> Tuple[np.ndarray, np.ndarray]:
+    """The H1 estimate of the frequency response from a record: Welch averages (Hann window, half
+    overlap) of the cross spectra, H(f) = S_yu(f) S_uu(f)^-1. u (N, r), y (N, m) [their units],
+    dt [s]; segment: samples per average (default N/8, at most 4096, at least 64). Returns
+    (frequencies [Hz], H (F, m, r) [output unit / input unit])."""
+    u = np.asarray(u, float).reshape(len(u), -1)
+    y = np.asarray(y, float).reshape(len(y), -1)
+    if len(u) != len(y) or len(u) < 64:
+        raise ValueError(f"u and y need the same number of samples, at least 64 (u {len(u)}, y {len(y)})")
+    n = segment or int(min(4096, max(64, len(u) // 8)))
+    window = np.hanning(n)
+    starts = range(0, len(u) - n + 1, n // 2)
+    suu = syu = 0
+    for s in starts:
+        fu = np.fft.rfft(window[:, None] * (u[s:s + n] - u[s:s + n].mean(0)), axis=0)
+        fy = np.fft.rfft(window[:, None] * (y[s:s + n] - y[s:s + n].mean(0)), axis=0)
+        suu = suu + np.einsum("fi,fj->fij", fu, fu.conj())
+        syu = syu + np.einsum("fi,fj->fij", fy, fu.conj())
+    h = np.linalg.solve(np.swapaxes(suu, 1, 2), np.swapaxes(syu, 1, 2))  # (S_yu S_uu^-1)^T = S_uu^-T S_yu^T
+    return np.fft.rfftfreq(n, dt), np.swapaxes(h, 1, 2)
+
+
+def plot_stabilization(result: Result, u: Optional[Any] = None, y: Optional[Any] = None, *, max_order: Optional[int] = None,
+                       max_frequency: Optional[float] = None, ax: Any = None) -> Any:
+    """The stabilization diagram a modal analyst expects, for a Result of okid.identify: the poles of
+    every even order up to max_order (default: the automatic selection's table, min(60, Hankel
+    size)) marked stable / stable in frequency / new (okid.plot.stabilization), each physical mode
+    of result.modes marked at its frequency with its cluster's spread across orders as a band, and
+    behind them, on a log axis, the singular values of the frequency response: measured from u (N, r)
+    and y (N, m) when given (H1, measured_frequency_response), else the identified model's.
+    max_frequency [Hz]: default the model's Nyquist frequency. Returns the Axes."""
+    ax = _axes(ax)
+    nyquist = 0.5 / result.dt
+    top = nyquist if max_frequency is None else float(max_frequency)
+    limit = min(60, len(result.singular_values))
+    orders = limit - limit % 2 if max_order is None else int(max_order)
+    stabilization(result.stabilization(orders), ax=ax, max_frequency=top)
+    for k, md in enumerate(_modes(result)):
+        if not md.is_pair:
+            continue
+        low, high = getattr(md, "frequency_min", md.frequency_hz), getattr(md, "frequency_max", md.frequency_hz)
+        ax.axvspan(low, high, color="C2", alpha=0.2, lw=0)
+        ax.axvline(md.frequency_hz, color="C2", lw=1.2, label="physical modes" if k == 0 else None)
+    if u is not None and y is not None:
+        f, h = measured_frequency_response(u, y, result.config["dt"])
+        source = "measured (H1)"
+    else:
+        f = np.linspace(0.0, nyquist, 2000)
+        h, source = result.frequency_response(f), "identified model"
+    keep = f <= top
+    sv = np.linalg.svd(h[keep], compute_uv=False)
+    behind = ax.twinx()
+    behind.set_zorder(ax.get_zorder() - 1)
+    ax.patch.set_visible(False)
+    behind.semilogy(f[keep], sv, color="0.75", lw=0.8)
+    behind.set_ylabel(f"singular values of H, {source}")
+    ax.set_xlim(0.0, top)
+    ax.legend(fontsize=8, loc="upper right")
+    ax.set_title(f"stabilization diagram, order {result.order} reported")
     return ax

@@ -135,3 +135,22 @@ def test_defaults_reach_the_consensus(stem):
 def test_defaults_reach_the_consensus_of_gws_351():
     rec, res = defaults("gws_building_351")
     assert not mismatch(rec, res["modes"])
+
+
+def test_pole_warnings_name_their_poles():
+    """A warning about poles says which (issue 23): on the Hayward bridge at order 40 a real,
+    negative eigenvalue; "warning_poles" lists exactly the modes the library's rules flag (|z| >= 1,
+    z real and <= 0), and the table's warning line names each by frequency or value."""
+    path = str(DATA / "hayward_transverse.csv")
+    args = [OKID, "identify", "--inputs", "3", "--outputs", "3", "--order", "40", path]
+    res = json.loads(subprocess.run(args + ["--json"], capture_output=True, text=True, timeout=120, check=True).stdout)
+    zs = [complex(*m["eigenvalue"]) for m in res["modes"]]
+    want = {"unstable_pole": [z for z in zs if abs(z) >= 1], "nonphysical_pole": [z for z in zs if z.imag == 0 and z.real <= 0]}
+    want = {k: v for k, v in want.items() if v}
+    assert want, "the case no longer provokes a pole warning: pick another order"
+    assert {k: [complex(*z) for z in v] for k, v in res.get("warning_poles", {}).items()} == want
+    table = subprocess.run(args, capture_output=True, text=True, timeout=120, check=True).stdout
+    for z in want.get("nonphysical_pole", []):
+        assert f"z = {z.real:.5f}" in table
+    for z in want.get("unstable_pole", []):
+        assert f"(|z| {abs(z):.5f})" in table

@@ -65,6 +65,17 @@ def test_stopping_early_warns(record):
     assert "max_passes reached" in proc.stdout
 
 
+def test_timing_covers_the_refinement(record):
+    """--timing with --refine: the seconds of OKID/ERA and the refinement, not -1 (issue 23)."""
+    table = run("identify", "--order", 4, "--refine", "--timing", record)
+    assert table.returncode == 0, table.stderr
+    line = [l for l in table.stdout.splitlines() if l.startswith("elapsed from okid_init")]
+    assert len(line) == 1 and "refined modes" in line[0]
+    assert float(line[0].split(":")[1].split()[0]) > 0
+    out = json.loads(run("identify", "--order", 4, "--refine", "--timing", "--json", record).stdout)
+    assert out["elapsed_seconds"] > 0
+
+
 def test_refine_with_decimation_is_refused(record):
     proc = run("identify", "--order", 4, "--refine", "--decimation", 2, record)
     assert proc.returncode == 2 and "--refine with --decimation 2" in proc.stderr

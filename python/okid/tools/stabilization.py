@@ -15,6 +15,13 @@ computational modes. Dashed vertical lines mark the modes of the identified mode
 
     okid identify --json --stabilization 20 --observer-order 60 --hankel-rows 100 --hankel-cols 100 rec.csv > rec.json
     okid-stabilization rec.json --output stabilization.png
+
+Given a CSV record instead, it identifies it with okid.identify's defaults (the settings and the
+physical modes chosen from the data, docs/quality.md section 8) and draws okid.plot_stabilization:
+the physical modes with their spread across orders, the measured frequency response's singular
+values behind.
+
+    okid-stabilization rec.csv --inputs 2 --outputs 5 --output stabilization.png
 """
 import argparse
 import json
@@ -95,16 +102,40 @@ def plot_stabilization(source: Union[Dict[str, Any], str, Path], png: Union[str,
     return png
 
 
+def plot_record(csv: Union[str, Path], png: Union[str, Path], inputs: Optional[str] = None, outputs: Optional[str] = None,
+                max_frequency: Optional[float] = None) -> Path:
+    """Identify a CSV record with okid.identify's defaults and draw okid.plot_stabilization into png."""
+    import okid
+    from okid.plot import plot_stabilization as draw
+    rec = okid.read_record(csv, inputs=inputs, outputs=outputs)
+    result = okid.identify(rec.u, rec.y, rec.dt)
+    ax = draw(result, rec.u, rec.y, max_frequency=max_frequency)
+    ax.set_title(f"{Path(csv).name}: " + ", ".join(f"{m.frequency_hz:.3f} Hz" for m in result.modes)
+                 if result.modes else f"{Path(csv).name}: no physical mode found")
+    png = Path(png)
+    ax.figure.tight_layout()
+    ax.figure.savefig(png, dpi=110)
+    plt.close(ax.figure)
+    return png
+
+
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    parser = argparse.ArgumentParser(description="Stabilization diagram PNG from okid identify --json --stabilization.")
-    parser.add_argument("json", help="the JSON file ('-' reads standard input)")
+    parser = argparse.ArgumentParser(description="Stabilization diagram PNG from okid identify --json --stabilization, "
+                                                 "or from a CSV record identified with the defaults.")
+    parser.add_argument("source", metavar="FILE", help="the JSON file ('-' reads standard input) or a CSV record (.csv)")
     parser.add_argument("--output", "-o", default="stabilization.png", help="PNG to write (default stabilization.png)")
+    parser.add_argument("--inputs", default=None, help="CSV: input columns, a count or names (as okid identify --inputs)")
+    parser.add_argument("--outputs", default=None, help="CSV: output columns, a count or names (as okid identify --outputs)")
     parser.add_argument("--max-frequency", type=float, default=None, help="leave out poles above this [Hz]")
-    parser.add_argument("--min-cmi", type=float, default=0.5, help="grey out poles with a lower CMI (default 0.5)")
+    parser.add_argument("--min-cmi", type=float, default=0.5, help="JSON: grey out poles with a lower CMI (default 0.5)")
     args = parser.parse_args(argv)
     try:
-        path = plot_stabilization(args.json, args.output, args.max_frequency, args.min_cmi)
-    except (OSError, ValueError, KeyError) as err:
+        if str(args.source).lower().endswith(".csv"):
+            spec = [None if v is None else int(v) if v.isdigit() else v for v in (args.inputs, args.outputs)]
+            path = plot_record(args.source, args.output, spec[0], spec[1], args.max_frequency)
+        else:
+            path = plot_stabilization(args.source, args.output, args.max_frequency, args.min_cmi)
+    except Exception as err:  # noqa: BLE001 -- every refusal is one line (okid's errors name the value)
         print(f"okid-stabilization: {err}", file=sys.stderr)
         return 1
     print(path)
