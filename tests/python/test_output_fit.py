@@ -31,7 +31,7 @@ def numpy_fit(result, u, y):
 def noise():
     """A force and two 'responses' that are independent white noise: nothing to explain."""
     rng = np.random.default_rng(27)
-    return rng.standard_normal((2000, 1)), rng.standard_normal((2000, 2))
+    return rng.standard_normal((1000, 1)), rng.standard_normal((1000, 2))
 
 
 @pytest.fixture(scope="module")
@@ -48,8 +48,8 @@ def test_pure_noise_warns(noise):
     for kw in ({}, {"order": 4, "observer_order": 20, "hankel_rows": 20, "hankel_cols": 20, "decimation": 1}):
         res = okid.identify(u, y, DT, **kw)
         assert res.decimation == 1
-        # the same numbers as numpy's simulation: the sums of 2000 squares differ in order only
-        # (relative round-off ~ N eps = 4e-13 of |y|, far below 1e-9 of the fit)
+        # the same numbers as numpy's simulation: the sums of 1000 squares differ in order only
+        # (relative round-off ~ N eps = 2e-13 of |y|, far below 1e-9 of the fit)
         np.testing.assert_allclose(res.fit_percent, numpy_fit(res, u, y), rtol=1e-9, atol=1e-9)
         assert np.all(res.fit_percent < 50)                       # explains nothing: a few percent
         assert res.warnings & okid.WarningFlag.NO_OUTPUT_EXPLAINED
@@ -88,7 +88,9 @@ def test_cli_reports_the_same_fit(noise, tmp_path):
     assert proc.returncode == 0, proc.stderr
     doc = json.loads(proc.stdout)
     res = okid.identify(u, y, DT, order=4, observer_order=20, hankel_rows=20, hankel_cols=20, decimation=1)
-    assert doc["fit_percent"] == res.to_dict()["fit_percent"]  # one rule, one number
+    # one rule: the same number up to the round-off of the two builds' LAPACK (the CLI links the
+    # system's, the package scipy-openblas32: the models differ in the last bits), test_package's 1e-7
+    np.testing.assert_allclose(doc["fit_percent"], res.to_dict()["fit_percent"], rtol=1e-7, atol=1e-7)
     assert "the model explains less than half of every output" in " ".join(doc["warnings"])
     table = subprocess.run([OKID, "identify", str(path), *args], capture_output=True, text=True, timeout=120).stdout
     assert "warning: the model explains less than half of every output" in table
