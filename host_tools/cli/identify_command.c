@@ -8,6 +8,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "auto_identify.h"
 #include "auto_modes.h"
 #include "auto_report.h"
 #include "auto_settings.h"
@@ -18,6 +19,7 @@
 #include "identify_options.h"
 #include "identify_refine.h"
 #include "json_writer.h"
+#include "output_fit.h"
 #include "record_channels.h"
 #include "record_reader.h"
 #include "warning_poles.h"
@@ -70,6 +72,38 @@ static void print_header(const okid_config *cfg, const okid_result *res, const c
             printf("warning: %s%s\n", okid_warning_str(bit), poles);
         }
     }
+}
+
+/* How much of each output the model explains (output_fit.h). */
+static void print_fit(const double *fit, const column_choice *cc)
+{
+    printf("fit of each output (%% explained by the model's response from rest, as MATLAB's compare):");
+    for (int i = 0; i < cc->m; ++i) printf(" %s %.2f %%", cc->output_names[i], fit[i]);
+    printf("\n");
+}
+
+/* The fit of each output over the record, the temporary file of samples read once more; its
+   warning into res. 0, or -1 when there is no fit (output_fit_begin). */
+static int record_fit(record_reader *reader, const record_columns *cols, okid_result *res, double *fit)
+{
+    enum { BLOCK = 4096 };
+    output_fit *f = output_fit_begin(res);
+    okid_real *u = malloc(sizeof(okid_real) * BLOCK * (size_t)cols->r);
+    okid_real *y = malloc(sizeof(okid_real) * BLOCK * (size_t)cols->m);
+    char error[512];
+    int rc = f != NULL && u != NULL && y != NULL && fseek(reader->samples, 0, SEEK_SET) == 0 ? 0 : -1;
+    for (long got = 1; rc == 0 && got > 0;) {
+        got = record_read_block(reader, cols, BLOCK, u, y, error, sizeof error);
+        if (got < 0) rc = -1;
+        if (got > 0) output_fit_push(f, (size_t)got, u, y);
+    }
+    if (f != NULL) {
+        const unsigned warning = output_fit_end(f, fit);
+        if (rc == 0) res->warnings |= warning;
+    }
+    free(u);
+    free(y);
+    return rc;
 }
 
 /* The model's modes and their shapes (eq. 64). */
@@ -146,7 +180,7 @@ static void print_stabilization(const okid_stabilization *st)
 /* Print the result (and the stabilization diagram and refinement when asked) as a table or JSON. */
 static int report(const identify_options *o, const okid_config *cfg, okid_identifier *id, const okid_result *res,
                   const column_choice *cc, double elapsed, const okid_refine_result *refined,
-                  const start_search *search, const auto_choice *choice, const auto_modes *am)
+                  const start_search *search, const auto_choice *choice, const auto_modes *am, const double *fit)
 {
     okid_stabilization st;
     void *stab_ws = NULL;
@@ -173,11 +207,13 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
             json_result_header(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
             json_start(stdout, cfg, res);
             json_refined_result(stdout, &o->refine_cfg, refined, cfg->num_outputs);
-        } else if (choice != NULL) {
+        } else if (choice != NULL) { /* the fit before "chosen": after the model's members, as okid.Result.to_dict() */
             json_result_fields(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
+            if (fit != NULL) json_output_fit(stdout, fit, cfg->num_outputs);
             auto_json(stdout, choice, (double)cfg->dt, am, res, cfg->num_outputs);
         } else {
             json_result(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
+            if (fit != NULL) json_output_fit(stdout, fit, cfg->num_outputs);
         }
         if (stab_ws != NULL) json_stabilization(stdout, &st, o->stabilization, 2, cfg->num_outputs);
         if (refined != NULL && search->count > 0) json_start_search(stdout, search);
@@ -188,6 +224,7 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
         fputs("\n}\n", stdout);
     } else {
         print_header(cfg, res, cc, o->file);
+        if (refined == NULL && fit != NULL) print_fit(fit, cc);
         if (choice != NULL) auto_print_choice(choice, (double)cfg->dt);
         if (am != NULL) {
             auto_print_modes(am, res, cc->output_names, cfg->num_outputs, o->all_poles);
@@ -355,7 +392,7 @@ static int identify_and_refine(const identify_options *o, okid_config *cfg, reco
         rc = identify_refine(o, &res, n, u, y, 0, &rf, &rf_ws, &refined);
         timespec_get(&t1, TIME_UTC);
         const double elapsed = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
-        if (rc == 0) rc = report(o, cfg, &id, &res, cc, elapsed, &refined, &search, NULL, NULL);
+        if (rc == 0) rc = report(o, cfg, &id, &res, cc, elapsed, &refined, &search, NULL, NULL, NULL);
         free(rf_ws);
     }
     free(grown);
@@ -364,110 +401,54 @@ static int identify_and_refine(const identify_options *o, okid_config *cfg, reco
     return rc;
 }
 
-/* --observer-seconds, --hankel-seconds: counts of K dt; the ones not given keep their counts. 0, or an exit code. */
-static int horizon_seconds(const identify_options *o, okid_config *cfg)
+/* okid_config_horizons refused --observer-seconds/--hankel-seconds: the line and the exit code. */
+static int horizons_error(okid_status st, const okid_config *cfg)
 {
-    if (!(o->observer_seconds > 0 || o->hankel_seconds > 0)) {
-        return 0;
-    }
     const double step = (double)cfg->dt * (cfg->decimation > 1 ? cfg->decimation : 1);
-    const okid_status st = okid_config_horizons(
-        cfg, (okid_real)(o->observer_seconds > 0 ? o->observer_seconds : cfg->observer_order * step),
-        (okid_real)(o->hankel_seconds > 0 ? o->hankel_seconds : cfg->hankel_rows * step),
-        (okid_real)(o->hankel_seconds > 0 ? o->hankel_seconds : cfg->hankel_cols * step));
-    return st == OKID_OK ? 0
-                         : cli_error(EXIT_USAGE, "--observer-seconds/--hankel-seconds: %s (at most %d blocks of K dt = %g s)",
-                                     okid_status_str(st), OKID_MAX_HORIZON, step);
+    return cli_error(EXIT_USAGE, "--observer-seconds/--hankel-seconds: %s (at most %d blocks of K dt = %g s)",
+                     okid_status_str(st), OKID_MAX_HORIZON, step);
 }
 
 /*
- * okid identify with a setting or the order left to the data (auto_settings.h, auto_modes.h): the
- * record into memory, the band of its outputs, the settings, the physical modes over the Hankel
- * windows (when the order is not given), and the model at the chosen order.
+ * okid identify with a setting or the order left to the data (auto_identify.h): the record into
+ * memory, then the host library's automatic identification, then the report.
  */
-static int identify_auto(const identify_options *o, okid_config *cfg, record_reader *reader,
+static int identify_auto(const identify_options *o, const okid_config *cfg, record_reader *reader,
                          const record_columns *cols, const record_scan *scan, const column_choice *cc)
 {
-    const size_t n = scan->samples;
+    auto_request rq = {.cfg = *cfg, .given = o->given, .observer_seconds = o->observer_seconds,
+                       .hankel_seconds = o->hankel_seconds, .n = scan->samples};
     okid_real *u, *y;
-    int rc = load_samples(reader, cols, n, &u, &y);
+    int rc = load_samples(reader, cols, rq.n, &u, &y);
     if (rc != 0) {
         return rc;
     }
+    rq.u = u, rq.y = y;
     struct timespec t0, t1;
     timespec_get(&t0, TIME_UTC);
-    auto_band band;
-    /* too short or flat to choose from, or a flat input (its rank check must see it undecimated):
-       the library's defaults, and their refusals */
-    auto_band input_band;
-    if (auto_channel_band(y, n, cols->m, (double)cfg->dt, &band) != 0 ||
-        auto_channel_band(u, n, cols->r, (double)cfg->dt, &input_band) != 0) {
-        band = (auto_band){0, 0, 0};
-    }
-    auto_choice choice;
-    auto_choose(cfg, o->given, n, &band, &choice);        /* the decimation first: */
-    rc = horizon_seconds(o, cfg);                         /* the spans in seconds count K dt, */
-    auto_choose(cfg, o->given | AUTO_GIVEN_DECIMATION, n, &band, &choice); /* then the rest */
-    choice.given = o->given;
-    size_t bytes = 0;
-    okid_status st = rc == 0 ? okid_workspace_size(cfg, &bytes) : OKID_OK;
-    char shortfall[512];
-    if (rc == 0 && st != OKID_OK) {
-        rc = settings_error(cfg, st);
-    } else if (rc == 0 && config_data_shortfall(cfg, n, shortfall, sizeof shortfall)) {
-        rc = cli_error(EXIT_DATA, "%s", shortfall);
-    }
-    auto_modes *am = NULL;
-    /* the correlation form's guard may refuse (okid/identifier.h): then the QR fold, said in the warnings */
-    int fallback = 0;
-    if (rc == 0 && cfg->order == 0) {
-        if ((am = malloc(sizeof *am)) == NULL) {
-            rc = cli_error(EXIT_DATA, "out of memory");
-        } else if ((st = auto_modes_find(&choice, cfg, n, u, y, am)) == OKID_E_DECOMPOSITION_FAILED &&
-                   cfg->estimator == OKID_ESTIMATOR_CORRELATION) {
-            auto_modes_free(am);
-            cfg->estimator = OKID_ESTIMATOR_LEAST_SQUARES;
-            fallback = 1;
-            st = auto_modes_find(&choice, cfg, n, u, y, am);
-        }
-        if (rc == 0 && st != OKID_OK) {
-            rc = identify_failure(cfg, &am->runs[0].id, st, cc, scan);
-        } else if (rc == 0) {
-            /* the model: the order whose poles hold the physical modes, else the library's own choice */
-            cfg->order = am->num_modes > 0 ? am->order : am->runs[0].result.order;
-        }
-    }
-    void *ws = NULL;
-    okid_identifier id;
-    okid_result res;
-    if (rc == 0 && ((st = okid_workspace_size(cfg, &bytes)) != OKID_OK ||
-                    (ws = aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16)) == NULL)) {
-        rc = st != OKID_OK ? settings_error(cfg, st) : cli_error(EXIT_DATA, "out of memory (workspace of %zu bytes)", bytes);
-    }
-    if (rc == 0) {
-        st = okid_init(&id, cfg, ws, bytes, NULL);
-        if (st == OKID_OK) st = okid_push_block(&id, n, u, (size_t)cols->r, y, (size_t)cols->m, NULL);
-        if (st == OKID_OK) st = okid_identify(&id, &res);
-        if (st == OKID_E_DECOMPOSITION_FAILED && cfg->estimator == OKID_ESTIMATOR_CORRELATION) {
-            cfg->estimator = OKID_ESTIMATOR_LEAST_SQUARES;
-            fallback = 1;
-            st = okid_init(&id, cfg, ws, bytes, NULL);
-            if (st == OKID_OK) st = okid_push_block(&id, n, u, (size_t)cols->r, y, (size_t)cols->m, NULL);
-            if (st == OKID_OK) st = okid_identify(&id, &res);
-        }
-        if (fallback) res.warnings |= OKID_W_CORRELATION_FALLBACK;
-        timespec_get(&t1, TIME_UTC);
-        const double elapsed = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
-        okid_config shown = *cfg; /* "config": the order as given (0: chosen, "chosen" says how) */
+    auto_identification ai;
+    const okid_status st = auto_identify(&rq, &ai);
+    timespec_get(&t1, TIME_UTC);
+    const double elapsed = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    switch (ai.failure) {
+    case AUTO_OK: {
+        okid_config shown = ai.cfg; /* "config": the order as given (0: chosen, "chosen" says how) */
         shown.order = o->cfg.order;
-        rc = st == OKID_OK ? report(o, &shown, &id, &res, cc, elapsed, NULL, NULL, &choice, am)
-                           : identify_failure(cfg, &id, st, cc, scan);
+        double fit[OKID_MAX_DIMENSION];
+        unsigned warning = 0;
+        const int have_fit = output_fit_record(&ai.result, rq.n, u, y, fit, &warning) == 0;
+        ai.result.warnings |= warning;
+        rc = report(o, &shown, &ai.id, &ai.result, cc, elapsed, NULL, NULL, &ai.choice, ai.modes, have_fit ? fit : NULL);
+        break;
     }
-    if (am != NULL) {
-        auto_modes_free(am);
-        free(am);
+    case AUTO_FAILED_HORIZONS: rc = horizons_error(st, &ai.cfg); break;
+    case AUTO_FAILED_SETTINGS: rc = settings_error(&ai.cfg, st); break;
+    case AUTO_FAILED_DATA: rc = cli_error(EXIT_DATA, "%s", ai.shortfall); break;
+    case AUTO_FAILED_MEMORY: rc = cli_error(EXIT_DATA, "out of memory"); break;
+    case AUTO_FAILED_MODES:
+    case AUTO_FAILED_MODEL: rc = identify_failure(&ai.cfg, auto_failed_identifier(&ai), st, cc, scan); break;
     }
-    free(ws);
+    auto_identification_free(&ai);
     free(u);
     free(y);
     return rc;
@@ -533,9 +514,9 @@ static int run(identify_options *o, record_reader *reader, const char *label)
     cfg.dt = (okid_real)dt;
     if (cc->lift_factor > 0) cfg.decimation = 1;
     okid_status st = OKID_OK;
-    if ((rc = horizon_seconds(o, &cfg)) != 0) {
+    if ((st = auto_horizon_seconds(&cfg, o->observer_seconds, o->hankel_seconds)) != OKID_OK) {
         free(cc);
-        return rc;
+        return horizons_error(st, &cfg);
     }
     /* settings not given, or the order: chosen from the data, the physical modes selected */
     const unsigned all = AUTO_GIVEN_DECIMATION | AUTO_GIVEN_OBSERVER | AUTO_GIVEN_HANKEL;
@@ -585,8 +566,10 @@ static int run(identify_options *o, record_reader *reader, const char *label)
             res.warnings |= OKID_W_CORRELATION_FALLBACK;
         }
     }
+    double fit[OKID_MAX_DIMENSION];
+    const int have_fit = rc == 0 && st == OKID_OK && record_fit(reader, &cols, &res, fit) == 0;
     if (rc == 0) {
-        rc = st == OKID_OK ? report(o, &cfg, &id, &res, cc, elapsed, NULL, NULL, NULL, NULL)
+        rc = st == OKID_OK ? report(o, &cfg, &id, &res, cc, elapsed, NULL, NULL, NULL, NULL, have_fit ? fit : NULL)
                            : identify_failure(&cfg, &id, st, cc, &scan);
     }
     free(ws);

@@ -45,64 +45,33 @@ int identify_refine(const identify_options *o, const okid_result *res, size_t n,
     return 0;
 }
 
-/*
- * The lowest cost is the highest likelihood (the record and the model order are the same for
- * all starts). OKID/ERA's own settings matter little once refined, but a start whose modes are
- * wrong (a real pole for a lightly damped pair) ends in another, worse, local minimum. The grid
- * runs from cheap to costly and stops once two starts reach the same cost.
- */
-static const int start_observer_orders[START_P] = {10, 20, 40, 80};
-static const int start_hankel_blocks[START_H] = {20, 50, 100};
+/* start_search_run()'s refinement of a start: identify_refine(), quietly. */
+typedef struct start_record {
+    const identify_options *o;
+    size_t n;
+    const okid_real *u, *y;
+} start_record;
+
+static int refine_start(void *context, const okid_result *start, int *state, double *cost)
+{
+    const start_record *rec = context;
+    okid_refiner rf;
+    okid_refine_result out;
+    void *rf_ws = NULL;
+    const int rc = identify_refine(rec->o, start, rec->n, rec->u, rec->y, 1, &rf, &rf_ws, &out);
+    if (rc == 0) {
+        *state = (int)out.state;
+        *cost = (double)out.cost;
+    }
+    free(rf_ws);
+    return rc;
+}
 
 void identify_choose_start(const identify_options *o, okid_config *cfg, size_t n, const okid_real *u,
                            const okid_real *y, start_search *search)
 {
-    search->count = 0;
-    search->best = -1;
-    int agree = 0;
-    for (int i = 0; i < START_P && agree < 2; ++i) {
-        for (int j = 0; j < START_H && agree < 2; ++j) {
-            start_candidate *c = &search->candidates[search->count++];
-            okid_config trial = *cfg;
-            trial.observer_order = c->observer_order = start_observer_orders[i];
-            trial.hankel_rows = trial.hankel_cols = c->hankel_blocks = start_hankel_blocks[j];
-            c->identified = 0;
-            c->state = -1;
-            c->cost = NAN;
-            size_t bytes = 0;
-            if (okid_workspace_size(&trial, &bytes) != OKID_OK) continue;
-            void *ws = aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16), *rf_ws = NULL;
-            okid_identifier id;
-            okid_result res;
-            okid_refiner rf;
-            okid_refine_result out;
-            if (ws != NULL && okid_init(&id, &trial, ws, bytes, NULL) == OKID_OK &&
-                okid_push_block(&id, n, u, (size_t)trial.num_inputs, y, (size_t)trial.num_outputs, NULL) == OKID_OK &&
-                okid_identify(&id, &res) == OKID_OK) {
-                c->identified = 1;
-                if (identify_refine(o, &res, n, u, y, 1, &rf, &rf_ws, &out) == 0) {
-                    c->state = (int)out.state;
-                    c->cost = (double)out.cost;
-                    const int usable = out.state != OKID_REFINE_DIVERGED && isfinite(c->cost);
-                    /* a thousandth of a log-likelihood unit is a tie: the earlier, cheaper start keeps it */
-                    if (usable && (search->best < 0 || c->cost < search->candidates[search->best].cost - 1e-3)) {
-                        search->best = search->count - 1;
-                    }
-                }
-            }
-            free(rf_ws);
-            free(ws);
-            /* two starts that end in the same optimum: the likely global one; stop before the costly starts */
-            agree = 0;
-            for (int k = 0; search->best >= 0 && k < search->count; ++k) {
-                agree += fabs(search->candidates[k].cost - search->candidates[search->best].cost) <= 1e-3;
-            }
-        }
-    }
-    if (search->best >= 0) {
-        cfg->observer_order = search->candidates[search->best].observer_order;
-        cfg->hankel_rows = cfg->hankel_cols = search->candidates[search->best].hankel_blocks;
-    }
+    start_record rec = {o, n, u, y};
+    start_search_run(cfg, n, u, y, refine_start, &rec, search);
 }
 
 void print_start_search(const start_search *search)
@@ -115,25 +84,6 @@ void print_start_search(const start_search *search)
                c->state >= 0 ? json_refine_state_name((okid_refine_state)c->state) : c->identified ? "refine failed" : "identify failed",
                c->cost, i == search->best ? "  <- chosen" : "");
     }
-}
-
-void json_start_search(FILE *out, const start_search *search)
-{
-    fprintf(out, ",\n  \"start_search\": {\"chosen\": %d, \"candidates\": [", search->best);
-    for (int i = 0; i < search->count; ++i) {
-        const start_candidate *c = &search->candidates[i];
-        fprintf(out, "%s{\"observer_order\": %d, \"hankel_rows\": %d, \"hankel_cols\": %d, \"state\": ",
-                i ? ",\n    " : "\n    ", c->observer_order, c->hankel_blocks, c->hankel_blocks);
-        if (c->state >= 0) {
-            fprintf(out, "\"%s\"", json_refine_state_name((okid_refine_state)c->state));
-        } else {
-            fputs(c->identified ? "\"refine_failed\"" : "\"identify_failed\"", out);
-        }
-        fputs(", \"cost\": ", out);
-        json_number(out, c->cost);
-        fputc('}', out);
-    }
-    fputs("]}", out);
 }
 
 void warn_residual_tests(const okid_refine_result *rr, int m, const char *const *output_names)

@@ -7,17 +7,7 @@
 #include <stdio.h>
 
 #include "identify_options.h"
-
-/* The starts --refine tries when no horizon is given (identify_choose_start). */
-enum { START_P = 4, START_H = 3 };
-typedef struct start_candidate {
-    int observer_order, hankel_blocks, identified, state; /* state: okid_refine_state, -1 when not refined */
-    double cost;
-} start_candidate;
-typedef struct start_search {
-    start_candidate candidates[START_P * START_H];
-    int count, best; /* best: index of the chosen start, -1 when none refined */
-} start_search;
+#include "start_search.h"
 
 /*
  * The prediction-error refinement of res over the record u (r x n), y (m x n), fed to the refiner
@@ -29,16 +19,14 @@ int identify_refine(const identify_options *o, const okid_result *res, size_t n,
                     const okid_real *y, int quiet, okid_refiner *rf, void **ws, okid_refine_result *out);
 
 /*
- * --refine without --observer-order or --hankel-*: OKID/ERA from each (p, alpha = beta) of a
- * grid, each refined; the start whose refinement reaches the lowest cost wins and cfg gets its p
- * and Hankel size (cfg is untouched when no start could be refined).
+ * --refine without --observer-order or --hankel-*: the host library's start search
+ * (start_search.h), each start refined by identify_refine(); cfg gets the chosen p and Hankel size.
  */
 void identify_choose_start(const identify_options *o, okid_config *cfg, size_t n, const okid_real *u,
                            const okid_real *y, start_search *search);
 
-/* The table's and the JSON's parts: the starts tried, and the refined modes with their std. */
+/* The table's parts: the starts tried (their JSON: json_start_search), and the refined modes with their std. */
 void print_start_search(const start_search *search);
-void json_start_search(FILE *out, const start_search *search);
 void print_refinement(const okid_refine_result *rr, int m, const char *const *output_names);
 /* One line on stderr per failed residual test, naming the output (output_names may be NULL). */
 void warn_residual_tests(const okid_refine_result *rr, int m, const char *const *output_names);

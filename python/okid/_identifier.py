@@ -14,14 +14,13 @@ import numpy as np
 
 from . import _config, _core
 from ._config import DEFAULTS, Estimator, Realization, Scaling, Sensing
-from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DECOMPOSITION_FAILED, E_NONFINITE_SAMPLE, E_NOT_AVAILABLE,
-                      E_NOT_ENOUGH_DATA, OK, BadParameterError, BadSizeError, DecompositionError, NonFiniteSampleWarning,
-                      NotEnoughDataError, OkidError, check, error_for)
+from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_AVAILABLE, E_NOT_ENOUGH_DATA, OK,
+                      BadParameterError, BadSizeError, DecompositionError, NonFiniteSampleWarning, NotEnoughDataError,
+                      check, error_for)
 from ._mode import Mode, Pole, SelectedMode, WarningFlag
 from ._progress import CALLER, ProgressArg, phase, reported, run_interruptibly
-from ._refine import REFINE_DEFAULTS, check_refine_model, check_settings
+from ._refine import REFINE_DEFAULTS, REFINE_MODELS, check_refine_model, check_settings
 from ._result import Result
-from ._start_search import choose_start
 from .model import lift as _lift
 
 
@@ -71,6 +70,15 @@ class Identifier:
         self._core: Optional[Any] = _core.IdentifierCore()
         self._last: Optional[Result] = None
         check(self._core.init(self._config), "okid_init")
+
+    @classmethod
+    def _adopt(cls, num_inputs: int, num_outputs: int, dt: float, options: Dict[str, Any], core: Any) -> "Identifier":
+        """An Identifier over a core the host library already identified with these options."""
+        self = cls.__new__(cls)
+        self._config = _config.build(num_inputs, num_outputs, dt, options)
+        self.num_inputs, self.num_outputs, self.dt = num_inputs, num_outputs, self._config["dt"]
+        self._core, self._last = core, None
+        return self
 
     def __copy__(self) -> "Identifier":
         raise TypeError("an okid.Identifier cannot be copied: the copy would share its C core (the pushed "
@@ -267,8 +275,8 @@ def identify(u: Any, y: Any, dt: float, *,
     samples for the paper's case, fewer for larger problems), first of the push
     (samples folded of N), then of the refinement (samples fed of N x max_passes). Ctrl-C raises
     KeyboardInterrupt within one chunk, during the push and the refinement alike. With settings
-    chosen from the data, the choice (one C call without chunks) comes first: progress(0, N)
-    before it and (N, N) after; Ctrl-C during it raises KeyboardInterrupt within 0.1 s, while the
+    chosen from the data, the choice and the model (one C call without chunks) replace the push:
+    progress(0, N) before it and (N, N) after; Ctrl-C during it raises KeyboardInterrupt within 0.1 s, while the
     choice runs on to its end in a background thread and is dropped. progress=True: a bar on
     stderr for each phase instead (tqdm's when tqdm is installed, else a plain line).
 
@@ -340,35 +348,27 @@ def identify(u: Any, y: Any, dt: float, *,
         raise NotEnoughDataError(shortfall, E_NOT_ENOUGH_DATA)
     search = None
     if refine and not horizons_given:
-        def trial(opts):
-            start = Identifier(r, m, dt, **opts)
-            if start._core.push_block(ub, yb)[0] != OK:
-                return None, None
-            try:
-                result = start.identify()
-            except OkidError:
-                return None, None
-            try:
-                return result, result._refine(ub, yb, max_passes, step_tolerance, stacklevel=2,
-                                              refine_model=refine_model).refinement
-            except OkidError:
-                return result, None
-        options, search = choose_start(trial, options)
-        identifier = Identifier(r, m, dt, **options)
-    auto, fallback = None, False
+        # okid identify --refine's own start search (host_tools/common/start_search.c), each start
+        # refined with these max_passes, step_tolerance and refine_model, quietly
+        chosen, search_json = _core.start_search(config, ub, yb, max_passes, step_tolerance,
+                                                 REFINE_MODELS[check_refine_model(refine_model)])
+        options.update(chosen)
+        search = json.loads("{" + search_json.lstrip().lstrip(",") + "}")["start_search"]
     if chosen_from_data:
-        status, settings, auto_json, selected, verdicts = _choose(config, given, ub, yb, progress)
-        if status == E_DECOMPOSITION_FAILED and options["estimator"] == "correlation":
-            # the correlation form's guard refused: the QR fold, as below and as the CLI does
-            options["estimator"], fallback = "least_squares", True
-            config = _config.build(r, m, dt, options)
-            status, settings, auto_json, selected, verdicts = _choose(config, given, ub, yb, progress)
-        if status == E_NOT_ENOUGH_DATA:  # auto_json holds the host library's refusal (config_explain.c)
+        # okid identify's own automatic identification (host_tools/common/auto_identify.c): the
+        # settings, the physical modes and the model, identified once (the correlation form's
+        # fallback to the QR fold included)
+        status, settings, auto_json, selected, verdicts, model = _choose(config, given, ub, yb, progress)
+        if status == E_NOT_ENOUGH_DATA and auto_json is not None:  # the host library's refusal (config_explain.c)
             raise NotEnoughDataError(auto_json, E_NOT_ENOUGH_DATA)
         check(status, "identify")
         user_order = options["order"]
-        options.update(settings)
-        auto = (user_order, auto_json, selected, verdicts)
+        code = settings.pop("estimator")  # least_squares after the fallback
+        options.update(settings, estimator=next(k for k, v in _config.ENUMS["estimator"].items() if v == code))
+        identifier = Identifier._adopt(r, m, dt, options, model[0])
+        model[1].measure_fit(ub, yb)  # as okid identify: the fit of each output, its warning
+        result = Result._from_core(model[1], identifier.config, model[0], model[0].generation)
+        return _with_choices(result, user_order, auto_json, selected, verdicts)
     identifier = Identifier(r, m, dt, **options)
     status, accepted = identifier._core.push_block(ub, yb, phase(progress, "push"))
     if status == E_NONFINITE_SAMPLE:
@@ -388,20 +388,26 @@ def identify(u: Any, y: Any, dt: float, *,
         identifier._core.push_block(ub, yb)
         result = identifier.identify()
         result = replace(result, warnings=result.warnings | WarningFlag.CORRELATION_FALLBACK)
-    if fallback:
-        result = replace(result, warnings=result.warnings | WarningFlag.CORRELATION_FALLBACK)
-    if auto is not None:
-        return _with_choices(result, *auto)
     if not refine:
-        return result
+        return _measured(result, ub, yb)
     return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=CALLER, progress=progress,
                                   refine_model=refine_model), start_search=search)
 
 
+def _measured(result: Result, u: np.ndarray, y: np.ndarray) -> Result:
+    """The result with the fit of each output over the record it came from, and its warning (the
+    host library's output_fit.c, as okid identify)."""
+    if not result._core.measure_fit(u, y):
+        return result
+    f = result._core.fields()
+    return replace(result, fit_percent=f["fit_percent"], warnings=result.warnings | WarningFlag(f["warnings"]))
+
+
 def _choose(config: Dict[str, Any], given: int, ub: np.ndarray, yb: np.ndarray, progress: Any) -> Tuple[Any, ...]:
-    """_core.auto_identify (the settings and the physical modes chosen from the data: one C call
-    without chunks) so that Ctrl-C stops the wait; progress sees (0, N) and (N, N) around it."""
-    return run_interruptibly(_core.auto_identify, (config, given, ub, yb), progress,
+    """_core.auto_identify (the settings, the physical modes and the model chosen from the data: one
+    C call, its push without a progress callback since it runs in a thread) so that Ctrl-C stops the
+    wait; progress sees (0, N) and (N, N) around it."""
+    return run_interruptibly(_core.auto_identify, (config, given, ub, yb, None), progress,
                              "choosing the settings from the data", ub.shape[0])
 
 

@@ -14,8 +14,8 @@ import numpy as np
 from . import _core, _document
 from . import model as _model_mod
 from ._config import SENSING, Sensing, integer, real_array, real_number
-from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DATA_RANGE, E_RANK_DEFICIENT, OK, BadParameterError, BadSizeError,
-                      check)
+from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DATA_RANGE, E_NONFINITE_SAMPLE, E_RANK_DEFICIENT, OK,
+                      BadParameterError, BadSizeError, NonFiniteSampleError, NotPersistentlyExcitingError, check)
 from ._document import Travelling
 from ._mode import Mode, ModeArrays, WarningFlag, modes_from_dicts
 from ._progress import ProgressArg, phase
@@ -140,11 +140,18 @@ def _model(a, b, c, d) -> Tuple[np.ndarray, ...]:
     n = a.shape[0] if a.ndim == 2 else -1
     if n < 1 or a.shape != (n, n):
         raise BadSizeError(f"A has shape {a.shape}: expected (n, n)", E_BAD_SIZE)
-    b = np.ascontiguousarray(np.reshape(real_array(b, "B"), (n, -1)))
+    b = real_array(b, "B")
+    if b.size == 0 or b.size % n != 0 or b.ndim > 2 or (b.ndim == 2 and b.shape[0] != n):
+        raise BadSizeError(f"B has shape {b.shape}: expected ({n}, r) for the {n} states of A", E_BAD_SIZE)
+    b = np.ascontiguousarray(np.reshape(b, (n, -1)))
     c = np.ascontiguousarray(real_array(c, "C"))
     if c.ndim != 2 or c.shape[1] != n:
         raise BadSizeError(f"C has shape {c.shape}: expected (m, {n})", E_BAD_SIZE)
-    d = np.ascontiguousarray(np.reshape(real_array(d, "D"), (c.shape[0], b.shape[1])))
+    d = real_array(d, "D")
+    if d.size != c.shape[0] * b.shape[1] or (d.ndim == 2 and d.shape != (c.shape[0], b.shape[1])):
+        raise BadSizeError(f"D has shape {d.shape}: expected ({c.shape[0]}, {b.shape[1]}) (m outputs of C, r inputs "
+                           f"of B)", E_BAD_SIZE)
+    d = np.ascontiguousarray(np.reshape(d, (c.shape[0], b.shape[1])))
     return a, b, c, d
 
 
@@ -262,13 +269,28 @@ def crlb(u: Any, dt: float, *, model: Optional[Tuple[Any, Any, Any, Any]] = None
         poles = np.linalg.eigvals(_model_mod._paper_continuous(sensing)[0])
         fastest = poles[np.argmax(np.abs(poles.imag))]
         damped, natural = abs(fastest.imag) / (2 * math.pi), abs(fastest) / (2 * math.pi)
+        fastest = float(np.max(np.abs(poles))) / (2 * math.pi)  # the natural frequency, as okid crlb's
         if damped >= 0.5 / dt:
             raise BadParameterError(f"dt = {dt!r}: the paper system's mode of natural frequency {natural:.6g} Hz "
                                     f"(damped {damped:.6g} Hz) is at or above the Nyquist frequency 1/(2 dt) = "
                                     f"{0.5 / dt:.6g} Hz and aliases at this dt: its bound would be another mode's; "
                                     f"give dt below {0.5 / damped:.6g} s", E_BAD_PARAMETER)
+    whose = "the model's" if model is not None else "the paper system's"
     a, b, c, d = _model(*(model if model is not None else _model_mod.paper_system(dt, sensing)))
-    ua, _ = _record(u, np.zeros((np.shape(u)[0], c.shape[0])), b.shape[1], c.shape[0])
+    m = c.shape[0]
+    ua, _ = _record(u, np.zeros((np.shape(u)[0], m)), b.shape[1], m)
+    bad = np.flatnonzero(~np.isfinite(ua).all(axis=1))
+    if bad.size:
+        raise NonFiniteSampleError(f"u holds NaN or Inf at sample {bad[0]} ({bad.size} of {len(ua)} samples): the "
+                                   f"bound needs a finite force record", E_NONFINITE_SAMPLE)
+    # okid crlb's causes (host_tools/cli/crlb_command.c): a record shorter than one period of the
+    # fastest mode determines no mode, whatever else then fails
+    if model is not None:
+        fastest = _fastest_mode_hz(a, dt)
+    short = fastest > 0 and len(ua) * dt * fastest < 1
+    period = f"less than one period of {whose} fastest mode ({1 / fastest:g} s at {fastest:.6g} Hz)" if short else ""
+    no_mode = (f"cannot compute the bound: the record spans {len(ua) * dt:g} s ({len(ua)} samples of dt {dt:g} s), "
+               f"{period}: no mode is determined; give a larger dt or more samples")
     y, _ = _model_mod.simulate(a, b, c, d, ua)
     if noise is not None:
         noise = real_number("noise", noise)
@@ -276,15 +298,42 @@ def crlb(u: Any, dt: float, *, model: Optional[Tuple[Any, Any, Any, Any]] = None
             raise BadParameterError(f"noise = {noise!r}: F > 0, the noise std relative to each output's RMS",
                                     E_BAD_PARAMETER)
         sigma = float(noise) * np.sqrt(np.mean(y * y, axis=0))
+        silent = np.flatnonzero(~(sigma > 0))
+        if silent.size and short:
+            raise BadParameterError(no_mode, E_BAD_PARAMETER)
+        if silent.size:
+            raise BadParameterError(f"output {silent[0] + 1} is zero over the record's {len(ua)} sample(s): the noise, "
+                                    f"noise = {noise:g} times its RMS, is 0 and bounds nothing; the force u does not "
+                                    f"reach it (a zero force, or C and D that do not see it)", E_BAD_PARAMETER)
     else:
-        sigma = np.broadcast_to(real_array(noise_std, "noise_std").reshape(-1), (c.shape[0],)).copy()
-    if not np.all(np.isfinite(sigma) & (sigma > 0)):
-        raise BadParameterError(f"noise std {sigma.tolist()}: every value finite and > 0", E_BAD_PARAMETER)
+        given = real_array(noise_std, "noise_std").reshape(-1)
+        if given.size not in (1, m):
+            raise BadSizeError(f"noise_std has {given.size} values: one per output ({m}) or one for all", E_BAD_SIZE)
+        sigma = np.broadcast_to(given, (m,)).copy()
+        if not np.all(np.isfinite(sigma) & (sigma > 0)):
+            raise BadParameterError(f"noise_std = {sigma.tolist()}: every value finite and > 0 [output units]",
+                                    E_BAD_PARAMETER)
     sigma = np.ascontiguousarray(sigma)
-    core, bound = run((a, b, c, d), dt, sensing, ua, y, 2, _STEP_TOLERANCE, sigma, what="crlb")
+    try:
+        core, bound = run((a, b, c, d), dt, sensing, ua, y, 2, _STEP_TOLERANCE, sigma, what="crlb")
+    except NotPersistentlyExcitingError:
+        if not short:
+            raise
+        raise BadParameterError(no_mode, E_BAD_PARAMETER) from None
     if not bound.converged:
-        raise BadParameterError(f"cannot compute the bound: {bound.message}", E_BAD_PARAMETER)
+        raise BadParameterError(no_mode if short else f"cannot compute the bound: {bound.message}", E_BAD_PARAMETER)
     std_status = core.fields()["std_status"]
     if std_status != OK:
-        check(std_status, f"cannot compute the bound: {_STD_REASONS.get(std_status, 'no covariance')}")
+        why = _STD_REASONS.get(std_status, "no covariance")
+        if short and std_status == E_RANK_DEFICIENT:
+            why += f"; the record spans {len(ua) * dt:g} s, {period}"
+        check(std_status, f"cannot compute the bound: {why}")
     return CramerRaoBound(bound.modes, sigma, bound.num_parameters, bound.samples)
+
+
+def _fastest_mode_hz(a: np.ndarray, dt: float) -> float:
+    """The largest natural frequency |ln z| / (2 pi dt) of A's eigenvalues z (0 when A has only
+    zero eigenvalues, which have no continuous-time pole): okid crlb's fastest mode."""
+    z = np.linalg.eigvals(a) if np.all(np.isfinite(a)) else np.zeros(0)
+    z = z[np.abs(z) > 0]
+    return float(np.max(np.abs(np.log(z.astype(complex)))) / (2 * math.pi * dt)) if z.size else 0.0

@@ -108,7 +108,7 @@ _STABILIZATION_FALLBACKS: _document.Fallbacks = {"StabilizationOrder.stability":
 #: Result's fields from the binding's fields(): okid_result's scalars (OKID_RESULT_SCALARS of
 #: host_tools/cli/okid_fields.h) and its arrays.
 _FIELDS = tuple(_core.RESULT_SCALARS) + ("A", "B", "C", "D", "G", "singular_values", "markov", "observer_gain_markov",
-                                         "input_scales", "output_scales")
+                                         "input_scales", "output_scales", "fit_percent")
 
 
 @dataclass(frozen=True, eq=False)
@@ -146,6 +146,8 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
       band band_hz [Hz] (docs/quality.md section 8), else None; poles: with the order chosen,
       every pole of the model as okid.Pole (verdict, reason), while modes holds the physical
       modes as okid.SelectedMode (their spread across orders [Hz, -]), else None
+    - fit_percent: (m,) how much of each output the model's response from rest explains [%], as
+      MATLAB's compare (okid.identify() only: the record is needed; None with decimation > 1)
     """
     order: int                          #: n, the realized order (states)
     A: np.ndarray                       #: (n, n) discrete state matrix
@@ -188,6 +190,11 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
     #: with the order chosen (order=0): every pole of the model with its verdict (okid.Pole), while
     #: ``modes`` holds the physical modes (okid.SelectedMode); else None
     poles: Optional[Tuple[Pole, ...]] = None
+    #: (m,) how much of each output the model explains [%], as MATLAB's compare: 100 (1 - |y - yhat|
+    #: / |y - mean y|), yhat the model's response to u from rest (okid identify's "fit_percent";
+    #: WarningFlag.NO_OUTPUT_EXPLAINED when every one is below 50); after a refinement the refined
+    #: model's; None without a record (Identifier.identify()) or with decimation > 1
+    fit_percent: Optional[np.ndarray] = None
     _auto_json: Optional[str] = field(repr=False, default=None)
     #: after a refinement: the OKID/ERA result it started from (modes, warnings and model as
     #: identified; this result's modes and warnings are the refined ones, JSON "start"), else None
@@ -308,7 +315,7 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
         start = self.start if self.start is not None else self
         # the refined modes and their warnings are the result; OKID/ERA's stay in start
         return replace(start, modes=refined.modes, warnings=WarningFlag(refined.warnings), refinement=refined,
-                       start=start, _refine_core=core)
+                       fit_percent=refined.fit_percent, start=start, _refine_core=core)
 
     def to_frame(self) -> Any:
         """The modes as a pandas DataFrame, one row per mode (needs pandas)."""

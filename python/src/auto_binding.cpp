@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
-// okid._core.auto_identify: the settings chosen from the data and the physical modes, by the CLI's
-// own code (host_tools/common/auto_settings.c, auto_modes.c, auto_report.c): one rule on both surfaces.
+// okid._core.auto_identify: the settings chosen from the data, the physical modes and the model, by
+// the CLI's own code (host_tools/common/auto_identify.c, auto_report.c): one rule on both surfaces.
 #include <cstdio>  // before nanobind (binding.h says why)
 #include <cstdlib>
+#include <exception>
 #include <memory>
 
 #include <nanobind/stl/string.h>
@@ -11,11 +12,10 @@
 #include "binding.h"
 
 extern "C" {
+#include "auto_identify.h"
 #include "auto_modes.h"
 #include "auto_report.h"
 #include "auto_settings.h"
-#include "config_explain.h"
-#include "json_writer.h"
 }
 
 namespace okid_py {
@@ -24,13 +24,35 @@ namespace {
 
 using CBlock = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 
-struct ModesDeleter {
-    void operator()(auto_modes *am) const noexcept
-    {
-        auto_modes_free(am);
-        std::free(am);
-    }
+struct IdentificationFree {
+    void operator()(auto_identification *ai) const noexcept { auto_identification_free(ai); }
 };
+
+// The model's samples in chunks, as IdentifierCore.push_block feeds them: progress after each
+// chunk, a pending signal raising between two. The exception is kept for after auto_identify()
+// (it must not unwind through C), and the push then fails.
+struct PushContext {
+    nb::object progress;
+    const okid_config *cfg;
+    std::exception_ptr error;
+};
+
+okid_status push_with_progress(void *context, okid_identifier *id, size_t n, const okid_real *u, const okid_real *y)
+{
+    auto *push = static_cast<PushContext *>(context);
+    const size_t r = (size_t)push->cfg->num_inputs, mo = (size_t)push->cfg->num_outputs;
+    nb::gil_scoped_acquire gil;
+    try {
+        return (okid_status)feed_in_chunks(n, push_chunk_rows(*push->cfg), push->progress, 0, n,
+                                           [&](size_t first, size_t count) {
+                                               return (int)okid_push_block(id, count, u + first * r, r,
+                                                                           y + first * mo, mo, nullptr);
+                                           });
+    } catch (...) {
+        push->error = std::current_exception();
+        return OKID_E_NOT_AVAILABLE;
+    }
+}
 
 
 // A selected mode: the okid_mode fields, then its cluster's statistics and its support.
@@ -67,73 +89,61 @@ void bind_auto(nb::module_ &m)
     m.attr("AUTO_GIVEN_ALL") = (unsigned)(AUTO_GIVEN_DECIMATION | AUTO_GIVEN_OBSERVER | AUTO_GIVEN_HANKEL);
     m.def(
         "auto_identify",
-        [](const nb::dict &config, unsigned given, CBlock u, CBlock y) {
-            okid_config cfg = config_from_dict(config);
-            const size_t n = u.shape(0);
-            const int r = cfg.num_inputs, outputs = cfg.num_outputs;
-            auto_choice choice{};
-            std::unique_ptr<auto_modes, ModesDeleter> am;
-            std::unique_ptr<void, decltype(&std::free)> ws(nullptr, &std::free);
-            okid_identifier id;
-            okid_result res{};
-            int status = OKID_OK;
-            char shortfall[512] = "";
+        [](const nb::dict &config, unsigned given, CBlock u, CBlock y, nb::object progress) {
+            auto_request rq{};
+            rq.cfg = config_from_dict(config);
+            rq.given = given;
+            rq.n = u.shape(0);
+            rq.u = u.data();
+            rq.y = y.data();
+            PushContext push{progress, nullptr, {}};
+            rq.push = push_with_progress;
+            rq.push_context = &push;
+            auto_identification ai{};
+            okid_status status;
             {
                 nb::gil_scoped_release release;
-                auto_band band{}, input_band{};
-                if (auto_channel_band(y.data(), n, outputs, (double)cfg.dt, &band) != 0 ||
-                    auto_channel_band(u.data(), n, r, (double)cfg.dt, &input_band) != 0) {
-                    band = auto_band{0, 0, 0};
-                }
-                auto_choose(&cfg, given, n, &band, &choice);
-                choice.given = given;
-                size_t bytes = 0;
-                status = okid_workspace_size(&cfg, &bytes);
-                /* the data's sufficiency before any workspace (the CLI's rule) */
-                if (status == OKID_OK && config_data_shortfall(&cfg, n, shortfall, sizeof shortfall)) {
-                    status = OKID_E_NOT_ENOUGH_DATA;
-                }
-                if (status == OKID_OK && cfg.order == 0) {
-                    am.reset(static_cast<auto_modes *>(std::calloc(1, sizeof(auto_modes))));
-                    if (!am) throw std::bad_alloc();
-                    status = auto_modes_find(&choice, &cfg, n, u.data(), y.data(), am.get());
-                    if (status == OKID_OK) cfg.order = am->num_modes > 0 ? am->order : am->runs[0].result.order;
-                }
-                // the final model, for the JSON's "poles" (the Python layer identifies it again, bit for bit)
-                if (status == OKID_OK) status = okid_workspace_size(&cfg, &bytes);
-                if (status == OKID_OK) {
-                    ws.reset(std::aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16));
-                    if (!ws) throw std::bad_alloc();
-                    status = okid_init(&id, &cfg, ws.get(), bytes, nullptr);
-                }
-                if (status == OKID_OK) status = okid_push_block(&id, n, u.data(), (size_t)r, y.data(), (size_t)outputs, nullptr);
-                if (status == OKID_OK) status = okid_identify(&id, &res);
+                push.cfg = &ai.cfg;
+                status = auto_identify(&rq, &ai);
             }
+            std::unique_ptr<auto_identification, IdentificationFree> owner(&ai);
+            if (push.error) std::rethrow_exception(push.error);  // Ctrl-C, or the progress callback's own
+            if (ai.failure == AUTO_FAILED_MEMORY) throw std::bad_alloc();
+            const okid_config &cfg = ai.cfg;
+            const int outputs = cfg.num_outputs;
             nb::dict settings;
             settings["decimation"] = cfg.decimation;
             settings["observer_order"] = cfg.observer_order;
             settings["hankel_rows"] = cfg.hankel_rows;
             settings["hankel_cols"] = cfg.hankel_cols;
             settings["order"] = cfg.order;
-            if (status == OKID_E_NOT_ENOUGH_DATA && shortfall[0] != '\0') {
-                return nb::make_tuple(status, settings, nb::str(shortfall), nb::none(), nb::none());
+            settings["estimator"] = (int)cfg.estimator;
+            if (ai.failure == AUTO_FAILED_DATA) {
+                return nb::make_tuple((int)status, settings, nb::str(ai.shortfall), nb::none(), nb::none(), nb::none());
             }
-            if (status != OKID_OK) return nb::make_tuple(status, settings, nb::none(), nb::none(), nb::none());
+            if (status != OKID_OK) return nb::make_tuple((int)status, settings, nb::none(), nb::none(), nb::none(), nb::none());
             nb::str json = write_to_string(
-                [&](FILE *out) { auto_json(out, &choice, (double)cfg.dt, am.get(), &res, outputs); });
+                [&](FILE *out) { auto_json(out, &ai.choice, (double)cfg.dt, ai.modes, &ai.result, outputs); });
             nb::list selected, verdicts;
-            if (am) {
-                for (int k = 0; k < am->num_modes; ++k) selected.append(selected_dict(*am, k, outputs));
-                for (int i = 0; i < res.num_modes; ++i) {
-                    const char *why = auto_pole_verdict(am.get(), &res.modes[i], outputs);
+            if (ai.modes != nullptr) {
+                for (int k = 0; k < ai.modes->num_modes; ++k) selected.append(selected_dict(*ai.modes, k, outputs));
+                for (int i = 0; i < ai.result.num_modes; ++i) {
+                    const char *why = auto_pole_verdict(ai.modes, &ai.result.modes[i], outputs);
                     verdicts.append(why ? nb::cast(std::string(why)) : nb::none());
                 }
             }
-            return nb::make_tuple(status, settings, json, am ? nb::object(selected) : nb::none(),
-                                  am ? nb::object(verdicts) : nb::none());
+            // the model's identifier and result: okid.identify's Result, identified once
+            void *workspace = ai.workspace;
+            ai.workspace = nullptr;  // the IdentifierCore's from here on
+            nb::tuple model = adopt_identifier(cfg, workspace, ai.id, ai.result);
+            return nb::make_tuple((int)status, settings, json, ai.modes ? nb::object(selected) : nb::none(),
+                                  ai.modes ? nb::object(verdicts) : nb::none(), model);
         },
-        "Settings from the data and the physical modes, by the CLI's rules: (status, settings, json, "
-        "selected modes or None, the final model's pole verdicts or None).");
+        nb::arg("config"), nb::arg("given"), nb::arg("u"), nb::arg("y"), nb::arg("progress").none() = nb::none(),
+        "auto_identify() of the host library (host_tools/common/auto_identify.h), okid identify's own: (status, "
+        "settings of the model, the JSON's \"chosen\"/\"modes\"/\"poles\" members (the refusal on too little "
+        "data), selected modes or None, the model's pole verdicts or None, (IdentifierCore, ResultCore) or None). "
+        "The model's samples go in chunks: progress(done, count) after each, Ctrl-C raises between two.");
 }
 
 }  // namespace okid_py

@@ -93,6 +93,15 @@ inline size_t chunk_rows(double work_per_row)
     return rows < 64.0 ? 64 : rows > 16384.0 ? 16384 : (size_t)rows;
 }
 
+// Rows per chunk of okid_push_block: a row's fold costs about w^2 multiply-adds, w = r + (r + m) p + m
+// the factor's width.
+inline size_t push_chunk_rows(const okid_config &cfg)
+{
+    const double w = (double)cfg.num_inputs + (double)(cfg.num_inputs + cfg.num_outputs) * cfg.observer_order +
+                     (double)cfg.num_outputs;
+    return chunk_rows(w * w);
+}
+
 // feed(first, count) over rows [0, total) in chunks of `chunk` rows with the GIL released. Between
 // chunks, with the GIL held, a pending signal raises (KeyboardInterrupt for Ctrl-C: nb::python_error)
 // and progress(offset + done, grand_total) is called when progress is not None. feed returns an
@@ -118,6 +127,10 @@ int feed_in_chunks(size_t total, size_t chunk, const nb::object &progress, size_
     }
     return status;
 }
+
+// An IdentifierCore that takes over workspace (aligned_alloc) and the identifier over it (after its
+// okid_identify() gave res), and the ResultCore of res: (IdentifierCore, ResultCore).
+nb::tuple adopt_identifier(const okid_config &cfg, void *workspace, const okid_identifier &id, const okid_result &res);
 
 void bind_identifier(nb::module_ &m);
 void bind_host(nb::module_ &m);

@@ -18,6 +18,7 @@
 extern "C" {
 #include "json_writer.h"
 #include "okid_fields.h"
+#include "output_fit.h"
 }
 
 namespace okid_py {
@@ -125,12 +126,27 @@ struct ResultCore {
         res.modes = modes.data();
     }
 
+    std::vector<double> fit;  // output_fit.h over the record okid.identify() was given, else empty
+
     nb::str to_json() const
     {
         return write_to_string([this](FILE *out) {
             json_result(out, &cfg, &res, nullptr, nullptr, -1);
+            if (!fit.empty()) json_output_fit(out, fit.data(), cfg.num_outputs);
             std::fputs("\n}\n", out);
         });
+    }
+
+    // The fit of each output over the record (u, y), as okid identify reports it, and its warning
+    // into res.warnings. False when none is computed (a decimated model).
+    bool measure_fit(const double *u, const double *y, size_t count)
+    {
+        std::vector<double> values((size_t)cfg.num_outputs);
+        unsigned warning = 0;
+        if (output_fit_record(&res, count, u, y, values.data(), &warning) != 0) return false;
+        fit = std::move(values);
+        res.warnings |= warning;
+        return true;
     }
 
     // okid identify --refine --json's opening (the run's settings and sizes) and "start" (this
@@ -162,6 +178,7 @@ struct ResultCore {
         f["observer_gain_markov"] =
             res.observer_gain_markov.data ? nb::cast(matrix_array(res.observer_gain_markov)) : nb::none();
         f["warnings"] = res.warnings;
+        f["fit_percent"] = fit.empty() ? nb::none() : nb::cast(vector_array(fit.data(), cfg.num_outputs));
         f["input_scales"] = res.input_scales ? nb::cast(vector_array(res.input_scales, cfg.num_inputs)) : nb::none();
         f["output_scales"] =
             res.output_scales ? nb::cast(vector_array(res.output_scales, cfg.num_outputs)) : nb::none();
@@ -221,6 +238,19 @@ struct IdentifierCore {
 
 using CBlock = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 using CVector = nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+
+nb::tuple adopt_identifier(const okid_config &cfg, void *workspace, const okid_identifier &id, const okid_result &res)
+{
+    Workspace owned(workspace);
+    auto core = std::make_unique<IdentifierCore>();
+    auto copy = std::make_unique<ResultCore>(cfg, res);
+    core->cfg = cfg;
+    core->ws = std::move(owned);
+    core->id = id;  // its views point into the workspace, never into itself
+    core->generation = 1;
+    return nb::make_tuple(nb::cast(core.release(), nb::rv_policy::take_ownership),
+                          nb::cast(copy.release(), nb::rv_policy::take_ownership));
+}
 
 okid_config config_from_dict(const nb::dict &d)
 {
@@ -295,7 +325,15 @@ void bind_identifier(nb::module_ &m)
         .def("to_json", &ResultCore::to_json, "The CLI's `okid identify --json` object for this result.")
         .def("to_json_refined_start", &ResultCore::to_json_refined_start,
              "okid identify --refine --json's opening members and \"start\" (this result).")
-        .def("fields", &ResultCore::fields);
+        .def("fields", &ResultCore::fields)
+        .def(
+            "measure_fit",
+            [](ResultCore &self, CBlock u, CBlock y) {
+                nb::gil_scoped_release release;
+                return self.measure_fit(u.data(), y.data(), u.shape(0));
+            },
+            "output_fit_record() over the record (u, y) (the fit of each output, percent, as MATLAB's compare), kept "
+            "for fields() and to_json(), its warning into the result's: False when none (a decimated model).");
 
     nb::class_<StabilizationCore>(m, "StabilizationCore")
         .def("to_json", &StabilizationCore::to_json)
@@ -313,10 +351,8 @@ void bind_identifier(nb::module_ &m)
                 if (!guard.acquired()) return nb::make_tuple(STATUS_BUSY, (size_t)0);
                 size_t accepted = 0;
                 const size_t r = u.shape(1), mo = y.shape(1);
-                // in chunks: Ctrl-C raises between two (the rows pushed so far stay pushed); a row's
-                // fold costs about w^2 multiply-adds, w = r + (r + m) p + m the factor's width
-                const double w = (double)(r + (r + mo) * (size_t)self.cfg.observer_order + mo);
-                const int s = feed_in_chunks(u.shape(0), chunk_rows(w * w), progress, 0, u.shape(0),
+                // in chunks: Ctrl-C raises between two (the rows pushed so far stay pushed)
+                const int s = feed_in_chunks(u.shape(0), push_chunk_rows(self.cfg), progress, 0, u.shape(0),
                                              [&](size_t first, size_t count) {
                     size_t taken = 0;
                     const int st = okid_push_block(&self.id, count, u.data() + first * r, r, y.data() + first * mo,

@@ -5,6 +5,7 @@
 // writer gives the "refinement" object of to_dict().
 #include <cstdio>  // before nanobind (binding.h says why)
 #include <cstdlib>
+#include <exception>
 #include <memory>
 #include <optional>
 
@@ -17,6 +18,7 @@
 extern "C" {
 #include "config_names.h"
 #include "json_writer.h"
+#include "start_search.h"
 }
 
 namespace okid_py {
@@ -38,6 +40,75 @@ std::vector<okid_real> column_major(const CMatrix &a)
     for (size_t i = 0; i < rows; ++i)
         for (size_t j = 0; j < cols; ++j) v[i + j * rows] = a.data()[i * cols + j];
     return v;
+}
+
+// Passes of rf over the caller's record (count samples of ru inputs and my outputs) until its state
+// is not NEED_PASS, in chunks: Ctrl-C raises between two, progress(done, max_passes count) after
+// each. Called with the GIL held.
+int refine_passes(okid_refiner *rf, size_t count, const double *u, size_t ru, const double *y, size_t my,
+                  size_t chunk, int max_passes, const nb::object &progress, okid_refine_state *state)
+{
+    int s = OKID_OK;
+    for (int pass = 0; s == OKID_OK && *state == OKID_REFINE_NEED_PASS; ++pass) {
+        s = okid_refine_begin_pass(rf);
+        if (s == OKID_OK)
+            s = feed_in_chunks(count, chunk, progress, (size_t)pass * count, (size_t)max_passes * count,
+                               [&](size_t first, size_t rows) {
+                                   return (int)okid_refine_push_block(rf, rows, u + first * ru, ru, y + first * my, my);
+                               });
+        if (s == OKID_OK) s = okid_refine_end_pass(rf, state);
+    }
+    return s;
+}
+
+// Rows per chunk of a refinement of order n with r inputs and m outputs: a sample's sensitivities
+// and Gauss-Newton sums cost about P^2 m multiply-adds, P the parameters.
+size_t refine_chunk_rows(int n, int r, int m, okid_refine_model model)
+{
+    // a sample's sensitivities and Gauss-Newton sums cost about P^2 m multiply-adds, P the parameters
+    // (the innovation form's gain K adds n m)
+    const double params = (double)n * (double)(r + m + 1) + (double)m * (double)r +
+                          (model == OKID_REFINE_INNOVATION ? (double)n * (double)m : 0);
+    return chunk_rows(params * params * (double)m);
+}
+
+// start_search_run()'s refinement of a start, as okid.Result.refine() runs it (RefineCore's settings,
+// chunks), quietly. An exception (Ctrl-C) is kept for after the search, which it stops.
+struct StartRecord {
+    okid_refine_config cfg;
+    okid_sensing sensing;
+    size_t count;
+    const double *u, *y;
+    std::exception_ptr error;
+};
+
+int refine_start(void *context, const okid_result *start, int *state, double *cost)
+{
+    auto *rec = static_cast<StartRecord *>(context);
+    const int n = start->order, r = start->B.cols, mo = start->C.rows;
+    size_t bytes = 0;
+    if (okid_refine_model_workspace_size(rec->cfg.refine_model, n, r, mo, &bytes) != OKID_OK) return 1;
+    std::unique_ptr<void, AlignedFree> ws(std::aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16));
+    if (!ws) return 1;
+    okid_refiner rf;
+    okid_refine_result out;
+    okid_refine_state st = OKID_REFINE_NEED_PASS;
+    int s = okid_refine_init(&rf, &rec->cfg, start, rec->sensing, ws.get(), bytes, nullptr);
+    nb::gil_scoped_acquire gil;
+    try {
+        if (s == OKID_OK)
+            s = refine_passes(&rf, rec->count, rec->u, (size_t)r, rec->y, (size_t)mo,
+                              refine_chunk_rows(n, r, mo, rec->cfg.refine_model),
+                              rec->cfg.max_passes, nb::none(), &st);
+    } catch (...) {
+        rec->error = std::current_exception();
+        return -1;
+    }
+    if (s == OKID_OK) s = okid_refine_get_result(&rf, &out);
+    if (s != OKID_OK) return 1;
+    *state = (int)out.state;
+    *cost = (double)out.cost;
+    return 0;
 }
 
 }  // namespace
@@ -159,21 +230,9 @@ void bind_refine(nb::module_ &m)
             }
             // the caller's (count, r) and (count, m) arrays are the record: fed once per pass in chunks,
             // Ctrl-C raising between two; progress sees samples fed over samples x max_passes
-            const size_t count = u.shape(0), ru = u.shape(1), my = y.shape(1);
-            // a sample's sensitivities and Gauss-Newton sums cost about P^2 m multiply-adds, P the parameters
-            const double params = (double)n * (double)(r + mo + 1) + (double)mo * (double)r +
-                                  (refine_model == OKID_REFINE_INNOVATION ? (double)n * (double)mo : 0);
-            const size_t chunk = chunk_rows(params * params * (double)mo);
-            for (int pass = 0; s == OKID_OK && state == OKID_REFINE_NEED_PASS; ++pass) {
-                s = okid_refine_begin_pass(&core->rf);
-                if (s == OKID_OK)
-                    s = feed_in_chunks(count, chunk, progress, (size_t)pass * count, (size_t)max_passes * count,
-                                       [&](size_t first, size_t rows) {
-                                           return (int)okid_refine_push_block(&core->rf, rows, u.data() + first * ru,
-                                                                              ru, y.data() + first * my, my);
-                                       });
-                if (s == OKID_OK) s = okid_refine_end_pass(&core->rf, &state);
-            }
+            if (s == OKID_OK)
+                s = refine_passes(&core->rf, u.shape(0), u.data(), u.shape(1), y.data(), y.shape(1),
+                                  refine_chunk_rows(n, r, mo, core->cfg.refine_model), max_passes, progress, &state);
             if (s == OKID_OK) s = okid_refine_get_result(&core->rf, &core->out);
             if (s != OKID_OK) return nb::make_tuple(s, nb::none());
             return nb::make_tuple(s, nb::cast(core.release(), nb::rv_policy::take_ownership));
@@ -184,6 +243,37 @@ void bind_refine(nb::module_ &m)
         "okid_refine_init from (A, B, C, D, dt) fitting refine_model (okid_refine_model), okid_refine_set_noise when noise_std is given, then passes over "
         "(u, y) until the state is not NEED_PASS, in chunks (Ctrl-C raises between two, progress(done, "
         "max_passes count) is called after each): (status, RefineCore).");
+
+    m.def(
+        "start_search",
+        [](const nb::dict &config, CMatrix u, CMatrix y, int max_passes, double step_tolerance, int refine_model) {
+            okid_config cfg = config_from_dict(config);
+            StartRecord rec{};
+            okid_refine_config_default(&rec.cfg);
+            rec.cfg.max_passes = max_passes;
+            rec.cfg.step_tolerance = (okid_real)step_tolerance;
+            rec.cfg.refine_model = (okid_refine_model)refine_model;
+            rec.sensing = cfg.sensing;
+            rec.count = u.shape(0);
+            rec.u = u.data();
+            rec.y = y.data();
+            start_search search{};
+            {
+                nb::gil_scoped_release release;
+                start_search_run(&cfg, rec.count, rec.u, rec.y, refine_start, &rec, &search);
+            }
+            if (rec.error) std::rethrow_exception(rec.error);
+            nb::dict chosen;
+            chosen["observer_order"] = cfg.observer_order;
+            chosen["hankel_rows"] = cfg.hankel_rows;
+            chosen["hankel_cols"] = cfg.hankel_cols;
+            return nb::make_tuple(chosen, write_to_string([&](FILE *f) { json_start_search(f, &search); }));
+        },
+        nb::arg("config"), nb::arg("u"), nb::arg("y"), nb::arg("max_passes"), nb::arg("step_tolerance"),
+        nb::arg("refine_model") = 0,
+        "start_search_run() of the host library (host_tools/common/start_search.h), okid identify --refine's own, "
+        "each start refined as refine() does, quietly: (the chosen observer_order and Hankel size, the JSON's "
+        "',\\n  \"start_search\": {...}' member).");
 }
 
 }  // namespace okid_py

@@ -403,3 +403,39 @@ def test_crlb_short_record_is_named(args):
     line = refused(proc, code=proc.returncode if proc.returncode in (1, 2) else 2)
     assert "less than one period of the chain's fastest mode (0.954484 s at 1.04769 Hz)" in line
     assert "excit" not in line and "real parameter" not in line
+
+
+# --- okid.crlb names the cause okid crlb names ---------------------------------------------------
+
+def _cli_force(samples, dt):
+    """okid simulate's force record for --samples and --dt (okid crlb bounds that experiment)."""
+    proc = run("simulate", "--samples", samples, "--dt", dt)
+    assert proc.returncode == 0, proc.stderr
+    return np.array([float(line.split(",")[1]) for line in proc.stdout.splitlines()[1:]])
+
+
+@pytest.mark.parametrize("samples, dt, code", [(1, 0.01, 2), (12, 0.01, 1), (1001, 1e-300, 2), (1001, 1e-6, 2)])
+def test_crlb_python_names_the_clis_cause(samples, dt, code):
+    # a record shorter than one period of the fastest mode (1.04769 Hz): the CLI names the record's
+    # span, not the force ("excitation") nor the noise std (was: "noise std [0.0017, 0.0]")
+    line = refused(run("crlb", "--noise", 0.05, "--samples", samples, "--dt", dt), code=code)
+    assert "less than one period of the chain's fastest mode (0.954484 s at 1.04769 Hz)" in line
+    with pytest.raises(okid.OkidError) as caught:
+        okid.crlb(_cli_force(samples, dt), dt, noise=0.05)
+    expected = line[len("okid: "):].replace("the chain's", "the paper system's")
+    expected = expected.replace("--dt", "dt").replace("--samples", "samples")
+    # the same words; Python's exception then adds the library's description of its status
+    assert str(caught.value) == expected or str(caught.value).startswith(expected + ": ")
+
+
+def test_crlb_python_refusals_name_the_argument():
+    u = np.random.default_rng(1).standard_normal(1001)
+    with pytest.raises(okid.NonFiniteSampleError, match=r"^u holds NaN or Inf at sample 7 \(1 of 1001 samples\)"):
+        okid.crlb(np.where(np.arange(1001) == 7, np.nan, u), 0.01, noise=0.05)
+    with pytest.raises(okid.BadSizeError, match=r"^noise_std has 3 values: one per output \(2\) or one for all$"):
+        okid.crlb(u, 0.01, noise_std=[1.0, 2.0, 3.0])  # was numpy's broadcast ValueError
+    with pytest.raises(okid.BadParameterError, match=r"^output 1 is zero over the record's 1001 sample\(s\)"):
+        okid.crlb(np.zeros(1001), 0.01, noise=0.05)  # was "noise std [0.0, 0.0]"
+    a, b, c, d = okid.model.paper_system(0.01)
+    with pytest.raises(okid.BadSizeError, match=r"^B has shape \(3, 1\): expected \(4, r\)"):
+        okid.crlb(u, 0.01, noise=0.05, model=(a, np.ones((3, 1)), c, d))  # was numpy's reshape ValueError

@@ -376,6 +376,17 @@ def test_errors_from_the_library():
 
 # ---- streaming, NaN rows, the caller's arrays ----
 
+def without_record_fit(doc):
+    """okid.identify()'s to_dict() without what needs the record, which an Identifier does not keep:
+    the fit of each output and its warning (p = 10 on 800 samples, or p = 20 with a 20 x 20 Hankel
+    on 3000, gives an unstable pole: the model explains less than half of each output)."""
+    bit = int(okid.WarningFlag.NO_OUTPUT_EXPLAINED)
+    out = {k: v for k, v in doc.items() if k != "fit_percent"}
+    out["warning_bits"] = doc["warning_bits"] & ~bit
+    out["warnings"] = [w for w in doc["warnings"] if w != okid.WarningFlag(bit).describe()[0]]
+    return out
+
+
 def test_samples_blocks_and_one_shot_agree_bit_for_bit():
     _, u, y = paper_data(samples=800, noise=0.01)
     # every setting given: identify() then chooses nothing from the data, as an Identifier
@@ -387,7 +398,8 @@ def test_samples_blocks_and_one_shot_agree_bit_for_bit():
         idf.push(u[300:550], y[300:550])
         idf.push(u[550:], y[550:])
         assert idf.progress.samples == 800
-        assert idf.identify().to_dict() == one_shot
+        assert one_shot["fit_percent"] is not None
+        assert idf.identify().to_dict() == without_record_fit(one_shot)
 
 
 def test_predict_is_the_next_sample_on_noise_free_data():
@@ -475,7 +487,7 @@ def test_the_callers_arrays_are_never_written():
 def test_two_identifiers_in_two_threads_give_the_sequential_results():
     cases = [paper_data(samples=3000, noise=0.02, seed=s)[1:] for s in (1, 2)]
     options = dict(observer_order=20, order=4, hankel_rows=20, hankel_cols=20, decimation=1)  # nothing chosen
-    sequential = [okid.identify(u, y, 0.01, **options).to_dict() for u, y in cases]
+    sequential = [without_record_fit(okid.identify(u, y, 0.01, **options).to_dict()) for u, y in cases]
     results = [None, None]
 
     def work(i):
@@ -558,7 +570,7 @@ PACKAGE_LAYERS = {
     "_config": 2, "model": 2, "_mode": 2,
     "_statespace": 3,
     "_refine": 4, "_record": 4, "_ambient": 4,
-    "_result": 5, "_start_search": 5,
+    "_result": 5,
     "_identifier": 6, "plot": 6,
     "__init__": 7,
     "tools": 8, "fleet": 8,  # the user tools, on top of the package

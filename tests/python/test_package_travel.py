@@ -508,7 +508,8 @@ def test_progress_is_reported_and_chunks_change_no_bit(record):
     ident = okid.Identifier(1, 2, 0.01, **PAPER)
     for k in range(0, n, 5000):
         ident.push(long_u[k:k + 5000], long_y[k:k + 5000])
-    assert ident.identify().to_dict() == res.to_dict()
+    # (okid.identify also has the fit of each output, from the record an Identifier does not keep)
+    assert ident.identify().to_dict() == {k: v for k, v in res.to_dict().items() if k != "fit_percent"}
 
 
 def test_refine_progress_counts_the_passes(record):
@@ -531,7 +532,8 @@ def test_an_exception_in_the_progress_callback_stops_the_push(record):
         ident.push(long_u, long_y, progress=stop)
     assert ident.progress.samples == 16384  # the chunk done stays pushed
     ident.push(long_u[16384:], long_y[16384:])
-    assert ident.identify().to_dict() == okid.identify(long_u, long_y, 0.01, **PAPER).to_dict()
+    whole = okid.identify(long_u, long_y, 0.01, **PAPER).to_dict()
+    assert ident.identify().to_dict() == {k: v for k, v in whole.items() if k != "fit_percent"}
 
 
 class _Stderr(io.StringIO):
@@ -614,13 +616,14 @@ def test_a_warning_of_a_call_with_progress_points_at_the_caller(record):
 
 
 def test_the_choice_from_the_data_reports_its_phase(record, chosen):
-    """With the settings chosen from the data the choice is one C call: (0, N) and (N, N) around
-    it, then the push's chunks; the same result as without progress."""
+    """With the settings chosen from the data the choice and the model are one C call (the host
+    library's auto_identify(): the model is identified once): (0, N) and (N, N) around it; the same
+    result as without progress."""
     u, y = record
     seen = []
     n = 1000
     res = okid.identify(u[:n], y[:n], DT, progress=lambda done, total: seen.append((done, total)))
-    assert seen[:2] == [(0, n), (n, n)] and seen[-1] == (n, n) and len(seen) > 2
+    assert seen == [(0, n), (n, n)]
     assert res.to_dict() == chosen.to_dict()
 
 

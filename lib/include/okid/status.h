@@ -114,7 +114,14 @@ enum okid_warning {
      * the correlation estimator's guard refused (OKID_ESTIMATOR_CORRELATION), and the record was
      * identified again with the QR fold (least squares), whose result this is (SLICOT IWARN = 2).
      */
-    OKID_W_CORRELATION_FALLBACK = 1u << 11
+    OKID_W_CORRELATION_FALLBACK = 1u << 11,
+    /**
+     * Set by the tools that hold the whole record (CLI, okid.identify()), never by okid_identify():
+     * the model's response from rest explains less than OKID_REFINE_FIT_LOW percent of every
+     * output (MATLAB's compare fit; host_tools/common/output_fit.h): pure noise, or an input that
+     * does not drive the outputs. OKID_W_OUTPUT_NOT_EXPLAINED is the refinement's bit for one output.
+     */
+    OKID_W_NO_OUTPUT_EXPLAINED = 1u << 12
 };
 
 /** A short, static, human-readable description of a status (never NULL, also for unknown codes). */
