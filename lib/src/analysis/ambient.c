@@ -133,8 +133,9 @@ static okid_status ambient_dims(const okid_ambient_config *cfg, okid_config_issu
         return refuse(issue, OKID_E_BAD_PARAMETER, "dt", (double)cfg->dt, (double)OKID_MAGNITUDE_MIN,
                       (double)OKID_MAGNITUDE_MAX);
     }
-    if ((int)cfg->sensing < 0 || (int)cfg->sensing > 2) {
-        return refuse(issue, OKID_E_BAD_PARAMETER, "sensing", (int)cfg->sensing, 0, 2);
+    const int sensing = (int)cfg->sensing; /* an int: the enumeration may be unsigned (arm-none-eabi) */
+    if (sensing < 0 || sensing > 2) {
+        return refuse(issue, OKID_E_BAD_PARAMETER, "sensing", sensing, 0, 2);
     }
     *nref = cfg->num_references > 0 ? cfg->num_references : m;
     *k = L * (m < *nref ? m : *nref);
