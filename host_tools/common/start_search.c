@@ -33,7 +33,7 @@ static int try_start(const okid_config *trial, size_t n, const okid_real *u, con
         okid_identify(&id, &res) == OKID_OK) {
         c->identified = 1;
         int state = -1;
-        double cost = NAN;
+        double cost = (double)NAN; /* NAN is a float (-Wdouble-promotion under zig cc) */
         if ((rc = refine(context, &res, &state, &cost)) == 0) {
             c->state = state;
             c->cost = cost;
@@ -57,7 +57,7 @@ void start_search_run(okid_config *cfg, size_t n, const okid_real *u, const okid
             trial.hankel_rows = trial.hankel_cols = c->hankel_blocks = start_hankel_blocks[j];
             c->identified = 0;
             c->state = -1;
-            c->cost = NAN;
+            c->cost = (double)NAN;
             stop = try_start(&trial, n, u, y, refine, context, c) < 0;
             const int usable = c->state >= 0 && c->state != OKID_REFINE_DIVERGED && isfinite(c->cost);
             if (usable && (search->best < 0 || c->cost < search->candidates[search->best].cost - start_tie)) {
