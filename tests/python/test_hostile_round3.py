@@ -439,3 +439,30 @@ def test_crlb_python_refusals_name_the_argument():
     a, b, c, d = okid.model.paper_system(0.01)
     with pytest.raises(okid.BadSizeError, match=r"^B has shape \(3, 1\): expected \(4, r\)"):
         okid.crlb(u, 0.01, noise=0.05, model=(a, np.ones((3, 1)), c, d))  # was numpy's reshape ValueError
+
+
+# --- audit of issue 27: classes fixed without a test of their own ---------------------------------
+
+def test_automatic_order_beyond_the_limit_says_give_order(paper):
+    """The CLI ends this refusal with "give --order"; Python says "give order=<n>" in the same line."""
+    cli = refused(run("identify", "--observer-order", 300, "--hankel-rows", 300, "--hankel-cols", 600,
+                      "--decimation", 1, paper), code=2)
+    assert cli.endswith("more than 512: give --order")
+    with pytest.raises(okid.BadOrderError) as info:
+        okid.Identifier(1, 2, 0.01, observer_order=300, hankel_rows=300, hankel_cols=600, decimation=1)
+    assert str(info.value) == cli[len("okid: "):].replace("give --order", "give order=<n>")
+
+
+def test_crlb_python_100_state_model_is_refused_naming_why():
+    """A 100-state model (50 lightly damped modes, 4 outputs) over 3001 samples: the bound is not
+    determined, and okid.crlb says why (it was -1 as a std with success). Measured: with 5001
+    samples the same model gives 50 positive finite stds (2.3 s, too slow for this file)."""
+    rng = np.random.default_rng(1)
+    a = np.zeros((100, 100))
+    for i in range(50):
+        w, z = 2 * np.pi * (0.2 + 0.04 * i), 0.02
+        r, th = np.exp(-z * w * 0.01), w * np.sqrt(1 - z * z) * 0.01
+        a[2 * i:2 * i + 2, 2 * i:2 * i + 2] = r * np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])
+    b, c, d = rng.standard_normal((100, 1)), rng.standard_normal((4, 100)), np.zeros((4, 1))
+    with pytest.raises(okid.OkidError, match="^cannot compute the bound: the Fisher information is singular"):
+        okid.crlb(rng.standard_normal(3001), 0.01, model=(a, b, c, d), noise=0.05)
