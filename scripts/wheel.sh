@@ -115,65 +115,82 @@ print(" ".join(sorted({n.split("/")[1] for n in zipfile.ZipFile(sys.argv[1]).nam
 fi
 
 mkdir -p "$out"
-made=()
+# One wheel: build, auditwheel repair, copy to $out; its path appended to $made_list.
+build_wheel() {
+    local arch=$1 py=$2
+    ver=$("$py" -c 'import sys; print("%d%d" % sys.version_info[:2])')
+    step "wheel for CPython ${ver:0:1}.${ver:1} ($py), $arch"
+    raw=$work/raw/$arch-cp$ver
+    rm -rf "$raw"
+    mkdir -p "$raw"
+    # zig keeps the runtime it compiles for a target (libc++, the glibc stubs: about 1.5 min of CPU
+    # per architecture) in its global cache, ~/.cache/zig unless ZIG_GLOBAL_CACHE_DIR says otherwise,
+    # so that the next run, from any clone, reuses them
+    env=(CC="$work/zig/$arch/cc" CXX="$work/zig/$arch/c++" CMAKE_BUILD_PARALLEL_LEVEL="$jobs"
+         ZIG_LOCAL_CACHE_DIR="$work/zig-cache")
+    cross=()
+    if [[ $arch != "$(uname -m)" ]]; then
+        # scikit-build-core's cross-compilation settings: the wheel's platform tag and the
+        # extension's suffix (an abi3 build's is .abi3.so whatever these say)
+        env+=(_PYTHON_HOST_PLATFORM="linux-$arch" SETUPTOOLS_EXT_SUFFIX=".cpython-$ver-$arch-linux-gnu.so")
+        # pip then installs the build requirements for the target too, and the target's
+        # scipy-openblas32 cannot be imported here: its headers are named instead
+        # (cmake/okidScipyOpenblas.cmake), from the target's wheel
+        blas=$work/scipy-openblas32-$arch
+        if [[ ! -f $blas/include/lapacke.h ]]; then
+            rm -rf "$blas"
+            mkdir -p "$blas/download"
+            "$tools/bin/python" -m pip download --quiet --no-deps --only-binary=:all: \
+                --platform "manylinux2014_$arch" -d "$blas/download" "scipy-openblas32>=0.3.28"
+            "$tools/bin/python" -m zipfile -e "$blas"/download/*.whl "$blas/wheel"
+            ln -sfn "$blas/wheel/scipy_openblas32/include" "$blas/include"
+        fi
+        cross=(--config-settings=cmake.define.CMAKE_SYSTEM_NAME=Linux
+               --config-settings=cmake.define.CMAKE_SYSTEM_PROCESSOR="$arch"
+               --config-settings=cmake.define.OKID_SCIPY_OPENBLAS_INCLUDE_DIR="$blas/include")
+    fi
+    t0=$SECONDS
+    env "${env[@]}" "$py" -m pip wheel . --no-deps --quiet -w "$raw" \
+        --config-settings=build-dir="$work/build/{wheel_tag}" \
+        --config-settings=cmake.define.OKID_WERROR=ON "${fmu_args[@]}" "${cross[@]}"
+    wheel=$(ls "$raw"/*.whl)
+    echo "built $(basename "$wheel") in $((SECONDS - t0)) s"
+    PATH=$tools/bin:$PATH "$tools/bin/auditwheel" show "$wheel"
+    # --plat auto: the most compatible tag the wheel satisfies (auditwheel offers a tag by name
+    # for the machine's own architecture only), which must be manylinux_2_17
+    PATH=$tools/bin:$PATH "$tools/bin/auditwheel" repair --plat auto -w "$raw/repaired" "$wheel"
+    repaired=$(ls "$raw"/repaired/*.whl)
+    name=$(basename "$repaired")
+    if [[ $name != *[-.]manylinux_2_17_$arch[.]* ]]; then
+        echo "wheel.sh: $name is not tagged manylinux_2_17_$arch" >&2
+        exit 1
+    fi
+    if [[ -e $out/$name ]] && ! grep -qxF "$name" "$out/.written-by-wheel.sh" 2>/dev/null; then
+        echo "wheel.sh: $out/$name exists and was not written by wheel.sh: not replaced" >&2
+        exit 1
+    fi
+    cp "$repaired" "$out/$name"
+    grep -qxF "$name" "$out/.written-by-wheel.sh" 2>/dev/null || echo "$name" >> "$out/.written-by-wheel.sh"
+    echo "$out/$name" >> "$made_list"
+}
+
+# The architectures build side by side (each one mostly waits on its own serial steps: pip's build
+# environment, CMake's configuration, zig's runtime, auditwheel), each to its own log, shown when
+# it is done; the interpreters of one architecture one after another.
+made_list=$work/made.txt
+: > "$made_list"
+pids=()
 for arch in "${archs[@]}"; do
-    for py in "${pythons[@]}"; do
-        ver=$("$py" -c 'import sys; print("%d%d" % sys.version_info[:2])')
-        step "wheel for CPython ${ver:0:1}.${ver:1} ($py), $arch"
-        raw=$work/raw/$arch-cp$ver
-        rm -rf "$raw"
-        mkdir -p "$raw"
-        # zig keeps the runtime it compiles for a target (libc++, the glibc stubs: about 1.5 min of CPU
-        # per architecture) in its global cache, ~/.cache/zig unless ZIG_GLOBAL_CACHE_DIR says otherwise,
-        # so that the next run, from any clone, reuses them
-        env=(CC="$work/zig/$arch/cc" CXX="$work/zig/$arch/c++" CMAKE_BUILD_PARALLEL_LEVEL="$jobs"
-             ZIG_LOCAL_CACHE_DIR="$work/zig-cache")
-        cross=()
-        if [[ $arch != "$(uname -m)" ]]; then
-            # scikit-build-core's cross-compilation settings: the wheel's platform tag and the
-            # extension's suffix (an abi3 build's is .abi3.so whatever these say)
-            env+=(_PYTHON_HOST_PLATFORM="linux-$arch" SETUPTOOLS_EXT_SUFFIX=".cpython-$ver-$arch-linux-gnu.so")
-            # pip then installs the build requirements for the target too, and the target's
-            # scipy-openblas32 cannot be imported here: its headers are named instead
-            # (cmake/okidScipyOpenblas.cmake), from the target's wheel
-            blas=$work/scipy-openblas32-$arch
-            if [[ ! -f $blas/include/lapacke.h ]]; then
-                rm -rf "$blas"
-                mkdir -p "$blas/download"
-                "$tools/bin/python" -m pip download --quiet --no-deps --only-binary=:all: \
-                    --platform "manylinux2014_$arch" -d "$blas/download" "scipy-openblas32>=0.3.28"
-                "$tools/bin/python" -m zipfile -e "$blas"/download/*.whl "$blas/wheel"
-                ln -sfn "$blas/wheel/scipy_openblas32/include" "$blas/include"
-            fi
-            cross=(--config-settings=cmake.define.CMAKE_SYSTEM_NAME=Linux
-                   --config-settings=cmake.define.CMAKE_SYSTEM_PROCESSOR="$arch"
-                   --config-settings=cmake.define.OKID_SCIPY_OPENBLAS_INCLUDE_DIR="$blas/include")
-        fi
-        t0=$SECONDS
-        env "${env[@]}" "$py" -m pip wheel . --no-deps --quiet -w "$raw" \
-            --config-settings=build-dir="$work/build/{wheel_tag}" \
-            --config-settings=cmake.define.OKID_WERROR=ON "${fmu_args[@]}" "${cross[@]}"
-        wheel=$(ls "$raw"/*.whl)
-        echo "built $(basename "$wheel") in $((SECONDS - t0)) s"
-        PATH=$tools/bin:$PATH "$tools/bin/auditwheel" show "$wheel"
-        # --plat auto: the most compatible tag the wheel satisfies (auditwheel offers a tag by name
-        # for the machine's own architecture only), which must be manylinux_2_17
-        PATH=$tools/bin:$PATH "$tools/bin/auditwheel" repair --plat auto -w "$raw/repaired" "$wheel"
-        repaired=$(ls "$raw"/repaired/*.whl)
-        name=$(basename "$repaired")
-        if [[ $name != *[-.]manylinux_2_17_$arch[.]* ]]; then
-            echo "wheel.sh: $name is not tagged manylinux_2_17_$arch" >&2
-            exit 1
-        fi
-        if [[ -e $out/$name ]] && ! grep -qxF "$name" "$out/.written-by-wheel.sh" 2>/dev/null; then
-            echo "wheel.sh: $out/$name exists and was not written by wheel.sh: not replaced" >&2
-            exit 1
-        fi
-        cp "$repaired" "$out/$name"
-        grep -qxF "$name" "$out/.written-by-wheel.sh" 2>/dev/null || echo "$name" >> "$out/.written-by-wheel.sh"
-        made+=("$out/$name")
-    done
+    ( for py in "${pythons[@]}"; do build_wheel "$arch" "$py"; done ) > "$work/$arch.log" 2>&1 &
+    pids+=($!)
 done
+failed=0
+for i in "${!archs[@]}"; do
+    wait "${pids[$i]}" || failed=1
+    cat "$work/${archs[$i]}.log"
+done
+((failed == 0)) || { echo "wheel.sh: a wheel failed (its log above)" >&2; exit 1; }
+mapfile -t made < "$made_list"
 
 step "done in $((SECONDS - start)) s"
 for w in "${made[@]}"; do

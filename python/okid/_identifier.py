@@ -18,7 +18,7 @@ from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_AVA
                       BadParameterError, BadSizeError, DecompositionError, NonFiniteSampleWarning, NotEnoughDataError,
                       check, error_for)
 from ._mode import Mode, Pole, SelectedMode, WarningFlag
-from ._progress import CALLER, ProgressArg, phase, reported, run_interruptibly
+from ._progress import CALLER, ProgressArg, phase, reported, run_unchunked
 from ._refine import REFINE_DEFAULTS, REFINE_MODELS, check_refine_model, check_settings
 from ._result import Result
 from .model import lift as _lift
@@ -407,7 +407,7 @@ def _choose(config: Dict[str, Any], given: int, ub: np.ndarray, yb: np.ndarray, 
     """_core.auto_identify (the settings, the physical modes and the model chosen from the data: one
     C call, its push without a progress callback since it runs in a thread) so that Ctrl-C stops the
     wait; progress sees (0, N) and (N, N) around it."""
-    return run_interruptibly(_core.auto_identify, (config, given, ub, yb, None), progress,
+    return run_unchunked(_core.auto_identify, (config, given, ub, yb, None), progress,
                              "choosing the settings from the data", ub.shape[0])
 
 

@@ -3,15 +3,13 @@
 progress(done, total), or True for a bar on stderr (tqdm's when tqdm is installed, else one plain
 line), or None. A call decorated with @reported checks the keyword and turns True into a Reporter;
 the code inside asks for each phase's callback (phase()), so that a bar says what is running.
-Also the choice of settings from the data, one C call without chunks, run so that Ctrl-C stops
-the wait (run_interruptibly)."""
+Also the choice of settings from the data, one C call without chunks (run_unchunked)."""
 from __future__ import annotations
 
 import functools
 import sys
-import threading
 import time
-from typing import IO, Any, Callable, List, Optional, TypeVar, Union
+from typing import IO, Any, Callable, Optional, TypeVar, Union
 
 #: progress(done, total) of a long call: samples fed so far and the most it can take (for a
 #: refinement samples x max_passes: it usually converges sooner), called after each chunk of
@@ -62,10 +60,6 @@ class _LineBar:
         elif not self.tty and self.shown < 0:
             self.shown = now  # the first line after LOG_INTERVAL, the last one at close()
 
-    def refresh(self) -> None:
-        if self.tty and self.updated:
-            self.update(self.done, self.total)
-
     def close(self) -> None:
         if not self.updated:
             return
@@ -88,10 +82,6 @@ class _TqdmBar:
             self.bar.total = total
         self.bar.update(done - self.bar.n)
 
-    def refresh(self) -> None:
-        if self.bar is not None:
-            self.bar.refresh()
-
     def close(self) -> None:
         if self.bar is not None:
             self.bar.close()
@@ -111,20 +101,12 @@ class Reporter:
 
     def __init__(self) -> None:
         self.current: Optional[Any] = None
-        self.refreshed = 0.0
 
     def phase(self, label: str) -> ProgressCallback:
         self.close()
         tqdm = _tqdm()  # sys.stderr as it is now (a test's capture, a notebook's)
         self.current = _TqdmBar(label, sys.stderr, tqdm) if tqdm is not None else _LineBar(label, sys.stderr)
         return self.current.update
-
-    def refresh(self) -> None:
-        """Redraw the bar (its elapsed time) while a phase without chunks runs: once a second."""
-        now = time.monotonic()
-        if self.current is not None and now - self.refreshed >= 1.0:
-            self.refreshed = now
-            self.current.refresh()
 
     def close(self) -> None:
         if self.current is not None:
@@ -161,31 +143,15 @@ def reported(f: F) -> F:
     return wrapper  # type: ignore[return-value]
 
 
-def run_interruptibly(call: Callable[..., Any], args: tuple, progress: Any, label: str, total: int) -> Any:
-    """call(*args) (a C call that releases the GIL and has no chunks) in a thread, this thread
-    waiting in REDRAW_INTERVAL slices: Ctrl-C raises KeyboardInterrupt here within one slice. The
-    interrupted call runs on to its end in its thread (nothing can stop it from outside; its result
-    is dropped). The phase's callback sees (0, total) before and (total, total) after."""
+def run_unchunked(call: Callable[..., Any], args: tuple, progress: Any, label: str, total: int) -> Any:
+    """call(*args), a C call without chunks (it releases the GIL), in this thread: the phase's
+    callback sees (0, total) before and (total, total) after; Ctrl-C takes effect when it returns.
+    Not in a thread to be waited on: a call dropped on Ctrl-C ran on beside the caller's next okid
+    call, and OpenBLAS's buffers are not safe for two callers at once ("Bad memory unallocation!")."""
     callback = phase(progress, label)
     if callback is not None:
         callback(0, total)
-    outcome: List[Any] = []
-
-    def target() -> None:
-        try:
-            outcome.append((True, call(*args)))
-        except BaseException as e:  # re-raised in the caller's thread
-            outcome.append((False, e))
-
-    worker = threading.Thread(target=target, name=f"okid {label}", daemon=True)
-    worker.start()
-    while worker.is_alive():
-        worker.join(REDRAW_INTERVAL)
-        if isinstance(progress, Reporter):
-            progress.refresh()
-    ok, value = outcome[0]
-    if not ok:
-        raise value
+    value = call(*args)
     if callback is not None:
         callback(total, total)
     return value
