@@ -82,16 +82,12 @@ def scheduler_overhead_per_task(tasks: int = 2000) -> float:
         return (time.perf_counter() - t0) / tasks
 
 
-def wide_record_seconds(samples: int, repeats: int = 3) -> dict:
-    """One record of the projection's shape: 24 accelerometers on a 24-mass chain, one force, 10
-    minutes at 100 Hz, identified in process (the work a task does per record, file reading aside)."""
-    import okid
+def _chain_record(masses: np.ndarray, dampers: np.ndarray, springs: np.ndarray, samples: int):
+    """A chain between two walls, one force on mass 1, every mass's acceleration with 2 % noise, at
+    100 Hz: (u, y, the continuous state matrix)."""
     from okid import model
 
-    from okid.fleet.synth import chain
-
-    n = 24
-    masses, dampers, springs = chain(n)
+    n = len(masses)
     m_, r_, k_ = model.chain_model(masses, dampers, springs)
     b2 = np.zeros((n, 1))
     b2[0, 0] = 1
@@ -100,14 +96,24 @@ def wide_record_seconds(samples: int, repeats: int = 3) -> dict:
     rng = np.random.default_rng(1)
     u = rng.standard_normal((samples, 1))
     y, _ = model.simulate(a, b, c, d, u)
-    y = y + 0.02 * np.sqrt(np.mean(y ** 2, axis=0)) * rng.standard_normal(y.shape)
+    return u, y + 0.02 * np.sqrt(np.mean(y ** 2, axis=0)) * rng.standard_normal(y.shape), ac
+
+
+def wide_record_seconds(samples: int, repeats: int = 3) -> dict:
+    """One record of the projection's shape: 24 accelerometers on a 24-mass chain, one force, 10
+    minutes at 100 Hz, identified in process (the work a task does per record, file reading aside)."""
+    import okid
+
+    from okid.fleet.synth import chain
+
+    u, y, _ = _chain_record(*chain(24), samples)
     options = dict(observer_order=4, order=48, hankel_rows=20, hankel_cols=80)
     best = float("inf")
     for _ in range(repeats):
         t0 = time.perf_counter()
         okid.identify(u, y, 0.01, **options)
         best = min(best, time.perf_counter() - t0)
-    return {"seconds": best, "samples": samples, "outputs": n, "options": options}
+    return {"seconds": best, "samples": samples, "outputs": 24, "options": options}
 
 
 #: the settings tried on the lightly damped structure, cheapest first
@@ -122,21 +128,11 @@ def lightly_damped_records(samples: int) -> list:
     accelerometers with 2 % noise, 100 Hz; each setting's seconds in process and its errors against
     the exact modes (each exact mode against the nearest identified pair)."""
     import okid
-    from okid import model
     from okid.fleet.synth import exact_modes
 
-    n = 24
-    springs = np.full(n + 1, 3969.0)
-    m_, r_, k_ = model.chain_model(np.ones(n), 4.77e-4 * springs, springs)
-    b2 = np.zeros((n, 1))
-    b2[0, 0] = 1
-    ac, bc, c, d = model.state_space(m_, r_, k_, b2, acceleration=np.eye(n))
+    springs = np.full(25, 3969.0)
+    u, y, ac = _chain_record(np.ones(24), 4.77e-4 * springs, springs, samples)
     f_exact, z_exact = exact_modes(ac)
-    a, b = model.discretize_zoh(ac, bc, 0.01)
-    rng = np.random.default_rng(1)
-    u = rng.standard_normal((samples, 1))
-    y, _ = model.simulate(a, b, c, d, u)
-    y = y + 0.02 * np.sqrt(np.mean(y ** 2, axis=0)) * rng.standard_normal(y.shape)
     rows = []
     for options in LIGHT_SETTINGS:
         t0 = time.perf_counter()
