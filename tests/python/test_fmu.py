@@ -202,9 +202,9 @@ def test_invalid_parameters_refused_at_initialization(version, bad):
 
 @pytest.mark.parametrize("version", VERSIONS)
 @pytest.mark.parametrize("bad, says", [
-    # the order against the Hankel sizes: alpha m = 10 x 2, beta (r) = 10 x 1, m p = 2 x 10
-    (dict(order=41, hankel_rows=10, hankel_cols=10), "order = 41 must be at most min(alpha m, beta columns, m p) = "
-                                                     "min(20, 10, 20) = 10"),
+    # the order against the Hankel sizes: alpha m = 10 x 2, beta (r) = 10 x 1, m p = 2 x 20
+    (dict(order=41, hankel_rows=10, hankel_cols=10), "order = 41 is outside 0..10; order = 41 must be at most "
+                                                     "min(alpha m, beta columns, m p) = min(20, 10, 40) = 10"),
     (dict(forgetting_factor=1.5), "forgetting_factor = 1.5 is outside "),
     (dict(decimation=65), "decimation = 65 is outside 0..64"),
 ])
