@@ -9,7 +9,8 @@
  * resources/okid_identifier.cfg), checked against this build's limits; the arrays are allocated
  * once when the configuration ends, the workspace once at the end of initialization, sized by
  * okid_workspace_size() for the parameters then set. The parameters carry okid_config's names and
- * okid_config_default()'s defaults; okid_init() checks them and its status is reported as it is.
+ * okid_config_default()'s defaults; a refusal names the setting, its value and its valid range in
+ * the host library's words (host_tools/common/config_explain.c, shipped in sources/).
  *
  * Every output is current or visibly not (docs/fmu.md): mode outputs are NaN until the first
  * identification and beyond num_modes; after a failed identification they keep the last
@@ -23,6 +24,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "config_explain.h"
 #include "fmu_config.h"
 #include "fmu_model.h"
 #include "okid/okid.h"
@@ -310,9 +312,11 @@ static fmu_status exit_initialization(void *data, const fmu_allocator *memory, f
              d->decimation, d->scaling, d->estimator, d->instrument_lags);
     size_t bytes = 0;
     okid_status st = okid_workspace_size(&cfg, &bytes);
-    if (st != OKID_OK) {
+    if (st != OKID_OK) { /* the setting, its value and its valid range: the CLI's and Python's words */
+        char why[640];
+        (void)config_explain(&cfg, st, CONFIG_EXPLAIN_FMU, why, sizeof why);
         fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused by okid_workspace_size: %s "
-                "(okid_status %d) for %s", okid_status_str(st), (int)st, values);
+                "(okid_status %d) for %s", why, (int)st, values);
         return FMU_ERROR;
     }
     if ((double)bytes > OKID_FMU_MAX_WORKSPACE_BYTES) {

@@ -50,9 +50,47 @@ static int short_record_error(const simulate_options *o, double fastest_hz)
                      "--dt or more --samples", span, o->samples, o->dt, 1 / fastest_hz, fastest_hz);
 }
 
+/*
+ * The one Jacobian pass at the exact model is the bound whatever the refinement's state: its Fisher
+ * information, inverted, is the bound in closed form, and max_passes 2 takes no step. The state
+ * only says whether the Gauss-Newton decrement test passed, which a singular information always
+ * fails (std_status then names that cause). What must hold is that the pass was the exact model's:
+ * accepted (a residual RMS > 0: the refiner's floor) and reproducing the record to round-off
+ * (measured: 3e-11 of the RMS for a 16-mass chain; 1e-6 leaves five orders of margin while a model
+ * that is not the record's misses by O(1)).
+ */
+static int bound_pass_is_the_models(const okid_refine_result *rr, okid_refine_state state, const okid_real *sigma,
+                                    double noise, int m)
+{
+    if (state == OKID_REFINE_CONVERGED) return 1;
+    if (state != OKID_REFINE_ITERATION_LIMIT) return 0;
+    for (int i = 0; i < m; ++i) {
+        const double rms_y = (double)sigma[i] / noise, rms_e = (double)rr->residual_rms[i];
+        if (!(rms_e > 0 && rms_e <= 1e-6 * rms_y)) return 0;
+    }
+    return 1;
+}
+
+/*
+ * A singular Fisher information of a chain whose modes overlap: a resonance much wider than the gap
+ * to the next mode, whatever the record's length (its conditioning is the spectrum's, not the
+ * length's). Measured with numpy's own Fisher information (tests/python/test_hostile_round3.py):
+ * 16 unit masses, dampers and springs (the 0.317 Hz mode, damping 0.996, a band 155 times the gap)
+ * are singular at working precision (condition 2e18 at 10, 100 and 200 s of record), with dampers
+ * 0.5 (factor 78) too; dampers 0.1 (factor 16) are not (5e12), nor 6 unit masses (26: 5e14). The
+ * factor names the cause only when the information is singular; 10 keeps it from naming a mild
+ * overlap (the paper chain's 1.3) as the cause of another singularity.
+ */
+#define CRLB_OVERLAP_CAUSE 10
+
+/* The refinement's start model keeps |lambda| <= 0.9999 (OKID_REFINE_MAX_MODULUS of
+   lib/src/analysis/refine_modal_form.c, docs/refinement.md): a mode beyond is not the chain's. */
+#define CRLB_MAX_MODULUS 0.9999
+
 /* The bound: start from the exact model, noise fixed, one pass over the noise-free record. */
 static int compute_bound(const simulate_options *o, const discrete_model *dm, const okid_real *u, const okid_real *y,
-                         double fastest_hz, okid_refiner *rf, void **ws, okid_refine_result *out, okid_real *sigma)
+                         double fastest_hz, const chain_modes *cm, okid_refiner *rf, void **ws, okid_refine_result *out,
+                         okid_real *sigma)
 {
     const int n = 2 * o->dofs, m = o->dofs;
     const int short_record = fastest_hz > 0 && o->samples * o->dt * fastest_hz < 1;
@@ -92,14 +130,27 @@ static int compute_bound(const simulate_options *o, const discrete_model *dm, co
         return short_record_error(o, fastest_hz);
     }
     if (st != OKID_OK) return cli_error(EXIT_DATA, "cannot compute the bound: %s", okid_status_str(st));
-    if (state != OKID_REFINE_CONVERGED) {
+    if (!bound_pass_is_the_models(out, state, sigma, o->noise, m)) {
         if (short_record) return short_record_error(o, fastest_hz);
-        return cli_error(EXIT_DATA, "cannot compute the bound: %s", okid_refine_state_str(state));
+        if (cm->max_modulus >= CRLB_MAX_MODULUS) {
+            return cli_error(EXIT_DATA, "cannot compute the bound: the %.6g Hz mode (damping ratio %.4g) has a discrete "
+                             "eigenvalue of modulus %.6f at dt %g s, beyond the refinement's %g (its start model pulls "
+                             "it inside: not this chain's); give a larger --dt or heavier --dampers",
+                             cm->max_modulus_hz, cm->max_modulus_damping, cm->max_modulus, o->dt, CRLB_MAX_MODULUS);
+        }
+        return cli_error(EXIT_DATA, "cannot compute the bound: the exact model does not reproduce its own noise-free "
+                         "record (%s)", okid_refine_state_str(state));
     }
     if (out->std_status != OKID_OK && short_record && out->std_status == OKID_E_RANK_DEFICIENT) {
         return cli_error(EXIT_DATA, "cannot compute the bound: %s; the record spans %g s, less than one period of "
                          "the chain's fastest mode (%g s at %.6g Hz)", crlb_std_reason(out), o->samples * o->dt,
                          1 / fastest_hz, fastest_hz);
+    }
+    if (out->std_status == OKID_E_RANK_DEFICIENT && cm->overlap >= CRLB_OVERLAP_CAUSE) {
+        return cli_error(EXIT_DATA, "cannot compute the bound: the Fisher information is singular at working "
+                         "precision: the chain's modes overlap (the %.6g Hz mode, damping ratio %.4g, has a half-power "
+                         "band 2 zeta f %.3g times the gap to its nearest mode): no record length tells them apart; "
+                         "give lighter --dampers or fewer --masses", cm->overlap_hz, cm->overlap_damping, cm->overlap);
     }
     if (out->std_status != OKID_OK) {
         return cli_error(EXIT_DATA, "cannot compute the bound: %s", crlb_std_reason(out));
@@ -137,15 +188,15 @@ int crlb_command(int argc, char **argv)
         free(dm), free(u), free(y);
         return cli_error(EXIT_DATA, "out of memory");
     }
-    double damped_hz = 0, natural_hz = 0;
-    okid_status st = simulate_fastest_mode(&o, &damped_hz, &natural_hz);
-    if (st == OKID_OK && damped_hz >= 0.5 / o.dt) {
+    chain_modes cm;
+    okid_status st = simulate_chain_modes(&o, &cm);
+    if (st == OKID_OK && cm.fastest_damped_hz >= 0.5 / o.dt) {
         free(dm), free(u), free(y);
         return cli_error(EXIT_USAGE,
                          "--dt %g: the chain's mode of natural frequency %.6g Hz (damped %.6g Hz) is at or above the "
                          "Nyquist frequency 1/(2 dt) = %.6g Hz and aliases at this dt: its bound would be another "
                          "mode's; give --dt below %.6g s",
-                         o.dt, natural_hz, damped_hz, 0.5 / o.dt, 0.5 / damped_hz);
+                         o.dt, cm.fastest_natural_hz, cm.fastest_damped_hz, 0.5 / o.dt, 0.5 / cm.fastest_damped_hz);
     }
     if (st == OKID_OK) st = simulate_build_model(&o, dm);
     if (st == OKID_OK) st = simulate_record(&o, dm, u, y);
@@ -154,7 +205,7 @@ int crlb_command(int argc, char **argv)
     if (st != OKID_OK) {
         rc = cli_error(EXIT_USAGE, "cannot simulate this model: %s", okid_status_str(st));
     } else {
-        rc = compute_bound(&o, dm, u, y, natural_hz, &rf, &ws, &rr, sigma);
+        rc = compute_bound(&o, dm, u, y, cm.fastest_natural_hz, &cm, &rf, &ws, &rr, sigma);
     }
     if (rc == 0) {
         FILE *out = o.output ? fopen(o.output, "w") : stdout;

@@ -224,7 +224,11 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
         fputs("\n}\n", stdout);
     } else {
         print_header(cfg, res, cc, o->file);
+        char missing[320];
         if (refined == NULL && fit != NULL) print_fit(fit, cc);
+        if (refined == NULL && fit == NULL && output_fit_missing(res->decimation, missing, sizeof missing)) {
+            printf("fit of each output: %s\n", missing);
+        }
         if (choice != NULL) auto_print_choice(choice, (double)cfg->dt);
         if (am != NULL) {
             auto_print_modes(am, res, cc->output_names, cfg->num_outputs, o->all_poles);

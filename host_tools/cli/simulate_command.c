@@ -126,10 +126,10 @@ okid_status simulate_build_model(const simulate_options *o, discrete_model *dm)
     return st;
 }
 
-okid_status simulate_fastest_mode(const simulate_options *o, double *damped_hz, double *natural_hz)
+okid_status simulate_chain_modes(const simulate_options *o, chain_modes *out)
 {
     const int n = 2 * o->dofs, m = o->dofs;
-    *damped_hz = *natural_hz = 0;
+    memset(out, 0, sizeof *out);
     discrete_model *fine = calloc(1, sizeof *fine);
     okid_real *ac = calloc((size_t)(2 * n * n), sizeof(okid_real));
     okid_real *work = calloc(OKID_ZOH_WORK_REALS(2 * MAX_DOFS, 1), sizeof(okid_real));
@@ -154,10 +154,20 @@ okid_status simulate_fastest_mode(const simulate_options *o, double *damped_hz, 
                                  NULL);
     }
     for (int k = 0; st == OKID_OK && k < count; ++k) {
+        const double f = (double)modes[k].frequency_hz, zeta = (double)modes[k].damping_ratio;
+        const double modulus = exp(-zeta * 2 * 3.14159265358979323846 * f * o->dt);
+        if (modulus > out->max_modulus) {
+            out->max_modulus = modulus, out->max_modulus_hz = f, out->max_modulus_damping = zeta;
+        }
+        if (!modes[k].is_pair) continue;
         const double damped = fabs((double)modes[k].pole.im) / (2 * 3.14159265358979323846);
-        if (modes[k].is_pair && damped > *damped_hz) {
-            *damped_hz = damped;
-            *natural_hz = (double)modes[k].frequency_hz;
+        if (damped > out->fastest_damped_hz) out->fastest_damped_hz = damped, out->fastest_natural_hz = f;
+        double gap = HUGE_VAL;
+        for (int j = 0; j < count; ++j) {
+            if (j != k && modes[j].is_pair) gap = fmin(gap, fabs((double)modes[j].frequency_hz - f));
+        }
+        if (gap < HUGE_VAL && 2 * zeta * f > out->overlap * gap) {
+            out->overlap = gap > 0 ? 2 * zeta * f / gap : HUGE_VAL, out->overlap_hz = f, out->overlap_damping = zeta;
         }
     }
     free(fine), free(ac), free(work), free(modes), free(ws);

@@ -28,12 +28,20 @@ int simulate_parse_options(const char *name, const char *synopsis, int argc, cha
 /* The exact ZOH model of the chain at o->dt. */
 okid_status simulate_build_model(const simulate_options *o, discrete_model *dm);
 
-/*
- * The chain's continuous-time mode with the largest damped frequency |Im s| / 2 pi: that frequency
- * and the mode's undamped natural frequency [Hz] (both 0 without an oscillating mode). Sampled at
- * o->dt, a damped frequency at or above the Nyquist frequency 1 / (2 dt) aliases.
- */
-okid_status simulate_fastest_mode(const simulate_options *o, double *damped_hz, double *natural_hz);
+/* What the chain's continuous-time modes say about sampling it at o->dt and bounding its modes. */
+typedef struct chain_modes {
+    /* the mode with the largest damped frequency |Im s| / 2 pi: that frequency and its undamped
+       natural frequency [Hz] (both 0 without an oscillating mode); a damped frequency at or above
+       the Nyquist frequency 1 / (2 dt) aliases */
+    double fastest_damped_hz, fastest_natural_hz;
+    /* the oscillating mode whose half-power band 2 zeta f is the widest against the gap to the
+       nearest other mode's natural frequency: band / gap (0 with fewer than two), f [Hz], zeta */
+    double overlap, overlap_hz, overlap_damping;
+    /* the largest modulus exp(Re s dt) of a discrete eigenvalue at o->dt, and that mode's f [Hz], zeta */
+    double max_modulus, max_modulus_hz, max_modulus_damping;
+} chain_modes;
+
+okid_status simulate_chain_modes(const simulate_options *o, chain_modes *out);
 
 /* The noise-free record: the white-noise force (seed) u (samples) and the outputs y (dofs x samples). */
 okid_status simulate_record(const simulate_options *o, const discrete_model *dm, okid_real *u, okid_real *y);

@@ -14,8 +14,8 @@ static long long min3(long long a, long long b, long long c)
 /* "--instrument-lags " or "instrument_lags=": a setting as the user typed it, before its value. */
 static const char *spelled(config_explain_style style, const char *field, char *buf, size_t size)
 {
-    if (style == CONFIG_EXPLAIN_PYTHON) {
-        snprintf(buf, size, "%s=", field);
+    if (style != CONFIG_EXPLAIN_CLI) {
+        snprintf(buf, size, style == CONFIG_EXPLAIN_PYTHON ? "%s=" : "%s = ", field);
         return buf;
     }
     size_t k = (size_t)snprintf(buf, size, "--");
@@ -64,7 +64,8 @@ const char *config_explain(const okid_config *cfg, okid_status st, config_explai
     if (st == OKID_E_BAD_ORDER && cfg->order == 0) {
         snprintf(hint, sizeof hint, "; the automatic order would search up to min(alpha m, beta columns, m p) = "
                  "%lld, more than %d: give %s", largest, OKID_MAX_ORDER,
-                 style == CONFIG_EXPLAIN_CLI ? "--order" : "order=<n>");
+                 style == CONFIG_EXPLAIN_CLI ? "--order" : style == CONFIG_EXPLAIN_PYTHON ? "order=<n>"
+                                                                       : "the parameter order a value");
     } else if (st == OKID_E_BAD_ORDER) {
         snprintf(hint, sizeof hint, "; %s%d must be at most min(alpha m, beta columns, m p) = "
                  "min(%lld, %lld, %lld) = %lld", spelled(style, "order", name, sizeof name), cfg->order, hankel,

@@ -3,8 +3,8 @@
  * Why okid_workspace_size() refused a configuration, in one line: the field okid_config_check()
  * names, its value and its valid range, and where that range comes from other settings (the order
  * against the Hankel sizes, instrumental variables' lags), with the combination's numbers. The CLI
- * and the Python package print this one text; only the spelling of a setting differs (--order or
- * order=).
+ * the Python package and the identifier FMU print this one text; only the spelling of a setting
+ * differs (--order, order= or the parameter order).
  */
 #ifndef OKID_HOST_CONFIG_EXPLAIN_H
 #define OKID_HOST_CONFIG_EXPLAIN_H
@@ -15,7 +15,8 @@
 
 typedef enum config_explain_style {
     CONFIG_EXPLAIN_CLI,    /* settings spelled as the CLI's flags: --instrument-lags 3 */
-    CONFIG_EXPLAIN_PYTHON  /* as Python keywords: instrument_lags=3 */
+    CONFIG_EXPLAIN_PYTHON, /* as Python keywords: instrument_lags=3 */
+    CONFIG_EXPLAIN_FMU     /* as the FMU's parameters: instrument_lags = 3 (fmu/identifier/model.c) */
 } config_explain_style;
 
 /*

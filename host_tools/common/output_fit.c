@@ -25,6 +25,16 @@ static void compact(okid_matrix v, okid_real *to)
     }
 }
 
+int output_fit_missing(int decimation, char *out, size_t size)
+{
+    if (size > 0) out[0] = '\0';
+    if (decimation <= 1) return 0;
+    snprintf(out, size, "no fit: the model (decimation %d) describes the identifier's anti-alias-filtered record, one "
+             "sample kept in %d, which the identifier keeps to itself; compared with the record given it would "
+             "measure the filter, not the model", decimation, decimation);
+    return 1;
+}
+
 output_fit *output_fit_begin(const okid_result *res)
 {
     if (res->decimation > 1) return NULL;

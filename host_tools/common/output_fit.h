@@ -24,6 +24,13 @@ typedef struct output_fit output_fit;
  */
 output_fit *output_fit_begin(const okid_result *res);
 
+/*
+ * Why output_fit_begin() computes no fit for a model of this decimation, into out[size]: 1 with
+ * the sentence (decimation > 1), 0 with "" when it computes one. okid identify's table and
+ * okid.Result.fit_note print it.
+ */
+int output_fit_missing(int decimation, char *out, size_t size);
+
 /* count samples: u r per sample, y m per sample. A non-finite sample leaves the fit undefined. */
 void output_fit_push(output_fit *f, size_t count, const okid_real *u, const okid_real *y);
 

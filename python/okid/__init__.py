@@ -16,7 +16,8 @@ from ._ambient import AmbientResult, identify_ambient
 from ._config import DEFAULTS, OPTION_NAMES
 from ._errors import (BadOrderError, BadParameterError, BadSizeError, ConcurrentUseError, ConfigurationError,
                       DataRangeError, DecompositionError, InternalError, NonFiniteSampleError, NonFiniteSampleWarning,
-                      NotAvailableError, NotEnoughDataError, NotPersistentlyExcitingError, OkidError, RecordError)
+                      NoOutputExplainedWarning, NotAvailableError, NotEnoughDataError, NotPersistentlyExcitingError,
+                      OkidError, OkidWarning, RecordError)
 from ._identifier import Identifier, Progress, identify
 from ._mode import Mode, Pole, SelectedMode, StabilityFlag, WarningFlag
 from ._record import Record, read_record
@@ -35,5 +36,5 @@ __all__ = [
     "RecordError", "load", "FORMAT", "FORMAT_VERSION",
     "OkidError", "ConfigurationError", "BadSizeError", "BadOrderError", "BadParameterError", "NotEnoughDataError",
     "NotPersistentlyExcitingError", "DecompositionError", "NotAvailableError", "NonFiniteSampleError", "DataRangeError",
-    "ConcurrentUseError", "InternalError", "NonFiniteSampleWarning",
+    "ConcurrentUseError", "InternalError", "OkidWarning", "NonFiniteSampleWarning", "NoOutputExplainedWarning",
 ]

@@ -97,8 +97,19 @@ class RecordError(OkidError, ValueError):
     bad file, 2 a request the file cannot meet)."""
 
 
-class NonFiniteSampleWarning(UserWarning):
+class OkidWarning(UserWarning):
+    """The base of okid's warnings: ``warnings.simplefilter("error", okid.OkidWarning)`` makes every
+    one of them an exception, ``"ignore"`` silences them all."""
+
+
+class NonFiniteSampleWarning(OkidWarning):
     """push() rejected samples holding NaN or Inf; everything learned before is kept."""
+
+
+class NoOutputExplainedWarning(OkidWarning):
+    """okid.identify(): the model explains less than half of every output (each fit_percent below
+    50; WarningFlag.NO_OUTPUT_EXPLAINED, the CLI's "warning:" line): pure noise, a force that does
+    not drive the outputs, the wrong columns. Its modes describe nothing measured."""
 
 
 _CLASSES = {

@@ -15,8 +15,8 @@ import numpy as np
 from . import _config, _core
 from ._config import DEFAULTS, Estimator, Realization, Scaling, Sensing
 from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_AVAILABLE, E_NOT_ENOUGH_DATA, OK,
-                      BadParameterError, BadSizeError, DecompositionError, NonFiniteSampleWarning, NotEnoughDataError,
-                      check, error_for)
+                      BadParameterError, BadSizeError, DecompositionError, NonFiniteSampleWarning,
+                      NoOutputExplainedWarning, NotEnoughDataError, check, error_for)
 from ._mode import Mode, Pole, SelectedMode, WarningFlag
 from ._progress import CALLER, ProgressArg, phase, reported, run_unchunked
 from ._refine import REFINE_DEFAULTS, REFINE_MODELS, check_refine_model, check_settings
@@ -368,7 +368,7 @@ def identify(u: Any, y: Any, dt: float, *,
         identifier = Identifier._adopt(r, m, dt, options, model[0])
         model[1].measure_fit(ub, yb)  # as okid identify: the fit of each output, its warning
         result = Result._from_core(model[1], identifier.config, model[0], model[0].generation)
-        return _with_choices(result, user_order, auto_json, selected, verdicts)
+        return _warn_if_unexplained(_with_choices(result, user_order, auto_json, selected, verdicts), CALLER)
     identifier = Identifier(r, m, dt, **options)
     status, accepted = identifier._core.push_block(ub, yb, phase(progress, "push"))
     if status == E_NONFINITE_SAMPLE:
@@ -389,7 +389,7 @@ def identify(u: Any, y: Any, dt: float, *,
         result = identifier.identify()
         result = replace(result, warnings=result.warnings | WarningFlag.CORRELATION_FALLBACK)
     if not refine:
-        return _measured(result, ub, yb)
+        return _warn_if_unexplained(_measured(result, ub, yb), CALLER)
     return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=CALLER, progress=progress,
                                   refine_model=refine_model), start_search=search)
 
@@ -401,6 +401,17 @@ def _measured(result: Result, u: np.ndarray, y: np.ndarray) -> Result:
         return result
     f = result._core.fields()
     return replace(result, fit_percent=f["fit_percent"], warnings=result.warnings | WarningFlag(f["warnings"]))
+
+
+def _warn_if_unexplained(result: Result, stacklevel: int) -> Result:
+    """The NoOutputExplainedWarning of a result with WarningFlag.NO_OUTPUT_EXPLAINED (the CLI's
+    "warning:" line, with each output's fit); stacklevel: the caller's, from this function's caller."""
+    if result.warnings & WarningFlag.NO_OUTPUT_EXPLAINED:
+        fits = ", ".join(f"{v:.3g} %" for v in result.fit_percent)
+        warnings.warn(f"the model explains less than half of every output (fit_percent {fits}, each below 50 %): "
+                      f"pure noise, a force that does not drive the outputs, or the wrong columns; its modes "
+                      f"describe nothing measured", NoOutputExplainedWarning, stacklevel=stacklevel + 1)
+    return result
 
 
 def _choose(config: Dict[str, Any], given: int, ub: np.ndarray, yb: np.ndarray, progress: Any) -> Tuple[Any, ...]:

@@ -15,7 +15,8 @@ from . import _core, _document
 from . import model as _model_mod
 from ._config import SENSING, Sensing, integer, real_array, real_number
 from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_DATA_RANGE, E_NONFINITE_SAMPLE, E_RANK_DEFICIENT, OK,
-                      BadParameterError, BadSizeError, NonFiniteSampleError, NotPersistentlyExcitingError, check)
+                      BadParameterError, BadSizeError, NonFiniteSampleError, NotPersistentlyExcitingError, OkidWarning,
+                      check)
 from ._document import Travelling
 from ._mode import Mode, ModeArrays, WarningFlag, modes_from_dicts
 from ._progress import ProgressArg, phase
@@ -30,7 +31,7 @@ REFINE_DEFAULTS: Dict[str, Any] = {"max_passes": _MAX_PASSES, "step_tolerance": 
 REFINE_MODELS: Dict[str, int] = {"output_error": 0, "innovation": 1}
 
 
-class RefinementWarning(RuntimeWarning):
+class RefinementWarning(OkidWarning, RuntimeWarning):
     """A refinement stopped without converging (diverged, not improving, or max_passes reached):
     its modes are the best found (diverged: OKID/ERA's, with std -1), not the maximum-likelihood ones."""
 
@@ -169,7 +170,7 @@ def run(model, dt: float, sensing: str, u: Any, y: Any, max_passes: int, step_to
     return core, _refinement(core)
 
 
-class ResidualWarning(RuntimeWarning):
+class ResidualWarning(OkidWarning, RuntimeWarning):
     """A refined output's residual failed a test (Refinement.output_warnings): not white (a force
     nobody measured, a drift, too low an order: the stds are then the sandwich ones) or less than
     half of the output explained."""
@@ -255,7 +256,7 @@ def crlb(u: Any, dt: float, *, model: Optional[Tuple[Any, Any, Any, Any]] = None
 
     The bound is for the model class the refinement estimates (order n, feedthrough, unknown x(0)):
     the library refines the true model over its noise-free response with the noise fixed
-    (okid_refine_set_noise), which converges at once, and its standard deviations are the bound.
+    (okid_refine_set_noise): one pass, whose inverse Fisher information is the bound in closed form.
     """
     if sensing not in SENSING:
         raise BadParameterError(f"sensing = {sensing!r}: 'acceleration', 'velocity' or 'displacement'", E_BAD_PARAMETER)
@@ -320,15 +321,64 @@ def crlb(u: Any, dt: float, *, model: Optional[Tuple[Any, Any, Any, Any]] = None
         if not short:
             raise
         raise BadParameterError(no_mode, E_BAD_PARAMETER) from None
-    if not bound.converged:
-        raise BadParameterError(no_mode if short else f"cannot compute the bound: {bound.message}", E_BAD_PARAMETER)
+    # the one Jacobian pass at the exact model is the bound whatever the state (okid crlb's rule,
+    # crlb_command.c: bound_pass_is_the_models): accepted and reproducing the record to round-off
+    rms_y = np.sqrt(np.mean(y * y, axis=0))
+    exact = bound.converged or (bound.state == "iteration_limit"
+                                and bool(np.all((bound.residual_rms > 0) & (bound.residual_rms <= 1e-6 * rms_y))))
+    modes = _bound_causes(a, dt)
+    if not exact:
+        if short:
+            raise BadParameterError(no_mode, E_BAD_PARAMETER)
+        if modes["modulus"] >= _MAX_MODULUS:
+            raise BadParameterError(f"cannot compute the bound: the {modes['modulus_hz']:.6g} Hz mode (damping ratio "
+                                    f"{modes['modulus_damping']:.4g}) has a discrete eigenvalue of modulus "
+                                    f"{modes['modulus']:.6f} at dt {dt:g} s, beyond the refinement's {_MAX_MODULUS:g} "
+                                    f"(its start model pulls it inside: not {whose[:-2]}); give a larger dt or a "
+                                    f"model with heavier damping", E_BAD_PARAMETER)
+        raise BadParameterError(f"cannot compute the bound: the exact model does not reproduce its own noise-free "
+                                f"record ({bound.message})", E_BAD_PARAMETER)
     std_status = core.fields()["std_status"]
     if std_status != OK:
         why = _STD_REASONS.get(std_status, "no covariance")
         if short and std_status == E_RANK_DEFICIENT:
             why += f"; the record spans {len(ua) * dt:g} s, {period}"
+        elif std_status == E_RANK_DEFICIENT and modes["overlap"] >= _OVERLAP_CAUSE:
+            why = (f"the Fisher information is singular at working precision: {whose[:-2]}'s modes overlap (the "
+                   f"{modes['overlap_hz']:.6g} Hz mode, damping ratio {modes['overlap_damping']:.4g}, has a half-power "
+                   f"band 2 zeta f {modes['overlap']:.3g} times the gap to its nearest mode): no record length tells "
+                   f"them apart; give a model with lighter damping or fewer modes")
         check(std_status, f"cannot compute the bound: {why}")
     return CramerRaoBound(bound.modes, sigma, bound.num_parameters, bound.samples)
+
+
+#: okid crlb's CRLB_OVERLAP_CAUSE and CRLB_MAX_MODULUS (host_tools/cli/crlb_command.c says why)
+_OVERLAP_CAUSE = 10
+_MAX_MODULUS = 0.9999
+
+
+def _bound_causes(a: np.ndarray, dt: float) -> Dict[str, float]:
+    """okid crlb's chain_modes of A's eigenvalues z (s = ln z / dt, f = |s| / 2 pi, zeta = -Re s / |s|):
+    the complex pair whose half-power band 2 zeta f is the widest against the gap to the nearest
+    other pair (overlap, overlap_hz, overlap_damping) and the largest |z| (modulus, modulus_hz,
+    modulus_damping)."""
+    z = np.linalg.eigvals(a) if np.all(np.isfinite(a)) else np.zeros(0)
+    z = z[(z.imag >= 0) & (np.abs(z) > 0)]
+    out = {"overlap": 0.0, "overlap_hz": 0.0, "overlap_damping": 0.0, "modulus": 0.0, "modulus_hz": 0.0,
+           "modulus_damping": 0.0}
+    if not z.size:
+        return out
+    s = np.log(z.astype(complex)) / dt
+    f, zeta = np.abs(s) / (2 * math.pi), -s.real / np.maximum(np.abs(s), np.finfo(float).tiny)
+    k = int(np.argmax(np.abs(z)))
+    out.update(modulus=float(abs(z[k])), modulus_hz=float(f[k]), modulus_damping=float(zeta[k]))
+    pairs = np.flatnonzero(z.imag > 0)
+    for k in pairs:
+        gaps = np.abs(f[pairs[pairs != k]] - f[k])
+        if gaps.size and 2 * zeta[k] * f[k] > out["overlap"] * gaps.min():
+            out.update(overlap=float(2 * zeta[k] * f[k] / gaps.min()) if gaps.min() > 0 else math.inf,
+                       overlap_hz=float(f[k]), overlap_damping=float(zeta[k]))
+    return out
 
 
 def _fastest_mode_hz(a: np.ndarray, dt: float) -> float:

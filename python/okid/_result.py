@@ -147,7 +147,9 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
       every pole of the model as okid.Pole (verdict, reason), while modes holds the physical
       modes as okid.SelectedMode (their spread across orders [Hz, -]), else None
     - fit_percent: (m,) how much of each output the model's response from rest explains [%], as
-      MATLAB's compare (okid.identify() only: the record is needed; None with decimation > 1)
+      MATLAB's compare (okid.identify() only: the record is needed; None with decimation > 1, and
+      fit_note says why); every one below 50 sets WarningFlag.NO_OUTPUT_EXPLAINED and
+      okid.identify() warns (okid.NoOutputExplainedWarning)
     """
     order: int                          #: n, the realized order (states)
     A: np.ndarray                       #: (n, n) discrete state matrix
@@ -193,7 +195,7 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
     #: (m,) how much of each output the model explains [%], as MATLAB's compare: 100 (1 - |y - yhat|
     #: / |y - mean y|), yhat the model's response to u from rest (okid identify's "fit_percent";
     #: WarningFlag.NO_OUTPUT_EXPLAINED when every one is below 50); after a refinement the refined
-    #: model's; None without a record (Identifier.identify()) or with decimation > 1
+    #: model's; None without a record (Identifier.identify()) or with decimation > 1 (fit_note says why)
     fit_percent: Optional[np.ndarray] = None
     _auto_json: Optional[str] = field(repr=False, default=None)
     #: after a refinement: the OKID/ERA result it started from (modes, warnings and model as
@@ -207,6 +209,22 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
         return cls(**values, modes=modes_from_dicts(f["modes"]), warnings=WarningFlag(f["warnings"]),
                    config=MappingProxyType(dict(config)), refinement=None, _core=core, _identifier=identifier,
                    _generation=generation)
+
+    @property
+    def fit_note(self) -> str:
+        """Why fit_percent is None ("" when it is given). The fit compares the model's response to
+        the record's inputs from rest with every output sample, so it needs the record and a model
+        of that record: okid.Identifier keeps no record (fixed memory: the regressor's sums only),
+        and a decimated model (decimation K > 1) describes the identifier's anti-alias-filtered
+        record, one sample kept in K, which the identifier keeps to itself (its filter's state is
+        not exposed): compared with the record given it would measure the filter, not the model."""
+        if self.fit_percent is not None:
+            return ""
+        missing = _core.fit_missing(self.decimation)  # the host library's sentence (output_fit.c), as okid identify's
+        if missing is not None:
+            return missing
+        return ("no fit: no record came with this model (okid.Identifier keeps none: fixed memory, the regressor's "
+                "sums only); okid.identify(u, y) computes it over the record it is given")
 
     def to_dict(self) -> Dict[str, Any]:
         """The object ``okid identify --json`` prints for the same data and options, written by the

@@ -201,6 +201,35 @@ def test_invalid_parameters_refused_at_initialization(version, bad):
 
 
 @pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("bad, says", [
+    # the order against the Hankel sizes: alpha m = 10 x 2, beta (r) = 10 x 1, m p = 2 x 20
+    (dict(order=41, hankel_rows=10, hankel_cols=10), "order = 41 is outside 0..10; order = 41 must be at most "
+                                                     "min(alpha m, beta columns, m p) = min(20, 10, 40) = 10"),
+    (dict(forgetting_factor=1.5), "forgetting_factor = 1.5 is outside "),
+    (dict(decimation=65), "decimation = 65 is outside 0..64"),
+])
+def test_refused_configuration_names_the_value_and_its_range(version, bad, says):
+    """The FMU's refusal in the CLI's and Python's words (host_tools/common/config_explain.c, shipped in
+    sources/): the setting, its value and its valid range, not only the status's text (issue 27)."""
+    log = Log()
+    s = identifier(version, log)
+    settings = {**PAPER_SETTINGS, **bad}
+    s.set(**settings)
+    with pytest.raises(FMICallException):
+        s.initialize()
+    text = log.text()
+    assert says in text, text
+    # the host library's one sentence, as Python gets it, up to the spelling of a setting (order=41)
+    from okid import _core
+    cfg = _core.config_default(1, 2)
+    cfg.update({k: type(cfg[k])(v) for k, v in settings.items() if k in cfg})
+    status, _, python = _core.explain_config(cfg)
+    assert status != 0 and re.sub(r"\b(order|instrument_lags)=", r"\1 = ", python) in text, (python, text)
+    s.fmu.terminate()
+    s.fmu.freeInstance()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
 def test_nan_sample_rejected_and_learning_kept(version):
     ref, u, y = paper_data()
     log = Log()

@@ -466,3 +466,137 @@ def test_crlb_python_100_state_model_is_refused_naming_why():
     b, c, d = rng.standard_normal((100, 1)), rng.standard_normal((4, 100)), np.zeros((4, 1))
     with pytest.raises(okid.OkidError, match="^cannot compute the bound: the Fisher information is singular"):
         okid.crlb(rng.standard_normal(3001), 0.01, model=(a, b, c, d), noise=0.05)
+
+
+# --- issue 27, the last items: crlb of a 16-mass chain ---------------------------------------------
+
+def _chain_options(masses, damper, dt, samples):
+    """okid simulate / okid crlb options of a chain of unit masses and springs with equal dampers."""
+    return ["--masses", ",".join(["1"] * masses), "--dampers", ",".join([str(damper)] * (masses + 1)),
+            "--springs", ",".join(["1"] * (masses + 1)), "--dt", dt, "--samples", samples]
+
+
+def _unit_chain(masses, damper, dt):
+    """The same chain's discrete model (A, B, C, D) at dt: force on mass 1, every acceleration."""
+    mrk = okid.model.chain_model(np.ones(masses), np.full(masses + 1, float(damper)), np.ones(masses + 1))
+    b2 = np.zeros((masses, 1))
+    b2[0] = 1
+    ac, bc, c, d = okid.model.state_space(*mrk, b2, acceleration=np.eye(masses))
+    return (*okid.model.discretize_zoh(ac, bc, dt), c, d)
+
+
+def numpy_crlb(a, b, c, d, u, dt, sigma):
+    """The Cramer-Rao bound of the modes by numpy alone, without okid's refinement: the model in
+    real modal form normalised on C's first row (okid normalises on B: another parametrisation of
+    the same model class, order n with feedthrough and unknown x(0), so an eigenvalue's bound is the
+    same), each output's derivative by the complex step (exact to round-off for the linear
+    recursion), the Fisher information J' W J, its inverse, and the delta method from each pair's
+    (alpha, beta), lambda = alpha + i beta, to frequency and damping. (frequency, std, damping, std)
+    per mode by frequency, and the condition number of the unit-diagonal Fisher information."""
+    n, m, r = a.shape[0], c.shape[0], b.shape[1]
+    lam, vec = np.linalg.eig(a)
+    pairs = [k for k in range(n) if lam[k].imag > 0]
+    q = len(pairs)
+    assert 2 * q == n
+    t = np.column_stack([part for k in pairs for part in (vec[:, k].real, vec[:, k].imag)])
+    am, bm, cm = np.linalg.solve(t, a @ t), np.linalg.solve(t, b), c @ t
+    c_free = [(i, j) for i in range(1, m) for j in range(n)]  # C's first row fixed: the normalisation
+    theta = np.concatenate([am[::2, ::2].diagonal(), am[::2, 1::2].diagonal(), bm.ravel(),
+                            [cm[i, j] for i, j in c_free], d.ravel(), np.zeros(n)])
+    npar, h = theta.size, 1e-30
+    th = np.tile(theta.astype(complex), (npar, 1))  # every parameter's complex step at once
+    th[np.arange(npar), np.arange(npar)] += 1j * h
+    A = np.zeros((npar, n, n), dtype=complex)
+    for j in range(q):
+        A[:, 2 * j, 2 * j] = A[:, 2 * j + 1, 2 * j + 1] = th[:, j]
+        A[:, 2 * j, 2 * j + 1], A[:, 2 * j + 1, 2 * j] = th[:, q + j], -th[:, q + j]
+    k = 2 * q
+    B = th[:, k:k + n * r].reshape(npar, n, r)
+    k += n * r
+    C = np.tile(cm.astype(complex), (npar, 1, 1))
+    for idx, (i, j) in enumerate(c_free):
+        C[:, i, j] = th[:, k + idx]
+    k += len(c_free)
+    D = th[:, k:k + m * r].reshape(npar, m, r)
+    x = th[:, k + m * r:].copy()
+    jac = np.empty((len(u), m, npar))
+    for s in range(len(u)):
+        jac[s] = (np.einsum("pij,pj->pi", C, x) + D @ u[s]).imag.T / h
+        x = np.einsum("pij,pj->pi", A, x) + B @ u[s]
+    fisher = np.einsum("kip,i,kiq->pq", jac, 1 / np.asarray(sigma) ** 2, jac)
+    scale = 1 / np.sqrt(np.diag(fisher))
+    unit = scale[:, None] * fisher * scale[None, :]
+    cov = scale[:, None] * np.linalg.inv(unit) * scale[None, :]
+    out = []
+    for j in range(q):
+        z = theta[j] + 1j * theta[q + j]
+        s = np.log(z) / dt
+        ds = np.array([1, 1j]) / (z * dt)  # d s / d (alpha, beta)
+        dabs = (np.conj(s) * ds).real / abs(s)
+        g_f, g_z = dabs / (2 * np.pi), -ds.real / abs(s) + s.real * dabs / abs(s) ** 2
+        sub = cov[np.ix_([j, q + j], [j, q + j])]
+        out.append((abs(s) / (2 * np.pi), np.sqrt(g_f @ sub @ g_f), -s.real / abs(s), np.sqrt(g_z @ sub @ g_z)))
+    return np.array(sorted(out)), np.linalg.cond(unit)
+
+
+def test_crlb_cli_16_mass_chain_names_why():
+    """16 unit masses, dampers and springs, the CLI's largest chain: "stopped: max_passes reached
+    before convergence" (exit 1 after ~3 s) told neither why nor what to do. The bound is one pass
+    (the inverse Fisher information at the exact model), so convergence was never the question: the
+    information is singular, because the heavily damped upper modes overlap (the 0.317 Hz mode,
+    damping 0.9957, has a half-power band 155 times its gap to the next; numpy's own Fisher
+    information of this chain has condition 2e18 at 10, 100 and 200 s of record, measured with
+    numpy_crlb above: no record length helps)."""
+    line = refused(run("crlb", "--noise", 0.02, *_chain_options(16, 1, 0.01, 1001)))
+    assert "max_passes" not in line
+    assert line.startswith("okid: cannot compute the bound: the Fisher information is singular at working precision: "
+                           "the chain's modes overlap (the 0.316952 Hz mode, damping ratio 0.9957, has a half-power "
+                           "band 2 zeta f 155 times the gap to its nearest mode)"), line
+    assert line.endswith("give lighter --dampers or fewer --masses")
+
+
+def test_crlb_cli_light_mode_beyond_the_refinements_modulus_is_named():
+    """The paper chain with dampers 0.02, 0.04, 0.03 at dt 0.01: the 0.503 Hz mode (damping
+    0.00158) has |lambda| = exp(-zeta 2 pi f dt) = 0.999950 > 0.9999, which the refinement's start
+    pulls inside, so its one pass is not the exact model's ("max_passes reached" before; 16 unit
+    masses with dampers 0.1 are the same case at 0.0294 Hz)."""
+    line = refused(run("crlb", "--noise", 0.02, "--dampers", "0.02,0.04,0.03"))
+    assert "the 0.503292 Hz mode (damping ratio 0.001581) has a discrete eigenvalue of modulus 0.999950 at dt " \
+           "0.01 s, beyond the refinement's 0.9999" in line, line
+    assert line.endswith("give a larger --dt or heavier --dampers")
+
+
+def test_crlb_cli_heavily_damped_chain_is_numpys_fisher_bound():
+    """4 unit masses, dampers and springs (damping up to 0.951: the factor 12.7 that stays
+    computable) at dt 0.1: okid crlb's table is numpy's own Fisher bound of the same record. The
+    table prints 6 digits (5e-6 relative); numpy's inverse of an information of condition 1.5e10
+    adds 1.5e10 x 2.2e-16 = 3e-6: 2e-5 holds both with margin."""
+    options = _chain_options(4, 1, 0.1, 1001)
+    sim = run("simulate", *options)
+    assert sim.returncode == 0, sim.stderr
+    u = np.array([[float(line.split(",")[1])] for line in sim.stdout.splitlines()[1:]])
+    table = crlb_table(run("crlb", "--noise", 0.02, *options))
+    a, b, c, d = _unit_chain(4, 1, 0.1)
+    y, _ = okid.model.simulate(a, b, c, d, u)
+    reference, cond = numpy_crlb(a, b, c, d, u, 0.1, 0.02 * np.sqrt(np.mean(y * y, axis=0)))
+    assert cond < 1e11, cond
+    np.testing.assert_allclose(table, reference, rtol=2e-5)
+
+
+def test_crlb_python_is_numpys_fisher_bound_and_names_the_overlap():
+    """okid.crlb with the 4-mass chain's model: numpy's bound to the round-off of inverting an
+    information of condition 1.5e10 (x 2.2e-16 = 3e-6, times 10 for the two sides' sums); the
+    8-mass chain (factor 43): the overlap named, not "max_passes"."""
+    u = np.random.default_rng(27).standard_normal((1001, 1))
+    model = _unit_chain(4, 1, 0.1)
+    y, _ = okid.model.simulate(*model, u)
+    sigma = 0.02 * np.sqrt(np.mean(y * y, axis=0))
+    bound = okid.crlb(u, 0.1, model=model, noise_std=sigma)
+    reference, cond = numpy_crlb(*model, u, 0.1, sigma)
+    got = np.column_stack([bound.frequencies_hz, bound.frequency_std, bound.damping_ratios, bound.damping_std])
+    np.testing.assert_allclose(got, reference, rtol=10 * cond * np.finfo(float).eps)
+    with pytest.raises(okid.NotPersistentlyExcitingError,
+                       match=r"^cannot compute the bound: the Fisher information is singular at working precision: the "
+                             r"model's modes overlap \(the 0\.313474 Hz mode, damping ratio 0\.9848, has a half-power band "
+                             r"2 zeta f 43 times the gap to its nearest mode\)"):
+        okid.crlb(u, 0.1, model=_unit_chain(8, 1, 0.1), noise=0.02)

@@ -7,6 +7,7 @@ compare(). The reference here is numpy's own simulation of the identified (A, B,
 import json
 import os
 import subprocess
+import warnings
 
 import numpy as np
 import pytest
@@ -46,7 +47,9 @@ def paper():
 def test_pure_noise_warns(noise):
     u, y = noise
     for kw in ({}, {"order": 4, "observer_order": 20, "hankel_rows": 20, "hankel_cols": 20, "decimation": 1}):
-        res = okid.identify(u, y, DT, **kw)
+        with pytest.warns(okid.NoOutputExplainedWarning, match=r"^the model explains less than half of every output "
+                                                                r"\(fit_percent -?[0-9.]+ %, -?[0-9.]+ %, each below 50 %\)"):
+            res = okid.identify(u, y, DT, **kw)
         assert res.decimation == 1
         # the same numbers as numpy's simulation: the sums of 1000 squares differ in order only
         # (relative round-off ~ N eps = 2e-13 of |y|, far below 1e-9 of the fit)
@@ -62,7 +65,9 @@ def test_paper_case_is_quiet(paper):
     # noise's 2 % of |y|, so the fit stays below about 98 %, and well above the warning's 50 %
     for record, least, most in ((y, 99.999, 100.0), (noisy, 50.0, 98.5)):
         for kw in ({}, {"order": 4, "observer_order": 20, "hankel_rows": 40, "hankel_cols": 40, "decimation": 1}):
-            res = okid.identify(u, record, DT, **kw)
+            with warnings.catch_warnings():
+                warnings.simplefilter("error", okid.OkidWarning)  # a model that explains: no warning
+                res = okid.identify(u, record, DT, **kw)
             if res.fit_percent is None:  # the data chose decimation > 1: no fit
                 assert res.decimation > 1
                 continue
@@ -75,7 +80,39 @@ def test_streaming_result_has_no_fit(paper):
     u, y, _ = paper
     idf = okid.Identifier(1, 2, DT, order=4)
     idf.push(u, y)
-    assert idf.identify().fit_percent is None  # no record kept: nothing to compare
+    res = idf.identify()
+    assert res.fit_percent is None  # no record kept: nothing to compare, and the result says so
+    assert res.fit_note == ("no fit: no record came with this model (okid.Identifier keeps none: fixed memory, the "
+                            "regressor's sums only); okid.identify(u, y) computes it over the record it is given")
+    assert okid.identify(u, y, DT, order=4, decimation=1).fit_note == ""
+
+
+def test_decimated_result_says_why_it_has_no_fit(paper, tmp_path):
+    """A decimated model describes the identifier's filtered record of every K-th sample, which the
+    identifier keeps to itself: no fit, and Result.fit_note and the CLI's table say why (issue 27:
+    they said nothing)."""
+    u, y, _ = paper
+    why = ("no fit: the model (decimation 2) describes the identifier's anti-alias-filtered record, one sample kept "
+           "in 2, which the identifier keeps to itself; compared with the record given it would measure the filter, "
+           "not the model")
+    res = okid.identify(u, y, DT, order=4, observer_order=10, hankel_rows=20, hankel_cols=20, decimation=2)
+    assert res.decimation == 2 and res.fit_percent is None
+    assert res.fit_note == why
+    path = tmp_path / "paper.csv"
+    np.savetxt(path, np.column_stack([np.arange(len(u)) * DT, u, y]), delimiter=",", header="t,force,acc1,acc2",
+               comments="", fmt="%.17g")
+    proc = subprocess.run([OKID, "identify", str(path), "--order", "4", "--observer-order", "10", "--hankel-rows", "20",
+                           "--hankel-cols", "20", "--decimation", "2"], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert f"fit of each output: {why}\n" in proc.stdout
+
+
+def test_warning_classes_share_one_base():
+    """okid.OkidWarning is the base of every okid warning: one filter for all of them."""
+    for cls in (okid.NoOutputExplainedWarning, okid.NonFiniteSampleWarning, okid.RefinementWarning,
+                okid.ResidualWarning):
+        assert issubclass(cls, okid.OkidWarning) and issubclass(cls, UserWarning)
+    assert issubclass(okid.RefinementWarning, RuntimeWarning)  # as before
 
 
 def test_cli_reports_the_same_fit(noise, tmp_path):
@@ -87,7 +124,8 @@ def test_cli_reports_the_same_fit(noise, tmp_path):
     proc = subprocess.run([OKID, "identify", str(path), *args, "--json"], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     doc = json.loads(proc.stdout)
-    res = okid.identify(u, y, DT, order=4, observer_order=20, hankel_rows=20, hankel_cols=20, decimation=1)
+    with pytest.warns(okid.NoOutputExplainedWarning):
+        res = okid.identify(u, y, DT, order=4, observer_order=20, hankel_rows=20, hankel_cols=20, decimation=1)
     # one rule: the same number up to the round-off of the two builds' LAPACK (the CLI links the
     # system's, the package scipy-openblas32: the models differ in the last bits), test_package's 1e-7
     np.testing.assert_allclose(doc["fit_percent"], res.to_dict()["fit_percent"], rtol=1e-7, atol=1e-7)
