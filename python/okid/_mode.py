@@ -111,7 +111,7 @@ class SelectedMode(Mode):
 @dataclass(frozen=True)
 class Pole(Mode):
     """A pole (mode) of the reported model with the selection's verdict: "physical" when it is one of
-    Result.modes, else "rejected" with the reason (a real pole, unstable, damping above 0.2, outside
+    Result.modes, else "rejected" with the reason (a real pole, unstable, damping above 1/sqrt(2), outside
     the band, MPC or EMAC below 0.5, or not stable across orders and windows)."""
     verdict: str = "physical"
     reason: Optional[str] = None
