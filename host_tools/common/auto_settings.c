@@ -148,9 +148,11 @@ void auto_choose(okid_config *cfg, unsigned given, size_t n, const auto_band *ba
         int most = (int)(rows / 10.0) < 1000 / widest ? (int)(rows / 10.0) : 1000 / widest;
         if (most > OKID_MAX_HORIZON) most = OKID_MAX_HORIZON;
         if (most < fewest) most = fewest;
-        /* under the cap the three windows keep their ratios 3 : 2 : 4 (the widest at the cap): windows
-           that coincide would let one window count for two in the windows' rule */
-        const double scale = 4.0 * period / step > most ? most / (4.0 * period / step) : 1.0;
+        /* when the windows select the modes (no order given), under the cap they keep their ratios
+           3 : 2 : 4 (the widest at the cap): windows that coincide would let one count for two in the
+           windows' rule; a given order uses the main window alone, min(3T, cap) */
+        const double widest_span = 4.0 * period / step;
+        const double scale = cfg->order == 0 && widest_span > most ? most / widest_span : 1.0;
         for (int i = 0; i < 3; ++i) {
             choice->windows[i] = clamp_count(spans[i] * period * scale / step, fewest > 2 ? fewest : 2, most > 2 ? most : 2);
         }
