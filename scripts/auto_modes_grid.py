@@ -3,7 +3,8 @@
 """The grid of issue 23's acceptance for `okid identify` with nothing but the channel counts:
 the four real records of tests/data/real against tests/data/real_consensus.json and the simulated
 newcomer case (the paper's plant, 10001 samples, 2 % output noise, seeds 1-5, no --order) against
-its exact modes. Prints one line per case: what was reported, what was missed, what was extra.
+its exact modes, and a 3-mass chain with velocity sensors at 5 % noise (seeds 1-3) against its
+closed-form modes. Prints one line per case: what was reported, what was missed, what was extra.
 
     .venv/bin/python scripts/auto_modes_grid.py [--okid build/host_tools/cli/okid] [--data DIR]
 """
@@ -14,9 +15,35 @@ import subprocess
 import sys
 import tempfile
 
+import numpy as np
+
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 TOL = 0.02  # the issue's acceptance: every consensus mode within 2 %
-PAPER_HZ = [0.50330, 1.04810]  # the paper's plant (docs/quality.md section 8)
+CHAIN = ["--masses", "1,1,1", "--dampers", "0.1,0.1,0.1,0", "--springs", "100,80,60,0", "--force-dof", "2",
+         "--sensing", "velocity", "--samples", "3000", "--noise", "0.05"]
+
+
+def chain_hz(masses, dampers, springs):
+    """Frequencies [Hz] of masses in a chain between two walls (okid simulate's model), closed form."""
+    n = len(masses)
+    k, c = np.zeros((n, n)), np.zeros((n, n))
+    for i in range(n + 1):  # element i joins mass i-1 and mass i (the walls at -1 and n)
+        for mat, v in ((k, springs[i]), (c, dampers[i])):
+            if i - 1 >= 0:
+                mat[i - 1, i - 1] += v
+            if i < n:
+                mat[i, i] += v
+            if 0 <= i - 1 and i < n:
+                mat[i - 1, i] -= v
+                mat[i, i - 1] -= v
+    minv = np.diag(1 / np.asarray(masses, float))
+    a = np.block([[np.zeros((n, n)), np.eye(n)], [-minv @ k, -minv @ c]])
+    s = np.linalg.eigvals(a)
+    return sorted(np.abs(s[s.imag > 0]) / (2 * np.pi))
+
+
+PAPER_HZ = chain_hz([2, 3], [2, 4, 3], [20, 40, 30])  # the paper's plant
+CHAIN_HZ = chain_hz([1, 1, 1], [0.1, 0.1, 0.1, 0], [100, 80, 60, 0])
 
 
 def identify(okid, path, *args):
@@ -72,6 +99,13 @@ def main():
                             "--output", str(path)], check=True)
             res, err = identify(args.okid, path)
             text, ok = line(f"newcomer seed {seed}", res, err, PAPER_HZ)
+            print(text, flush=True)
+            passed, total = passed + ok, total + 1
+        for seed in range(1, 4):
+            path = pathlib.Path(tmp) / f"chain_{seed}.csv"
+            subprocess.run([args.okid, "simulate", *CHAIN, "--seed", str(seed), "--output", str(path)], check=True)
+            res, err = identify(args.okid, path)
+            text, ok = line(f"chain 5 % seed {seed}", res, err, CHAIN_HZ)
             print(text, flush=True)
             passed, total = passed + ok, total + 1
     print(f"{passed} of {total} cases exact")

@@ -20,6 +20,14 @@ static int same_mode(const okid_mode_selection_criteria *c, const okid_mode *a, 
            (double)okid_mac(a->sensor_shape, b->sensor_shape, m) >= (double)c->mac_min;
 }
 
+/* The selection of table with criteria, in a workspace of bytes of its own (*workspace, freed by auto_modes_free). */
+static okid_status select_into(const okid_stabilization *table, int m, const okid_mode_selection_criteria *criteria,
+                               size_t bytes, void **workspace, okid_mode_selection *selection)
+{
+    if ((*workspace = workspace_of(bytes)) == NULL) return OKID_E_WORKSPACE_TOO_SMALL;
+    return okid_select_modes(table, m, criteria, *workspace, bytes, selection, NULL);
+}
+
 /* window > 0: alpha = beta = window; 0 keeps cfg's Hankel size (given by the user). */
 static okid_status run_window(auto_run *run, const okid_config *cfg, int window, int max_order, size_t n,
                               const okid_real *u, const okid_real *y, const okid_mode_selection_criteria *criteria)
@@ -43,20 +51,12 @@ static okid_status run_window(auto_run *run, const okid_config *cfg, int window,
     if (st == OKID_OK && (run->table_workspace = workspace_of(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
     if (st == OKID_OK) st = okid_stabilization_compute(&run->id, top, 2, NULL, run->table_workspace, bytes, &run->table);
     if (st == OKID_OK) st = okid_mode_selection_workspace_size(top, 2, &bytes);
-    if (st == OKID_OK && (run->selection_workspace = workspace_of(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
-    if (st == OKID_OK) {
-        st = okid_select_modes(&run->table, cfg->num_outputs, criteria, run->selection_workspace, bytes,
-                               &run->selection, NULL);
-    }
+    if (st == OKID_OK) st = select_into(&run->table, cfg->num_outputs, criteria, bytes, &run->selection_workspace, &run->selection);
     /* without EMAC: a heavily damped mode decays below the noise within a long window, and its
        EMAC there (the last block row of the observability matrix) compares noise */
     okid_mode_selection_criteria unchecked = *criteria;
     unchecked.emac_min = 0;
-    if (st == OKID_OK && (run->unchecked_workspace = workspace_of(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
-    if (st == OKID_OK) {
-        st = okid_select_modes(&run->table, cfg->num_outputs, &unchecked, run->unchecked_workspace, bytes,
-                               &run->unchecked, NULL);
-    }
+    if (st == OKID_OK) st = select_into(&run->table, cfg->num_outputs, &unchecked, bytes, &run->unchecked_workspace, &run->unchecked);
     if (st == OKID_OK) {
         const okid_real *sv = run->result.singular_values;
         run->noise_floor = run->result.num_singular_values > top && sv[0] > 0 ? (double)(sv[top] / sv[0]) : 0;
