@@ -184,6 +184,9 @@ def test_newcomer_case_without_order_gives_both_modes(tmp_path, seed):
                    check=True, capture_output=True)
     res = json.loads(subprocess.run([OKID, "identify", "--json", str(path)], capture_output=True, text=True,
                                     timeout=120, check=True).stdout)
+    # three slowest periods (about 6 s) pass the cap min(N / 10, 1000 / max(m, r)) = 500 rows: the
+    # windows keep their ratios 3 : 2 : 4 with the widest at the cap, none counting for two
+    assert res["chosen"]["hankel_windows"] == [375, 250, 500]
     f, zeta = paper_modes(0.01)
     got = sorted(res["modes"], key=lambda m: m["frequency_hz"])
     assert len(got) == 2, [m["frequency_hz"] for m in got]
