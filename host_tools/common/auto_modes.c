@@ -140,8 +140,10 @@ okid_status auto_modes_find(const auto_choice *choice, const okid_config *cfg, s
             }
         }
     }
-    /* two of three windows; with one window its selection alone */
-    const int needed = out->num_runs > 1 ? 2 : 1;
+    /* every window: a physical mode does not move with the window, and a window that outlasts it
+       confirms it without EMAC (above); two of three let a mode at the edge of the cluster-size rule
+       in two windows through (GWS 261: 1.32 Hz, zeta 0.08, docs/quality.md section 8) */
+    const int needed = out->num_runs;
     int kept = 0;
     for (int g = 0; g < out->num_modes; ++g) {
         if (out->modes[g].windows >= needed) out->modes[kept++] = out->modes[g];

@@ -2,7 +2,7 @@
 /*
  * The physical modes of a record, without an expert: for each Hankel window of the choice
  * (auto_settings.h), the identification, its stabilization table and the automatic selection
- * (okid/mode_selection.h); a mode is reported when the selections of two of the three windows
+ * (okid/mode_selection.h); a mode is reported when the selections of all three windows
  * hold it (one window: its own selection). The model reported is the main window's at the lowest
  * order whose poles hold every reported mode. docs/quality.md, section 8.
  */
