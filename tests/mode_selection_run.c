@@ -72,10 +72,10 @@ static long read_csv(const char *path, int cols, double **data)
 
 static void json_mode(const okid_mode *md, int m)
 {
-    printf("\"frequency_hz\": %.10g, \"damping_ratio\": %.10g, \"mpc\": %.6g, \"emac\": %.6g, \"cmi\": %.6g, "
+    printf("\"frequency_hz\": %.10g, \"damping_ratio\": %.10g, \"mpc\": %.6g, \"emac\": %.6g, \"cmi\": %.6g, \"msv\": %.6g, "
            "\"eigenvalue_abs2\": %.12g, \"is_pair\": %d, \"sensor_shape_abs\": [",
            (double)md->frequency_hz, (double)md->damping_ratio, (double)md->mpc, (double)md->emac,
-           (double)md->cmi, (double)(md->eigenvalue.re * md->eigenvalue.re + md->eigenvalue.im * md->eigenvalue.im),
+           (double)md->cmi, (double)md->msv, (double)(md->eigenvalue.re * md->eigenvalue.re + md->eigenvalue.im * md->eigenvalue.im),
            md->is_pair);
     for (int a = 0; a < m; ++a) {
         const double re = md->sensor_shape[a].re, im = md->sensor_shape[a].im;

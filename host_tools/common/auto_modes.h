@@ -2,7 +2,7 @@
 /*
  * The physical modes of a record, without an expert: for each Hankel window of the choice
  * (auto_settings.h), the identification, its stabilization table and the automatic selection
- * (okid/mode_selection.h); a mode is reported when the selections of two of the three windows
+ * (okid/mode_selection.h); a mode is reported when the selections of all three windows
  * hold it (one window: its own selection). The model reported is the main window's at the lowest
  * order whose poles hold every reported mode. docs/quality.md, section 8.
  */
@@ -14,14 +14,19 @@
 #include "auto_settings.h"
 #include "okid/okid.h"
 
+/* The selection's damping limit here: above 1/sqrt(2) a mode has no resonance peak. */
+#define AUTO_DAMPING_MAX 0.70710678118654752
+
 /* One window's identification, table and selection (each in its own heap workspace). */
 typedef struct auto_run {
     okid_config cfg;
-    void *workspace, *table_workspace, *selection_workspace;
+    void *workspace, *table_workspace, *selection_workspace, *unchecked_workspace;
     okid_identifier id;
     okid_result result;
     okid_stabilization table;
     okid_mode_selection selection;
+    okid_mode_selection unchecked;  /* the same selection without the EMAC criterion */
+    double noise_floor;             /* sigma_(top + 1) / sigma_1 of the Hankel matrix: its noise's share */
     okid_status status;  /* OKID_OK when the selection is valid */
 } auto_run;
 

@@ -148,8 +148,13 @@ void auto_choose(okid_config *cfg, unsigned given, size_t n, const auto_band *ba
         int most = (int)(rows / 10.0) < 1000 / widest ? (int)(rows / 10.0) : 1000 / widest;
         if (most > OKID_MAX_HORIZON) most = OKID_MAX_HORIZON;
         if (most < fewest) most = fewest;
+        /* when the windows select the modes (no order given), under the cap they keep their ratios
+           3 : 2 : 4 (the widest at the cap): windows that coincide would let one count for two in the
+           windows' rule; a given order uses the main window alone, min(3T, cap) */
+        const double widest_span = 4.0 * period / step;
+        const double scale = cfg->order == 0 && widest_span > most ? most / widest_span : 1.0;
         for (int i = 0; i < 3; ++i) {
-            choice->windows[i] = clamp_count(spans[i] * period / step, fewest > 2 ? fewest : 2, most > 2 ? most : 2);
+            choice->windows[i] = clamp_count(spans[i] * period * scale / step, fewest > 2 ? fewest : 2, most > 2 ? most : 2);
         }
         choice->num_windows = 3;
         cfg->hankel_rows = cfg->hankel_cols = choice->windows[0];

@@ -88,7 +88,8 @@ class SelectedMode(Mode):
     stabilization table the cluster has a pole in (lowest_order..highest_order); frequency_mean,
     frequency_std (population), frequency_min, frequency_max [Hz] and damping_mean, damping_std,
     damping_min, damping_max [-] over the cluster; cmi_min: its smallest CMI; windows of
-    of_windows: the Hankel windows whose selection holds the mode.
+    of_windows: the Hankel windows whose selection holds the mode (without the EMAC criterion in a
+    window the mode outlasts, docs/quality.md section 8).
     """
     order: int = 0
     num_orders: int = 0
@@ -111,7 +112,7 @@ class SelectedMode(Mode):
 @dataclass(frozen=True)
 class Pole(Mode):
     """A pole (mode) of the reported model with the selection's verdict: "physical" when it is one of
-    Result.modes, else "rejected" with the reason (a real pole, unstable, damping above 0.2, outside
+    Result.modes, else "rejected" with the reason (a real pole, unstable, damping above 1/sqrt(2), outside
     the band, MPC or EMAC below 0.5, or not stable across orders and windows)."""
     verdict: str = "physical"
     reason: Optional[str] = None

@@ -17,6 +17,7 @@ import os
 import pathlib
 import subprocess
 
+import numpy as np
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -94,6 +95,9 @@ FOUND_TODAY = {"hayward_transverse": [2.704], "meloland_transverse": [], "gws_bu
                "gws_building_261": [1.042, 6.060]}
 
 
+DAMPING_MAX = 2 ** -0.5  # the automatic selection's limit: no resonance peak above (auto_modes.h)
+
+
 def defaults(stem):
     rec = CONSENSUS["records"][stem]
     if not os.path.exists(OKID):
@@ -107,7 +111,7 @@ def defaults(stem):
 @pytest.mark.parametrize("stem", RECORDS)
 def test_defaults_report_few_physical_modes_and_their_choices(stem):
     """The default answer is the selected modes, not the model's poles (30 "modes" on the issue's
-    bridge): each stable over half the orders in two of three windows, damped 0..0.2, every
+    bridge): each stable over half the orders in each of the three windows, damped 0..1/sqrt(2), every
     pole of the model listed with its verdict, every setting with its reason."""
     rec, res = defaults(stem)
     chosen = res["chosen"]
@@ -116,8 +120,8 @@ def test_defaults_report_few_physical_modes_and_their_choices(stem):
     assert res["config"]["decimation"] == chosen["decimation"]["value"] and res["order"] == chosen["order"]["value"]
     assert 1 <= len(res["modes"]) <= len(rec["modes"]) + 1
     for m in res["modes"]:
-        assert m["windows"] >= 2 and 2 * m["num_orders"] >= m["of_orders"]
-        assert 0 < m["damping_ratio"] <= 0.2 and m["frequency_min"] <= m["frequency_hz"] <= m["frequency_max"]
+        assert m["windows"] == m["of_windows"] == 3 and 2 * m["num_orders"] >= m["of_orders"]
+        assert 0 < m["damping_ratio"] <= DAMPING_MAX and m["frequency_min"] <= m["frequency_hz"] <= m["frequency_max"]
     assert res["poles"]
     assert {p["verdict"] for p in res["poles"]} <= {"physical", "rejected"}
     assert all((p["verdict"] == "rejected") == (p["reason"] is not None) for p in res["poles"])
@@ -154,3 +158,40 @@ def test_pole_warnings_name_their_poles():
         assert f"z = {z.real:.5f}" in table
     for z in want.get("unstable_pole", []):
         assert f"(|z| {abs(z):.5f})" in table
+
+
+def paper_modes(dt):
+    """The paper's plant (okid simulate's default chain: masses 2, 3 kg; dampers 2, 4, 3 N s/m;
+    springs 20, 40, 30 N/m) in closed form: frequencies [Hz] and damping ratios of M x'' + C x' + K x."""
+    mass, c, k = np.diag([2.0, 3.0]), np.array([[6.0, -4.0], [-4.0, 7.0]]), np.array([[60.0, -40.0], [-40.0, 70.0]])
+    a = np.block([[np.zeros((2, 2)), np.eye(2)], [-np.linalg.solve(mass, k), -np.linalg.solve(mass, c)]])
+    s = np.linalg.eigvals(a)
+    s = s[s.imag > 0]
+    order = np.argsort(np.abs(s))
+    return np.abs(s[order]) / (2 * np.pi), -s[order].real / np.abs(s[order])
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_newcomer_case_without_order_gives_both_modes(tmp_path, seed):
+    """The issue's newcomer case, `okid identify FILE` with nothing else: 100 s of the paper's plant
+    at 100 Hz with 2 % output noise. Both modes, nothing else: the second is damped 33 % and decays
+    below the noise within the long Hankel windows (EMAC 0 there), so it stands on the short window's
+    EMAC and on staying put across orders in the others (docs/quality.md section 8)."""
+    if not os.path.exists(OKID):
+        pytest.skip(f"CLI {OKID} not built")
+    path = tmp_path / "paper.csv"
+    subprocess.run([OKID, "simulate", "--samples", "10001", "--noise", "0.02", "--seed", str(seed), "--output", str(path)],
+                   check=True, capture_output=True)
+    res = json.loads(subprocess.run([OKID, "identify", "--json", str(path)], capture_output=True, text=True,
+                                    timeout=120, check=True).stdout)
+    # three slowest periods (about 6 s) pass the cap min(N / 10, 1000 / max(m, r)) = 500 rows: the
+    # windows keep their ratios 3 : 2 : 4 with the widest at the cap, none counting for two
+    assert res["chosen"]["hankel_windows"] == [375, 250, 500]
+    f, zeta = paper_modes(0.01)
+    got = sorted(res["modes"], key=lambda m: m["frequency_hz"])
+    assert len(got) == 2, [m["frequency_hz"] for m in got]
+    for m, fk, zk in zip(got, f, zeta):
+        assert abs(m["frequency_hz"] - fk) <= FREQUENCY_TOL * fk
+        # OKID's own damping error on this plant at 2 % noise is at most 0.02 over twelve seeds
+        # (docs/quality.md section 7's table); 0.04 leaves a factor two
+        assert abs(m["damping_ratio"] - zk) <= 0.04, (m["damping_ratio"], zk)
