@@ -40,7 +40,7 @@ def test_refined_modes_with_error_bars(record):
     out = json.loads(proc.stdout)
     ref = out["refinement"]
     assert ref["state"] == "converged" and ref["num_parameters"] == 18 and ref["samples"] == 2001
-    assert ref["config"] == {"max_passes": 30, "step_tolerance": 1e-6, "refine_model": "output_error"}
+    assert ref["config"] == {"max_passes": 100, "step_tolerance": 1e-6, "refine_model": "output_error"}
     assert "K" not in ref and "K" not in out
     freq, zeta = exact_modes()
     modes = [m for m in ref["modes"] if m["is_pair"]]
