@@ -15,8 +15,11 @@ static void warn_iteration_limit(const okid_refine_result *out, okid_real step_t
     const double dec = (double)out->decrement;
     fprintf(stderr, "okid: warning: the refinement did not converge (%s after %d passes): the modes are the best "
             "found; ", okid_refine_state_str(out->state), out->passes);
-    if (dec < 0) {
+    if (dec < 0 && out->iterations == 0) {
         fprintf(stderr, "no step was accepted: check the start (order, horizons)\n");
+    } else if (dec < 0) {
+        fprintf(stderr, "the Gauss-Newton matrix is singular at the best model: the record does not determine "
+                "every parameter (fewer states, or fewer inputs than the lifted record's)\n");
     } else if (dec < 100 * tol) {
         fprintf(stderr, "the last step's decrement %.3g is within 100x the tolerance %.3g: raise --max-passes "
                 "(the modes move by about %.2g standard deviations)\n", dec, tol, sqrt(dec));

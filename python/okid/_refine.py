@@ -176,10 +176,13 @@ class ResidualWarning(RuntimeWarning):
     half of the output explained."""
 
 
-def iteration_limit_advice(decrement: float, step_tolerance: float) -> str:
+def iteration_limit_advice(decrement: float, step_tolerance: float, iterations: int) -> str:
     """What to do about a refinement stopped at max_passes (the CLI's stderr line)."""
-    if decrement < 0:
+    if decrement < 0 and iterations == 0:
         return "no step was accepted: check the start (order, horizons)"
+    if decrement < 0:
+        return ("the Gauss-Newton matrix is singular at the best model: the record does not determine every parameter "
+                "(fewer states, or fewer inputs than the lifted record's)")
     if decrement < 100 * step_tolerance:
         return (f"the last step's decrement {decrement:.3g} is within 100x the tolerance {step_tolerance:.3g}: raise "
                 f"max_passes (the modes move by about {math.sqrt(decrement):.2g} standard deviations)")
@@ -204,7 +207,7 @@ def warn_if_stopped(refined: Refinement, stacklevel: int) -> None:
                           f"describe", ResidualWarning, stacklevel=stacklevel + 1)
     if refined.state == "iteration_limit":
         warnings.warn(f"the refinement did not converge ({refined.message} after {refined.passes} passes): the modes "
-                      f"are the best found; {iteration_limit_advice(refined.decrement, refined.step_tolerance)}",
+                      f"are the best found; {iteration_limit_advice(refined.decrement, refined.step_tolerance, refined.iterations)}",
                       RefinementWarning, stacklevel=stacklevel + 1)
     elif not refined.converged:
         tail = ": the modes are OKID/ERA's" if refined.state == "diverged" else ": the modes are the best found"

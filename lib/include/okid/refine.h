@@ -198,8 +198,8 @@ typedef struct okid_refine_result {
      * go, in standard deviations), in the units of step_tolerance: below it when converged; when
      * the refinement stopped at max_passes it says how far it was (a few step_tolerance: more
      * passes will converge; orders of magnitude more: a slow valley, often a model that does not
-     * describe the record, see the residual tests). -1 when no step was accepted or the normal
-     * matrix is singular.
+     * describe the record, see the residual tests). -1 when the Gauss-Newton matrix at the
+     * returned model is singular, or no Jacobian pass was completed.
      */
     okid_real decrement;
     okid_real dt;
