@@ -68,7 +68,7 @@ def parse(argv=None):
     ap.add_argument("--noise", type=float, default=0.02)
     ap.add_argument("--unmeasured", type=float, default=0.3)
     ap.add_argument("--refine-model", choices=["output_error", "innovation", "auto"], default="output_error")
-    ap.add_argument("--max-passes", type=int, default=30)
+    ap.add_argument("--max-passes", type=int, default=100)  # okid_refine_config_default()
     return ap.parse_args(argv)
 
 

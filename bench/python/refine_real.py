@@ -58,6 +58,7 @@ def main():
     ap.add_argument("--horizons", choices=["fixed", "search"], default="fixed")
     ap.add_argument("--records", default=",".join(sorted(CONSENSUS)))
     ap.add_argument("--models", default="output_error,innovation")
+    ap.add_argument("--orders", default="", help="orders to run instead of 2c, 2c + 2, 2c + 4 (comma-separated)")
     args = ap.parse_args()
     print(f"horizons: {'p 20, alpha = beta = 50' if args.horizons == 'fixed' else 'the start search'}")
     print("| record | refine_model | order | state | passes | decrement | fit % (outputs) | largest Q | CPU s "
@@ -70,7 +71,8 @@ def main():
         c = len(want)
         for model in args.models.split(","):
             near = {w: [] for w in want}
-            for order in (2 * c, 2 * c + 2, 2 * c + 4):
+            orders = [int(v) for v in args.orders.split(",")] if args.orders else [2 * c, 2 * c + 2, 2 * c + 4]
+            for order in orders:
                 d, seconds, err = run(stem, rec, order, model, args.horizons)
                 if d is None:
                     print(f"| {stem} | {model} | {order} | refused: {err} | | | | | {seconds:.1f} | |", flush=True)
@@ -94,7 +96,7 @@ def main():
                 f = np.array([v[0] for v in found])
                 s = np.array([v[1] for v in found])
                 spread = np.std(f, ddof=1) if len(f) > 1 else float("nan")
-                summary.append(f"| {stem} | {model} | {w:.3f} | {len(f)} of 3 | "
+                summary.append(f"| {stem} | {model} | {w:.3f} | {len(f)} of {len(orders)} | "
                                + (f"{np.mean(f):.4f} | {np.median(s):.3g} | {spread:.3g} | "
                                   f"{spread / np.median(s):.3g} |" if len(f) else " | | | |"))
     print()
