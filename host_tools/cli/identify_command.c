@@ -429,7 +429,7 @@ static int identify_and_refine(const identify_options *o, okid_config *cfg, reco
     model_run runs[2];
     model_run *chosen = &runs[0];
     run_model(automatic ? &oe : o, cfg, n, u, y, cols, ws, bytes, &runs[0]);
-    refine_choice choice;
+    refine_choice choice = {.chosen = OKID_REFINE_OUTPUT_ERROR};
     int ran_innovation = 0;
     if (automatic && runs[0].st == OKID_OK && runs[0].rc == 0) {
         if (refine_choice_needs_innovation(&runs[0].refined)) {

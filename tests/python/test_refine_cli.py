@@ -318,3 +318,7 @@ def test_refine_model_auto(tmp_path):
     auto = json.loads(run("identify", *fixed, "--refine-model", "auto", wpath).stdout)
     assert auto["refine_model_choice"]["reason"] == "output_error_white"
     assert auto["modes"] == json.loads(run("identify", *fixed, wpath).stdout)["modes"]
+    okid = pytest.importorskip("okid")  # Python has no auto (docs/refinement.md): refused, naming the models
+    data = np.loadtxt(wpath, delimiter=",", skiprows=1)
+    with pytest.raises(okid.BadParameterError, match="'output_error', 'innovation'"):
+        okid.identify(data[:, 1:2], data[:, 2:], 0.05, order=4, refine=True, refine_model="auto")
