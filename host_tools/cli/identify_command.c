@@ -21,8 +21,8 @@
 #include "json_writer.h"
 #include "output_fit.h"
 #include "record_channels.h"
-#include "refine_choice.h"
 #include "record_reader.h"
+#include "refine_choice.h"
 #include "warning_poles.h"
 #include "identify_lift.h"
 
