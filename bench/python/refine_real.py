@@ -94,11 +94,11 @@ def main():
                       f"{'; '.join(cells)} |", flush=True)
             for w, found in near.items():
                 f = np.array([v[0] for v in found])
-                s = np.array([v[1] for v in found])
+                s = np.array([v[1] for v in found if v[1] >= 0])  # -1: not computable (singular)
                 spread = np.std(f, ddof=1) if len(f) > 1 else float("nan")
                 summary.append(f"| {stem} | {model} | {w:.3f} | {len(f)} of {len(orders)} | "
-                               + (f"{np.mean(f):.4f} | {np.median(s):.3g} | {spread:.3g} | "
-                                  f"{spread / np.median(s):.3g} |" if len(f) else " | | | |"))
+                               + (f"{np.mean(f):.4f} | {np.median(s) if len(s) else float('nan'):.3g} | {spread:.3g} | "
+                                  f"{spread / np.median(s) if len(s) else float('nan'):.3g} |" if len(f) else " | | | |"))
     print()
     print("| record | refine_model | consensus mode [Hz] | orders with it | mean refined f [Hz] "
           "| statistical sigma (median frequency_std) | spread across orders (std) | spread / sigma |")
