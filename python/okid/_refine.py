@@ -63,7 +63,7 @@ class Refinement(_ModeArrays, StateSpaceModel, Travelling):
     samples: int                    #: samples per pass
     dt: float                       #: sample interval [s]
     cost: float                     #: final negative log-likelihood (lower is more likely; nan when diverged)
-    decrement: float                #: Gauss-Newton decrement at the returned model (below step_tolerance when converged; -1: no step)
+    decrement: float                #: Gauss-Newton decrement at the returned model (below step_tolerance when converged; -1: singular)
     warnings: int                   #: okid_warning bits of the refined modes (see okid.WarningFlag)
     max_passes: int                 #: the setting it ran with
     step_tolerance: float           #: the setting it ran with

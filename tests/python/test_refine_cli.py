@@ -64,6 +64,12 @@ def test_stopping_early_warns(record):
     assert proc.returncode == 0, proc.stderr
     assert "warning: the refinement did not converge" in proc.stderr
     assert "max_passes reached" in proc.stdout
+    # it says how far it was: the JSON's decrement (one step from OKID/ERA's noisy start: far above
+    # the tolerance 1e-6) and the advice that goes with it
+    ref = json.loads(run("identify", "--order", 4, "--refine", "--max-passes", 2, "--json", record).stdout)["refinement"]
+    assert ref["state"] == "iteration_limit" and ref["decrement"] > 100 * ref["config"]["step_tolerance"]
+    assert f"the last step's decrement {ref['decrement']:.3g} is" in proc.stderr
+    assert "more passes may not help" in proc.stderr
 
 
 def test_timing_covers_the_refinement(record):
