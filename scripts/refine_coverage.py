@@ -26,7 +26,8 @@ import tempfile
 
 import numpy as np
 
-OKID = os.path.join(os.path.dirname(__file__), "..", "build", "host_tools", "cli", "okid")
+# OKID_CLI: another build of the CLI (a copy, so that a rebuild does not change a long run midway)
+OKID = os.environ.get("OKID_CLI") or os.path.join(os.path.dirname(__file__), "..", "build", "host_tools", "cli", "okid")
 
 
 def simulate(args, seed, force_dof):
@@ -66,8 +67,8 @@ def parse(argv=None):
     ap.add_argument("--dt", type=float, default=0.05)
     ap.add_argument("--noise", type=float, default=0.02)
     ap.add_argument("--unmeasured", type=float, default=0.3)
-    ap.add_argument("--refine-model", choices=["output_error", "innovation"], default="output_error")
-    ap.add_argument("--max-passes", type=int, default=30)
+    ap.add_argument("--refine-model", choices=["output_error", "innovation", "auto"], default="output_error")
+    ap.add_argument("--max-passes", type=int, default=100)  # okid_refine_config_default()
     return ap.parse_args(argv)
 
 
@@ -75,7 +76,8 @@ def study(args):
     """The records of args through `okid identify --refine`: (errors, sigmas) as (records, 4)
     arrays of f1, f2, zeta1, zeta2, the warning counts and the outputs flagged not white."""
     truth = exact_modes(args)
-    err, sig, flags = [], [], {"not_white": 0, "not_explained": 0, "sandwich": 0, "converged": 0}
+    err, sig, flags = [], [], {"not_white": 0, "not_explained": 0, "sandwich": 0, "converged": 0,
+                                "passes": [], "records": 0, "chose_innovation": 0}
     outputs_flagged = np.zeros(2, dtype=int)
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "record.csv")
@@ -88,6 +90,9 @@ def study(args):
                 print(f"record {k}: exit {run.returncode}: {run.stderr.strip()}", file=sys.stderr)
                 continue
             d = json.loads(run.stdout)
+            flags["records"] += 1
+            flags["passes"].append(d["refinement"]["passes"])
+            flags["chose_innovation"] += d.get("refine_model_choice", {}).get("chosen") == "innovation"
             pairs = [m for m in d["modes"] if m["is_pair"]][:2]
             if len(pairs) < 2:
                 continue
@@ -113,6 +118,9 @@ def main():
           + (f", unmeasured force {args.unmeasured:g}" if args.case == "unmeasured" else ""))
     print(f"  converged {flags['converged']}, residual not white {flags['not_white']} (per output "
           f"{outputs_flagged.tolist()}), output not explained {flags['not_explained']}, sandwich stds {flags['sandwich']}")
+    if args.refine_model == "auto":
+        print(f"  refine_model auto chose the innovation form in {flags['chose_innovation']} of {flags['records']}")
+    print(f"  passes: median {np.median(flags['passes']):g}, largest {max(flags['passes'])} (max_passes {args.max_passes})")
     print("  quantity  rms error   rms sigma   error/sigma  +-2 sigma coverage")
     for q, name in enumerate(["f1", "f2", "zeta1", "zeta2"]):
         rms_e, rms_s = np.sqrt(np.mean(err[:, q] ** 2)), np.sqrt(np.mean(sig[:, q] ** 2))

@@ -59,8 +59,7 @@ okid_refine_state paper_identify_and_refine(refine_run *rn, double dt, size_t co
     okid_refine_config_default(&rc);
     rc.refine_model = model;
     /* the innovation form took 18-30 passes on these records (a non-convex start, then the tail
-       of one-pass-late weights): room for round-off to add a few */
-    rc.max_passes = model == OKID_REFINE_INNOVATION ? 60 : rc.max_passes;
+       of one-pass-late weights): the default max_passes (100) leaves room for round-off to add a few */
     assert_int_equal(okid_refine_model_workspace_size(model, PAPER_STATES, 1, PAPER_OUTPUTS, &bytes), OKID_OK);
     assert_int_equal(bytes, OKID_REFINE_MODEL_WORKSPACE_BYTES(model, PAPER_STATES, 1, PAPER_OUTPUTS));
     rn->rf_ws = aligned_alloc(OKID_WORKSPACE_ALIGN, bytes);

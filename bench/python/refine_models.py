@@ -4,7 +4,7 @@ records, end to end through the CLI: for each case of scripts/refine_coverage.py
 system; an unmeasured white force of 30 % on mass 2 with 2 % output noise, white 5 % noise, a
 drift on output 2) the RMS error of f1, f2, zeta1, zeta2, the RMS error over the RMS stated sigma
 (each estimate against its own bound) and the +-2 sigma coverage, as the rows of docs/refinement.md's
-table. The innovation form runs with --max-passes 100 (it takes 18-45 passes).
+table. Both run with the default max_passes (100; the innovation form takes up to 85 passes).
 
     .venv/bin/python bench/python/refine_models.py [--records 50] [--cases unmeasured,white,drift]
 
@@ -24,7 +24,7 @@ NOISE = {"unmeasured": 0.02, "white": 0.05, "drift": 0.02}
 
 def row(case, model, records):
     args = refine_coverage.parse(["--case", case, "--records", str(records), "--noise", str(NOISE[case]),
-                                  "--refine-model", model, "--max-passes", "100" if model == "innovation" else "30"])
+                                  "--refine-model", model])
     err, sig, flags, outputs = refine_coverage.study(args)
     rms_e, rms_s = np.sqrt(np.mean(err ** 2, axis=0)), np.sqrt(np.mean(sig ** 2, axis=0))
     cover = 100 * np.mean(np.abs(err) <= 2 * sig)

@@ -22,6 +22,7 @@
 #include "output_fit.h"
 #include "record_channels.h"
 #include "record_reader.h"
+#include "refine_choice.h"
 #include "warning_poles.h"
 #include "identify_lift.h"
 
@@ -207,6 +208,13 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
             json_result_header(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
             json_start(stdout, cfg, res);
             json_refined_result(stdout, &o->refine_cfg, refined, cfg->num_outputs);
+            if (o->refine_choice != NULL) {
+                const refine_choice *rc = o->refine_choice;
+                fprintf(stdout, ",\n  \"refine_model_choice\": {\"requested\": \"auto\", \"chosen\": \"%s\", \"reason\": \"%s\", "
+                        "\"detail\": ", okid_refine_model_str(rc->chosen), refine_choice_reason_name(rc->reason));
+                json_string(stdout, rc->detail);
+                fputc('}', stdout);
+            }
         } else if (choice != NULL) { /* the fit before "chosen": after the model's members, as okid.Result.to_dict() */
             json_result_fields(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
             if (fit != NULL) json_output_fit(stdout, fit, cfg->num_outputs);
@@ -238,6 +246,10 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
         if (stab_ws != NULL && st.num_orders > 0) print_stabilization(&st);
         if (refined != NULL && search->count > 0) print_start_search(search);
         if (refined != NULL) print_refinement(refined, cfg->num_outputs, cc->output_names);
+        if (o->refine_choice != NULL) {
+            printf("refine_model auto: %s (%s)\n", okid_refine_model_str(o->refine_choice->chosen),
+                   o->refine_choice->detail);
+        }
         if (o->timing) {
             printf("\nelapsed from okid_init to the %s: %.6f s\n",
                    refined != NULL ? "refined modes (start search, OKID/ERA, refinement)" : "modes", elapsed);
@@ -353,10 +365,54 @@ static okid_status identify_streamed(const okid_config *cfg, record_reader *read
     return st;
 }
 
+/* One refine model's run: its start (searched or given), OKID/ERA, the refinement. */
+typedef struct model_run {
+    okid_config cfg;
+    start_search search;
+    void *grown, *rf_ws;
+    okid_identifier id;
+    okid_result res;
+    okid_refiner rf;
+    okid_refine_result refined;
+    okid_status st; /* okid_identify()'s */
+    int rc;         /* identify_refine()'s */
+} model_run;
+
+static void model_run_free(model_run *run)
+{
+    free(run->rf_ws);
+    free(run->grown);
+}
+
+static void run_model(const identify_options *o, const okid_config *cfg, size_t n, const okid_real *u,
+                      const okid_real *y, const record_columns *cols, void *ws, size_t bytes, model_run *run)
+{
+    run->cfg = *cfg;
+    run->search = (start_search){.count = 0, .best = -1};
+    run->grown = run->rf_ws = NULL;
+    run->rc = 0;
+    if (!o->horizons_given && cfg->decimation <= 1) {
+        identify_choose_start(o, &run->cfg, n, u, y, &run->search);
+        if (okid_workspace_size(&run->cfg, &bytes) != OKID_OK ||
+            (run->grown = aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16)) == NULL) {
+            run->st = OKID_OK;
+            run->rc = cli_error(EXIT_DATA, "out of memory (workspace of %zu bytes)", bytes);
+            return;
+        }
+        ws = run->grown;
+    }
+    run->st = okid_init(&run->id, &run->cfg, ws, bytes, NULL);
+    if (run->st == OKID_OK) run->st = okid_push_block(&run->id, n, u, (size_t)cols->r, y, (size_t)cols->m, NULL);
+    if (run->st == OKID_OK) run->st = okid_identify(&run->id, &run->res);
+    if (run->st == OKID_OK) run->rc = identify_refine(o, &run->res, n, u, y, 0, &run->rf, &run->rf_ws, &run->refined);
+}
+
 /*
- * okid identify --refine: the chosen channels come back from the scan into memory ((r + m) 8 bytes
- * per sample), since the refinement makes several passes over them and, without horizons, the
+ * okid identify --refine: the record into memory (the refinement feeds it once per pass), then the
  * start search identifies and refines from several starts; then OKID/ERA, the refinement, the report.
+ * --refine-model auto: output error, then the innovation form when output error's residual is not
+ * white (with its own start search and OKID/ERA run, in its own workspace), and the choice of
+ * refine_choice.h; the report is the chosen model's, with the choice and its reason.
  */
 static int identify_and_refine(const identify_options *o, okid_config *cfg, record_reader *reader,
                                const record_columns *cols, const record_scan *scan, void *ws, size_t bytes,
@@ -368,38 +424,54 @@ static int identify_and_refine(const identify_options *o, okid_config *cfg, reco
     if (loaded != 0) {
         return loaded;
     }
-    start_search search = {.count = 0, .best = -1};
-    void *grown = NULL;
     struct timespec t0, t1; /* --timing: the start search, OKID/ERA and the refinement */
     timespec_get(&t0, TIME_UTC);
-    if (!o->horizons_given && cfg->decimation <= 1) {
-        identify_choose_start(o, cfg, n, u, y, &search);
-        if (okid_workspace_size(cfg, &bytes) != OKID_OK ||
-            (grown = aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16)) == NULL) {
-            free(u), free(y);
-            return cli_error(EXIT_DATA, "out of memory (workspace of %zu bytes)", bytes);
+    const int automatic = o->refine_cfg.refine_model == (okid_refine_model)REFINE_MODEL_AUTO;
+    identify_options oe = *o, inn = *o;
+    oe.refine_cfg.refine_model = OKID_REFINE_OUTPUT_ERROR;
+    inn.refine_cfg.refine_model = OKID_REFINE_INNOVATION;
+    model_run runs[2];
+    model_run *chosen = &runs[0];
+    run_model(automatic ? &oe : o, cfg, n, u, y, cols, ws, bytes, &runs[0]);
+    refine_choice choice = {.chosen = OKID_REFINE_OUTPUT_ERROR};
+    int ran_innovation = 0;
+    if (automatic && runs[0].st == OKID_OK && runs[0].rc == 0) {
+        if (refine_choice_needs_innovation(&runs[0].refined)) {
+            /* a workspace of its own: runs[0]'s result views point into the first one */
+            size_t inn_bytes = 0;
+            void *inn_ws = okid_workspace_size(cfg, &inn_bytes) == OKID_OK
+                               ? aligned_alloc(OKID_WORKSPACE_ALIGN, (inn_bytes + 15) / 16 * 16) : NULL;
+            if (inn_ws == NULL) {
+                model_run_free(&runs[0]);
+                free(u), free(y);
+                return cli_error(EXIT_DATA, "out of memory (workspace of %zu bytes)", inn_bytes);
+            }
+            run_model(&inn, cfg, n, u, y, cols, inn_ws, inn_bytes, &runs[1]);
+            ran_innovation = 1;
+            const int inn_ok = runs[1].st == OKID_OK && runs[1].rc == 0;
+            refine_choose(&runs[0].refined, inn_ok ? &runs[1].refined : NULL, cols->m, &choice);
+            if (choice.chosen == OKID_REFINE_INNOVATION) chosen = &runs[1];
+            /* the chosen run's workspace lives until the report: the grown one or inn_ws */
+            if (runs[1].grown == NULL) runs[1].grown = inn_ws;
+            else free(inn_ws);
+        } else {
+            refine_choose(&runs[0].refined, NULL, cols->m, &choice);
         }
-        ws = grown;
     }
-    okid_identifier id;
-    okid_result res;
-    okid_status st = okid_init(&id, cfg, ws, bytes, NULL);
-    if (st == OKID_OK) st = okid_push_block(&id, n, u, (size_t)cols->r, y, (size_t)cols->m, NULL);
-    if (st == OKID_OK) st = okid_identify(&id, &res);
-    int rc;
-    if (st != OKID_OK) {
-        rc = identify_failure(cfg, &id, st, cc, scan);
-    } else {
-        okid_refiner rf;
-        okid_refine_result refined;
-        void *rf_ws = NULL;
-        rc = identify_refine(o, &res, n, u, y, 0, &rf, &rf_ws, &refined);
+    int rc = chosen->rc;
+    if (chosen->st != OKID_OK) {
+        rc = identify_failure(&chosen->cfg, &chosen->id, chosen->st, cc, scan);
+    } else if (rc == 0) {
         timespec_get(&t1, TIME_UTC);
         const double elapsed = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
-        if (rc == 0) rc = report(o, cfg, &id, &res, cc, elapsed, &refined, &search, NULL, NULL, NULL);
-        free(rf_ws);
+        identify_options shown = chosen == &runs[1] ? inn : automatic ? oe : *o;
+        if (automatic) shown.refine_choice = &choice;
+        *cfg = chosen->cfg;
+        rc = report(&shown, cfg, &chosen->id, &chosen->res, cc, elapsed, &chosen->refined, &chosen->search, NULL,
+                    NULL, NULL);
     }
-    free(grown);
+    model_run_free(&runs[0]);
+    if (ran_innovation) model_run_free(&runs[1]);
     free(u);
     free(y);
     return rc;

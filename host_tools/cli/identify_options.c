@@ -111,7 +111,9 @@ static const cli_option identify_table[] = {
     {"refine-model", NULL, CLI_ENUM, REFINE(refine_model), 0, 0, 0, cli_refine_model_names, NULL, "KIND", NULL, NULL,
      "with --refine: the predictor fitted; innovation also fits the gain K of\n"
      "x(k+1) = A x + B u + K e, the maximum-likelihood one when forces nobody\n"
-     "measured act (white residuals where output_error's are not; docs/refinement.md)"},
+     "measured act (white residuals where output_error's are not; docs/refinement.md);\n"
+     "auto: output_error, and innovation only where output_error's residual is not\n"
+     "white and innovation's is, with modes within 3 sigma of output_error's"},
     /* the command's own options */
     {"observer-seconds", NULL, CLI_REAL, OWN(observer_seconds), 0, 0, CLI_MIN_OPEN | CLI_NO_MAX, NULL, NULL, "S", NULL,
      "--observer-order", "observer order p = round(S / (K dt)) (after --dt, --decimation)"},

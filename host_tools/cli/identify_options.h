@@ -19,6 +19,8 @@ typedef struct identify_options {
     unsigned given;                /* AUTO_GIVEN_* (auto_settings.h): the settings given, the others chosen from the data */
     int all_poles;                 /* --all-poles: every pole of the model with its verdict in the table */
     int decimation_method;         /* --decimation-method: DECIMATION_FILTER or DECIMATION_LIFT (identify_lift.h) */
+    /* --refine-model auto: the choice made (refine_choice.h), for the report; NULL otherwise */
+    const struct refine_choice *refine_choice;
 } identify_options;
 
 /* Fills o from the command line; 0, or EXIT_USAGE after one line on stderr. "--help" exits 0. */

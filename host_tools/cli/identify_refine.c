@@ -8,6 +8,29 @@
 #include "cli_common.h"
 #include "json_writer.h"
 
+/* The iteration limit, with what to do about it: how far the last step was from converging. */
+static void warn_iteration_limit(const okid_refine_result *out, okid_real step_tolerance)
+{
+    const double tol = step_tolerance > 0 ? (double)step_tolerance : (double)OKID_REFINE_STEP_TOLERANCE;
+    const double dec = (double)out->decrement;
+    fprintf(stderr, "okid: warning: the refinement did not converge (%s after %d passes): the modes are the best "
+            "found; ", okid_refine_state_str(out->state), out->passes);
+    if (dec < 0 && out->iterations == 0) {
+        fprintf(stderr, "no step was accepted: check the start (order, horizons)\n");
+    } else if (dec < 0) {
+        fprintf(stderr, "the Gauss-Newton matrix is singular at the best model: the record does not determine "
+                "every parameter (fewer states, or fewer inputs than the lifted record's)\n");
+    } else if (dec < 100 * tol) {
+        fprintf(stderr, "the last step's decrement %.3g is within 100x the tolerance %.3g: raise --max-passes "
+                "(the modes move by about %.2g standard deviations)\n", dec, tol, sqrt(dec));
+    } else {
+        fprintf(stderr, "the last step's decrement %.3g is %.3g times the tolerance %.3g (steps of about %.2g "
+                "standard deviations): more passes may not help; if a residual is not white the model does not "
+                "describe the record (order, drift, a force nobody measured: --refine-model innovation)\n",
+                dec, dec / tol, tol, sqrt(dec));
+    }
+}
+
 int identify_refine(const identify_options *o, const okid_result *res, size_t n, const okid_real *u,
                     const okid_real *y, int quiet, okid_refiner *rf, void **ws, okid_refine_result *out)
 {
@@ -37,7 +60,9 @@ int identify_refine(const identify_options *o, const okid_result *res, size_t n,
     if (st != OKID_OK) {
         return quiet ? EXIT_DATA : cli_error(EXIT_DATA, "refinement failed: %s", okid_status_str(st));
     }
-    if (state != OKID_REFINE_CONVERGED && !quiet) {
+    if (state == OKID_REFINE_ITERATION_LIMIT && !quiet) {
+        warn_iteration_limit(out, o->refine_cfg.step_tolerance);
+    } else if (state != OKID_REFINE_CONVERGED && !quiet) {
         fprintf(stderr, "okid: warning: the refinement did not converge (%s after %d passes)%s\n",
                 okid_refine_state_str(state), out->passes,
                 state == OKID_REFINE_DIVERGED ? ": the modes are OKID/ERA's" : ": the modes are the best found");

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* See config_names.h. */
 #include "config_names.h"
+#include "refine_choice.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -38,6 +39,7 @@ const cli_name cli_estimator_names[] = {{"least_squares", OKID_ESTIMATOR_LEAST_S
 const cli_name cli_decimation_method_names[] = {{"filter", 0, 0}, {"lift", 1, 0}, {NULL, 0, 0}};
 const cli_name cli_refine_model_names[] = {{"output_error", OKID_REFINE_OUTPUT_ERROR, 0},
                                            {"innovation", OKID_REFINE_INNOVATION, 0},
+                                           {"auto", REFINE_MODEL_AUTO, 0}, /* the host surfaces' choice */
                                            {NULL, 0, 0}};
 
 const char *cli_name_of(const cli_name *names, int value)

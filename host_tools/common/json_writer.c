@@ -447,8 +447,10 @@ void json_refinement(FILE *out, const okid_refine_config *cfg, const okid_refine
     fprintf(out, ", \"refine_model\": \"%s\"},\n    \"state\": \"%s\", \"message\": ", cli_name_of(cli_refine_model_names, (int)cfg->refine_model),
             json_refine_state_name(res->state));
     json_string(out, okid_refine_state_str(res->state));
-    fprintf(out, ", \"passes\": %d, \"iterations\": %d, \"num_parameters\": %d, \"samples\": %llu,\n",
+    fprintf(out, ", \"passes\": %d, \"iterations\": %d, \"num_parameters\": %d, \"samples\": %llu, \"decrement\": ",
             res->passes, res->iterations, res->num_parameters, (unsigned long long)res->samples);
+    json_number(out, (double)res->decrement);
+    fputs(",\n", out);
     fputs("    \"residual_rms_start\": ", out);
     json_vector(out, res->residual_rms_start, m);
     fputs(", \"residual_rms\": ", out);

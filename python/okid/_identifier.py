@@ -259,7 +259,7 @@ def identify(u: Any, y: Any, dt: float, *,
     does: OKID/ERA and a refinement from p in (10, 20, 40, 80) x alpha = beta in (20, 50, 100),
     cheap first, until two reach the same cost; the lowest cost wins, its settings are
     Result.config's and the starts tried Result.start_search (the JSON's "start_search").
-    max_passes: with refine, passes over the record at most (2..1000, default 30)
+    max_passes: with refine, passes over the record at most (2..1000, default 100)
     step_tolerance: with refine, converged when the Gauss-Newton decrement (about the squared step
     in standard deviations) falls below it (> 0, default 1e-6)
     decimation_method: with decimation K > 1, "filter" (the default: okid_config::decimation's

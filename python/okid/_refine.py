@@ -64,6 +64,7 @@ class Refinement(_ModeArrays, StateSpaceModel, Travelling):
     samples: int                    #: samples per pass
     dt: float                       #: sample interval [s]
     cost: float                     #: final negative log-likelihood (lower is more likely; nan when diverged)
+    decrement: float                #: Gauss-Newton decrement at the returned model (below step_tolerance when converged; -1: singular)
     warnings: int                   #: okid_warning bits of the refined modes (see okid.WarningFlag)
     max_passes: int                 #: the setting it ran with
     step_tolerance: float           #: the setting it ran with
@@ -176,6 +177,22 @@ class ResidualWarning(OkidWarning, RuntimeWarning):
     half of the output explained."""
 
 
+def iteration_limit_advice(decrement: float, step_tolerance: float, iterations: int) -> str:
+    """What to do about a refinement stopped at max_passes (the CLI's stderr line)."""
+    if decrement < 0 and iterations == 0:
+        return "no step was accepted: check the start (order, horizons)"
+    if decrement < 0:
+        return ("the Gauss-Newton matrix is singular at the best model: the record does not determine every parameter "
+                "(fewer states, or fewer inputs than the lifted record's)")
+    if decrement < 100 * step_tolerance:
+        return (f"the last step's decrement {decrement:.3g} is within 100x the tolerance {step_tolerance:.3g}: raise "
+                f"max_passes (the modes move by about {math.sqrt(decrement):.2g} standard deviations)")
+    return (f"the last step's decrement {decrement:.3g} is {decrement / step_tolerance:.3g} times the tolerance "
+            f"{step_tolerance:.3g} (steps of about {math.sqrt(decrement):.2g} standard deviations): more passes may not "
+            f"help; if a residual is not white the model does not describe the record (order, drift, a force nobody "
+            f"measured: refine_model='innovation')")
+
+
 def warn_if_stopped(refined: Refinement, stacklevel: int) -> None:
     """The RefinementWarning of a refinement that did not converge and the ResidualWarning of
     each failed residual test (the CLI's stderr lines)."""
@@ -189,7 +206,11 @@ def warn_if_stopped(refined: Refinement, stacklevel: int) -> None:
             warnings.warn(f"output {i + 1}: the refined model explains {refined.fit_percent[i]:.3g} % of it (below "
                           f"50 %): a drift, an offset, a force nobody measured or a sensor the model does not "
                           f"describe", ResidualWarning, stacklevel=stacklevel + 1)
-    if not refined.converged:
+    if refined.state == "iteration_limit":
+        warnings.warn(f"the refinement did not converge ({refined.message} after {refined.passes} passes): the modes "
+                      f"are the best found; {iteration_limit_advice(refined.decrement, refined.step_tolerance, refined.iterations)}",
+                      RefinementWarning, stacklevel=stacklevel + 1)
+    elif not refined.converged:
         tail = ": the modes are OKID/ERA's" if refined.state == "diverged" else ": the modes are the best found"
         warnings.warn(f"the refinement did not converge ({refined.message} after {refined.passes} passes){tail}",
                       RefinementWarning, stacklevel=stacklevel + 1)

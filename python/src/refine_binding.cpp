@@ -140,6 +140,7 @@ struct RefineCore {
         f["samples"] = out.samples;
         f["dt"] = (double)out.dt;
         f["cost"] = (double)out.cost;
+        f["decrement"] = (double)out.decrement;
         f["warnings"] = out.warnings;
         f["std_status"] = (int)out.std_status;
         f["max_passes"] = cfg.max_passes;

@@ -27,6 +27,7 @@ struct okid_refiner {
     int passes_, iterations_, in_pass_, finished_, noise_fixed_;
     int best_;                  /* which of the two normal-matrix buffers holds the accepted one */
     okid_real mu_, cost_best_;
+    okid_real decrement_;       /* okid_refine_result::decrement */
     okid_real noise_scale_;     /* a power of two: weight_ are those of noise_std / noise_scale_ */
     okid_status std_status_;    /* okid_refine_result::std_status */
     uint64_t samples_, pass_samples_, samples_used_;

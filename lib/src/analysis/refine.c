@@ -28,7 +28,7 @@ okid_status okid_refine_config_default(okid_refine_config *cfg)
     if (cfg == NULL) {
         return OKID_E_NULL_POINTER;
     }
-    cfg->max_passes = 30;
+    cfg->max_passes = OKID_REFINE_MAX_PASSES;
     cfg->step_tolerance = OKID_REFINE_STEP_TOLERANCE;
     cfg->refine_model = OKID_REFINE_OUTPUT_ERROR;
     return OKID_OK;
@@ -184,7 +184,7 @@ okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, co
     (void)layout(rf, workspace, inn, n, r, m);
     rf->cfg_ = *cfg;
     if (rf->cfg_.max_passes == 0) {
-        rf->cfg_.max_passes = 30;
+        rf->cfg_.max_passes = OKID_REFINE_MAX_PASSES;
     }
     if (rf->cfg_.step_tolerance == 0) {
         rf->cfg_.step_tolerance = OKID_REFINE_STEP_TOLERANCE;
@@ -207,6 +207,7 @@ okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, co
     rf->best_ = 0;
     rf->mu_ = OKID_REFINE_MU_START;
     rf->cost_best_ = 0;
+    rf->decrement_ = -1;
     rf->samples_ = rf->pass_samples_ = 0;
     rf->warnings_ = rf->test_warnings_ = 0;
     rf->num_modes_ = 0;
@@ -718,7 +719,8 @@ okid_status okid_refine_end_pass(okid_refiner *rf, okid_refine_state *state)
         }
         const okid_real dec = decrement(rf);
         /* the decrement of the cost in units of the noise (the weights are relative to noise_scale_) */
-        if (exact || (dec >= 0 && dec / rf->noise_scale_ / rf->noise_scale_ < rf->cfg_.step_tolerance)) {
+        rf->decrement_ = dec >= 0 ? dec / rf->noise_scale_ / rf->noise_scale_ : -1;
+        if (exact || (dec >= 0 && rf->decrement_ < rf->cfg_.step_tolerance)) {
             finish(rf, OKID_REFINE_CONVERGED);
             *state = rf->state_;
             return OKID_OK;
@@ -766,6 +768,7 @@ okid_status okid_refine_get_result(const okid_refiner *rf, okid_refine_result *r
     result->residual_rms_start = rf->rms_start_;
     result->residual_rms = rf->rms_;
     result->cost = rf->cost_best_ / rf->noise_scale_ / rf->noise_scale_;
+    result->decrement = rf->decrement_;
     result->dt = rf->dt_;
     result->samples = rf->samples_;
     result->warnings = rf->warnings_;
