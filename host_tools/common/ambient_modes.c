@@ -78,6 +78,7 @@ static okid_status run_size(ambient_run *run, const okid_ambient_config *cfg, in
     run->cfg.hankel_rows = L;
     run->cfg.order = top;  /* the identifier's workspace only holds the sums and the ERA scratch here */
     run->cfg.segments = 0; /* the segments serve the reported model only */
+    run->cfg.segment_samples = 0;
     size_t bytes = 0;
     okid_status st = okid_ambient_workspace_size(&run->cfg, &bytes);
     if (st != OKID_OK) return st;
