@@ -134,10 +134,16 @@ def assert_exact_modes_first(modes):
     assert modes[0]["damping_ratio"] == pytest.approx(zeta, rel=DAMP_FACTOR / math.sqrt(zeta * omega * duration))
 
 
-def test_cli_chooses_the_hankel_size_and_the_physical_modes(ambient_csv):
+@pytest.fixture(scope="module")
+def chosen_json(ambient_csv):
+    """okid identify --inputs 0 --json with nothing chosen by the user."""
+    return json.loads(run("identify", "--inputs", 0, "--json", ambient_csv).stdout)
+
+
+def test_cli_chooses_the_hankel_size_and_the_physical_modes(ambient_csv, chosen_json):
     """Without --hankel-rows, L dt is one period at the band's 5 % frequency, checked at 2/3 and 4/3
     of it; without --order, the physical modes stable across orders and two of the three sizes."""
-    res = json.loads(run("identify", "--inputs", 0, "--json", ambient_csv).stdout)
+    res = chosen_json
     L = res["config"]["hankel_rows"]
     assert 20 <= L <= 60  # the slowest period is 2 s: about 40 samples
     chosen = res["chosen"]
@@ -236,11 +242,11 @@ def test_python_identifies_the_exact_modes_and_agrees_with_the_cli(ambient_csv):
         res.order = 3  # frozen
 
 
-def test_python_chooses_the_settings_and_the_modes_as_the_cli_does(ambient_csv):
+def test_python_chooses_the_settings_and_the_modes_as_the_cli_does(ambient_csv, chosen_json):
     import okid
     data = np.loadtxt(ambient_csv, delimiter=",", skiprows=1)[:, 1:]
     res = okid.identify_ambient(data, DT)
-    cli = json.loads(run("identify", "--inputs", 0, "--json", ambient_csv).stdout)
+    cli = chosen_json
     assert res.hankel_rows == cli["config"]["hankel_rows"] and res.band_hz > 0 and res.order == cli["order"]
     assert isinstance(res.modes[0], okid.SelectedMode) and isinstance(res.poles[0], okid.Pole)
     assert dict(res.chosen["order"]) == cli["chosen"]["order"]
