@@ -13,6 +13,7 @@
  * okid identify --inputs 0 (docs/ambient.md has the command and the figures): the estimates come
  * from a finite sample of a random process, so this is what another BLAS or seed can move.
  */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -213,9 +214,10 @@ static void *paper_identifier(okid_ambient *amb, size_t count, const okid_real *
 }
 
 /*
- * Nested truncation: the table's order n is okid_ambient_identify() at order n (the same SVD, the
- * leading block of one realization: equal to round-off, 1e-9 relative for these well separated
- * poles), and computing the table leaves the last result as it was.
+ * Nested truncation: the table's order n is okid_ambient_identify() at order n, and computing the
+ * table leaves the last result as it was. The same SVD and the same arithmetic per entry of the
+ * leading block (bit for bit on x86-64 OpenBLAS, measured); 1e3 eps allows a kernel whose path
+ * depends on the leading dimension (top against n) for these well separated poles.
  */
 static void test_table_is_identify_at_each_order(void **state)
 {
@@ -241,6 +243,7 @@ static void test_table_is_identify_at_each_order(void **state)
     assert_int_equal(table.num_orders, 10);
     assert_int_equal(table.rank_limit, 40);
     assert_memory_equal(before, res.modes, sizeof(okid_mode) * (size_t)kept); /* the last result untouched */
+    const double tol = 1e3 * (OKID_REAL_IS_FLOAT ? (double)FLT_EPSILON : DBL_EPSILON);
     for (int k = 0; k < table.num_orders; k += 3) { /* orders 2, 8, 14, 20 */
         const okid_stabilization_order *o = &table.orders[k];
         okid_ambient_config cfg;
@@ -258,10 +261,10 @@ static void test_table_is_identify_at_each_order(void **state)
         assert_int_equal(at.num_modes, o->num_modes);
         for (int i = 0; i < o->num_modes; ++i) {
             const okid_mode *t = &table.modes[o->first + i];
-            assert_relative(t->frequency_hz, at.modes[i].frequency_hz, 1e-9, "frequency", i);
-            assert_relative(t->damping_ratio, at.modes[i].damping_ratio, 1e-7, "damping", i);
-            assert_true(fabs((double)t->mpc - (double)at.modes[i].mpc) < 1e-8);
-            assert_true(fabs((double)t->emac - (double)at.modes[i].emac) < 1e-8);
+            assert_relative(t->frequency_hz, at.modes[i].frequency_hz, tol, "frequency", i);
+            assert_relative(t->damping_ratio, at.modes[i].damping_ratio, tol, "damping", i);
+            assert_true(fabs((double)t->mpc - (double)at.modes[i].mpc) <= tol);
+            assert_true(fabs((double)t->emac - (double)at.modes[i].emac) <= tol);
         }
         free(ows);
     }
