@@ -95,18 +95,9 @@ okid_status okid_ambient_stabilization_compute(okid_ambient *amb, int max_order,
         return OKID_E_NULL_POINTER;
     }
     okid_stabilization_criteria crit;
-    (void)okid_stabilization_criteria_default(&crit);
-    if (criteria != NULL) {
-        if (!okid_stab_criteria_valid_(criteria)) {
-            return OKID_E_BAD_PARAMETER;
-        }
-        crit = *criteria;
-    }
-    if (((size_t)workspace % OKID_WORKSPACE_ALIGN) != 0) {
-        return OKID_E_WORKSPACE_ALIGNMENT;
-    }
-    if (bytes < needed) {
-        return OKID_E_WORKSPACE_TOO_SMALL;
+    st = okid_stab_check_(criteria, workspace, bytes, needed, &crit);
+    if (st != OKID_OK) {
+        return st;
     }
     const okid_correlation_sums_ *sums = &amb->sums_;
     if (okid_corr_pairs(sums, -1, sums->lags) == 0) {

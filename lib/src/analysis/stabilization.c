@@ -80,7 +80,7 @@ okid_status okid_stabilization_workspace_size(const okid_identifier *id, int max
     return okid_carve_size(stab_carve(id, max_order, step, NULL, &dry), bytes);
 }
 
-int okid_stab_criteria_valid_(const okid_stabilization_criteria *c)
+static int criteria_valid(const okid_stabilization_criteria *c)
 {
     return okid_is_finite(c->frequency_tolerance) && c->frequency_tolerance > 0 &&
            okid_is_finite(c->damping_tolerance) && c->damping_tolerance > 0 && okid_is_finite(c->mac_min) &&
@@ -161,6 +161,22 @@ okid_status okid_stab_fill_orders_(const okid_stab_realization_ *rz, int step, c
     return OKID_OK;
 }
 
+okid_status okid_stab_check_(const okid_stabilization_criteria *criteria, const void *workspace, size_t bytes,
+                             size_t needed, okid_stabilization_criteria *crit)
+{
+    (void)okid_stabilization_criteria_default(crit);
+    if (criteria != NULL) {
+        if (!criteria_valid(criteria)) {
+            return OKID_E_BAD_PARAMETER;
+        }
+        *crit = *criteria;
+    }
+    if (((size_t)workspace % OKID_WORKSPACE_ALIGN) != 0) {
+        return OKID_E_WORKSPACE_ALIGNMENT;
+    }
+    return bytes < needed ? OKID_E_WORKSPACE_TOO_SMALL : OKID_OK;
+}
+
 /* ERA at order top on the last result's Markov parameters, into the stabilization views. */
 static okid_status realize_largest(const okid_identifier *id, int top, const stab_views *v)
 {
@@ -195,18 +211,9 @@ okid_status okid_stabilization_compute(okid_identifier *id, int max_order, int s
         return OKID_E_NOT_AVAILABLE;
     }
     okid_stabilization_criteria crit;
-    (void)okid_stabilization_criteria_default(&crit);
-    if (criteria != NULL) {
-        if (!okid_stab_criteria_valid_(criteria)) {
-            return OKID_E_BAD_PARAMETER;
-        }
-        crit = *criteria;
-    }
-    if (((size_t)workspace % OKID_WORKSPACE_ALIGN) != 0) {
-        return OKID_E_WORKSPACE_ALIGNMENT;
-    }
-    if (bytes < needed) {
-        return OKID_E_WORKSPACE_TOO_SMALL;
+    st = okid_stab_check_(criteria, workspace, bytes, needed, &crit);
+    if (st != OKID_OK) {
+        return st;
     }
     stab_views v;
     (void)stab_carve(id, max_order, step, (unsigned char *)workspace, &v);

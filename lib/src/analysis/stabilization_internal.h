@@ -37,7 +37,11 @@ int okid_stab_hankel_rank_(const okid_real *sv, int k);
 okid_status okid_stab_fill_orders_(const okid_stab_realization_ *rz, int step, const okid_stabilization_criteria *crit,
                                    const okid_stab_table_views_ *v, int *count);
 
-/* Valid criteria (tolerances > 0 and finite, mac_min in [0, 1]). */
-int okid_stab_criteria_valid_(const okid_stabilization_criteria *c);
+/*
+ * The criteria (NULL: the defaults) into *crit, the workspace's alignment and size (needed):
+ * OKID_OK, OKID_E_BAD_PARAMETER (criteria), OKID_E_WORKSPACE_ALIGNMENT, OKID_E_WORKSPACE_TOO_SMALL.
+ */
+okid_status okid_stab_check_(const okid_stabilization_criteria *criteria, const void *workspace, size_t bytes,
+                             size_t needed, okid_stabilization_criteria *crit);
 
 #endif
