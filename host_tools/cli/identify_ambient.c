@@ -239,7 +239,9 @@ int identify_ambient(const identify_options *o, record_reader *reader, const rec
         const char *refs[OKID_MAX_DIMENSION];
         for (int l = 0; l < nref; ++l) refs[l] = output_names[cfg.num_references > 0 ? cfg.reference_channels[l] : l];
         if (o->json && am != NULL) {
-            json_ambient_fields(stdout, &cfg, &res, output_names, refs, o->timing ? elapsed : -1);
+            okid_ambient_config as_given = cfg; /* "config" has the order as given (0), as the input-output path's */
+            as_given.order = 0;
+            json_ambient_fields(stdout, &as_given, &res, output_names, refs, o->timing ? elapsed : -1);
             ambient_modes_json(stdout, am, &res, m);
             fputs("\n}\n", stdout);
         } else if (o->json) {
