@@ -140,6 +140,9 @@ okid_status ambient_modes_find(const okid_ambient_config *cfg, int hankel_given,
         out->runs[w].status = run_size(&out->runs[w], cfg, out->choice.windows[w], out->choice.max_order, n, y,
                                        &out->criteria);
     }
+    if (out->runs[0].status == OKID_E_BAD_ORDER) {
+        return OKID_OK; /* a Hankel matrix too small for one pair (L min(m, r_ref) < 2): no mode, the gap order */
+    }
     if (out->runs[0].status != OKID_OK) {
         return out->runs[0].status;
     }
