@@ -83,7 +83,8 @@ def identify_ambient(y: Any, dt: float, *, hankel_rows: int = 0, order: int = 0,
     period at the frequency below which 5 % of the outputs' energy lies. order: n; 0 = the physical
     modes as ``modes`` (selected across the even orders 2..60 of the correlations' stabilization
     table at three Hankel sizes, as okid identify --inputs 0 without --order) and the lowest order
-    that holds them (the largest singular-value gap when none is found). references: indices of the reference outputs (any order), None = all.
+    that holds them (the largest singular-value gap when none is found). references: indices of
+    the reference outputs (any order), None = all.
     sensing: "displacement", "velocity" or "acceleration" (the shapes of eq. 64). segments: 2..64
     keeps the sums of as many segments apart (blocks of segment_samples samples, 0 = 20 (2L + 1),
     dealt out in turn) and gives each mode's frequency_std and damping_std from their spread;
