@@ -13,6 +13,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "ambient_modes.h"
 #include "ambient_settings.h"
 #include "auto_settings.h"
 #include "cli_common.h"
@@ -41,7 +42,7 @@ static const char *inapplicable_option(const identify_options *o)
         {c->instrument_lags != d.instrument_lags, "--instrument-lags"},
         {o->refine, "--refine"},
         {o->stabilization > 0, "--stabilization"},
-        {o->all_poles, "--all-poles"},
+        {o->all_poles, "--all-poles (the JSON's \"poles\" hold the verdicts)"},
     };
     for (size_t i = 0; i < sizeof checks / sizeof checks[0]; ++i) {
         if (checks[i].given) return checks[i].flag;
@@ -204,9 +205,30 @@ int identify_ambient(const identify_options *o, record_reader *reader, const rec
     }
     struct timespec t0, t1;
     timespec_get(&t0, TIME_UTC);
+    /* without --order, the physical modes across orders and Hankel sizes, and the order that holds them */
+    ambient_modes *am = cfg.order == 0 ? calloc(1, sizeof *am) : NULL;
+    if (cfg.order == 0 && am == NULL) {
+        free(ws);
+        free(y);
+        return cli_error(EXIT_DATA, "out of memory");
+    }
+    okid_status st = OKID_OK;
+    if (am != NULL) {
+        const int given = o->hankel_seconds > 0 || (o->given & AUTO_GIVEN_HANKEL);
+        st = ambient_modes_find(&cfg, given, n, y, NULL, am);
+        if (st == OKID_OK && (am->order != 0 || am->choice.windows[0] != cfg.hankel_rows)) {
+            cfg.order = am->order;
+            cfg.hankel_rows = am->choice.windows[0];
+            free(ws);
+            ws = okid_ambient_workspace_size(&cfg, &bytes) == OKID_OK
+                     ? aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16)
+                     : NULL;
+            if (ws == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
+        }
+    }
     okid_ambient amb;
     okid_ambient_result res;
-    okid_status st = okid_ambient_init(&amb, &cfg, ws, bytes, NULL);
+    if (st == OKID_OK) st = okid_ambient_init(&amb, &cfg, ws, bytes, NULL);
     if (st == OKID_OK) st = okid_ambient_push_block(&amb, n, y, (size_t)m, NULL);
     if (st == OKID_OK) st = okid_ambient_identify(&amb, &res);
     timespec_get(&t1, TIME_UTC);
@@ -216,12 +238,21 @@ int identify_ambient(const identify_options *o, record_reader *reader, const rec
     } else {
         const char *refs[OKID_MAX_DIMENSION];
         for (int l = 0; l < nref; ++l) refs[l] = output_names[cfg.num_references > 0 ? cfg.reference_channels[l] : l];
-        if (o->json) {
+        if (o->json && am != NULL) {
+            okid_ambient_config as_given = cfg; /* "config" has the order as given (0), as the input-output path's */
+            as_given.order = 0;
+            json_ambient_fields(stdout, &as_given, &res, output_names, refs, o->timing ? elapsed : -1);
+            ambient_modes_json(stdout, am, &res, m);
+            fputs("\n}\n", stdout);
+        } else if (o->json) {
             json_ambient_result(stdout, &cfg, &res, output_names, refs, o->timing ? elapsed : -1);
         } else {
             print_table(&cfg, &res, o->file, output_names, refs, band_hz, o->timing ? elapsed : -1);
+            if (am != NULL) ambient_print_modes(am, &res, output_names, m);
         }
     }
+    if (am != NULL) ambient_modes_free(am);
+    free(am);
     free(ws);
     free(y);
     return rc;

@@ -20,12 +20,17 @@ void ambient_remove_mean(okid_real *y, size_t n, int m)
     }
 }
 
+int ambient_hankel_rows_most(size_t n, int m)
+{
+    const int most = (int)(n / 20u) < 1000 / m ? (int)(n / 20u) : 1000 / m;
+    return most < OKID_MAX_HORIZON ? most : OKID_MAX_HORIZON;
+}
+
 int ambient_choose_hankel_rows(const okid_real *y, size_t n, int m, double dt, int order, int nref, double *band_hz)
 {
     const int side = m < nref ? m : nref;
     const int fewest = order > 0 ? (order + side - 1) / side : 2;
-    int most = (int)(n / 20u) < 1000 / m ? (int)(n / 20u) : 1000 / m;
-    if (most > OKID_MAX_HORIZON) most = OKID_MAX_HORIZON;
+    int most = ambient_hankel_rows_most(n, m);
     if (most < fewest) most = fewest;
     auto_band band;
     *band_hz = 0;

@@ -14,6 +14,9 @@
 /* Subtract from each of the m channels of y (n samples, m values each) the mean of its finite values. */
 void ambient_remove_mean(okid_real *y, size_t n, int m);
 
+/* The largest L chosen for n samples of m outputs: a twentieth of the record, a Hankel of 1000 rows. */
+int ambient_hankel_rows_most(size_t n, int m);
+
 /*
  * L when hankel_rows is not given: one slowest period per block side, L dt = 1 / f5 (f5: 5 % of
  * the outputs' energy lies below, auto_channel_band()), so the Hankel matrix of R(1..2L) spans

@@ -271,7 +271,7 @@ void json_modes(FILE *out, const okid_result *res, int m)
     json_mode_list(out, res->modes, res->num_modes, m);
 }
 
-void json_ambient_result(FILE *out, const okid_ambient_config *cfg, const okid_ambient_result *res,
+void json_ambient_fields(FILE *out, const okid_ambient_config *cfg, const okid_ambient_result *res,
                          const char *const *output_names, const char *const *reference_names, double elapsed)
 {
     const int m = cfg->num_outputs, nref = res->G.cols;
@@ -314,7 +314,13 @@ void json_ambient_result(FILE *out, const okid_ambient_config *cfg, const okid_a
         fputs(",\n  \"damping_std\": ", out);
         json_vector(out, res->damping_std, res->num_modes);
     }
-    json_mode_list(out, res->modes, res->num_modes, m);
+}
+
+void json_ambient_result(FILE *out, const okid_ambient_config *cfg, const okid_ambient_result *res,
+                         const char *const *output_names, const char *const *reference_names, double elapsed)
+{
+    json_ambient_fields(out, cfg, res, output_names, reference_names, elapsed);
+    json_mode_list(out, res->modes, res->num_modes, cfg->num_outputs);
     fputs("\n}\n", out);
 }
 

@@ -55,6 +55,10 @@ void json_result_model(FILE *out, const okid_result *res);
 void json_ambient_result(FILE *out, const okid_ambient_config *cfg, const okid_ambient_result *res,
                          const char *const *output_names, const char *const *reference_names, double elapsed);
 
+/* json_ambient_result()'s opening brace and members before "modes" (the physical modes' report follows). */
+void json_ambient_fields(FILE *out, const okid_ambient_config *cfg, const okid_ambient_result *res,
+                         const char *const *output_names, const char *const *reference_names, double elapsed);
+
 /* ',\n  "start": {...}': the model a refinement started from (json_result_model's members and its modes). */
 void json_start(FILE *out, const okid_config *cfg, const okid_result *res);
 

@@ -3,9 +3,11 @@
 C library's okid_ambient (okid/ambient.h, docs/ambient.md), as ``okid identify --inputs 0`` runs it."""
 from __future__ import annotations
 
+import json
 import warnings as _warnings
-from dataclasses import dataclass
-from typing import Any, Callable, Optional, Sequence, Tuple
+from dataclasses import dataclass, fields
+from types import MappingProxyType
+from typing import Any, Callable, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -13,7 +15,7 @@ from . import _core
 from ._config import SENSING
 from ._document import Travelling
 from ._errors import BadParameterError, BadSizeError, NonFiniteSampleWarning, OK, check, error_for
-from ._mode import Mode, ModeArrays, WarningFlag, modes_from_dicts
+from ._mode import Mode, ModeArrays, Pole, SelectedMode, WarningFlag, modes_from_dicts
 
 __all__ = ["AmbientResult", "identify_ambient"]
 
@@ -31,12 +33,17 @@ class AmbientResult(ModeArrays, Travelling):
     - singular_values: of the correlations' block Hankel matrix, decreasing [output unit^2]
     - realization_condition: sigma_1 / sigma_n [-]
     - modes: okid.Mode tuple sorted by frequency (frequency_hz [Hz], damping_ratio [-], shapes,
-      indicators; emac_input judges G's side)
+      indicators; emac_input judges G's side); with the order chosen (order=0), the physical modes
+      as okid.SelectedMode (stable across orders and Hankel sizes, docs/ambient.md)
+    - poles: with the order chosen, every pole of the model as okid.Pole (verdict, reason), else None
+    - chosen: with the order chosen, each choice and its reason ({value, chosen, reason}: hankel_rows,
+      order; band_hz, hankel_windows, max_order, selection_band_hz), else None
     - dt [s]; samples: samples accepted; pairs: products summed at lag 2L [counts]
     - hankel_rows: L used; band_hz: the outputs' 5 % frequency that chose it [Hz] (0 when given)
     - references: the reference outputs' indices; warnings: okid.WarningFlag
-    - frequency_std [Hz], damping_std [-]: with segments, each mode's standard deviations (NaN when
-      fewer than two segments hold it), else None; segments_used: the segments realized
+    - frequency_std [Hz], damping_std [-]: with segments, each pole's standard deviations (NaN when
+      fewer than two segments hold it; in the order of modes, or of poles when the order is
+      chosen), else None; segments_used: the segments realized
     """
     order: int
     A: np.ndarray
@@ -56,6 +63,8 @@ class AmbientResult(ModeArrays, Travelling):
     frequency_std: Optional[np.ndarray]
     damping_std: Optional[np.ndarray]
     segments_used: int
+    poles: Optional[Tuple[Pole, ...]] = None
+    chosen: Optional[Mapping[str, Any]] = None
 
 
 def identify_ambient(y: Any, dt: float, *, hankel_rows: int = 0, order: int = 0,
@@ -71,8 +80,11 @@ def identify_ambient(y: Any, dt: float, *, hankel_rows: int = 0, order: int = 0,
     them) with a NonFiniteSampleWarning.
 
     hankel_rows: L, block rows and columns (okid_ambient_config.hankel_rows); 0 chooses L dt = one
-    period at the frequency below which 5 % of the outputs' energy lies. order: n, 0 = the largest
-    singular-value gap. references: indices of the reference outputs (any order), None = all.
+    period at the frequency below which 5 % of the outputs' energy lies. order: n; 0 = the physical
+    modes as ``modes`` (selected across the even orders 2..60 of the correlations' stabilization
+    table at three Hankel sizes, as okid identify --inputs 0 without --order) and the lowest order
+    that holds them (the largest singular-value gap when none is found). references: indices of
+    the reference outputs (any order), None = all.
     sensing: "displacement", "velocity" or "acceleration" (the shapes of eq. 64). segments: 2..64
     keeps the sums of as many segments apart (blocks of segment_samples samples, 0 = 20 (2L + 1),
     dealt out in turn) and gives each mode's frequency_std and damping_std from their spread;
@@ -95,10 +107,21 @@ def identify_ambient(y: Any, dt: float, *, hankel_rows: int = 0, order: int = 0,
         _warnings.warn("samples with a NaN or Inf were skipped (a gap in the correlations)", NonFiniteSampleWarning,
                        stacklevel=2)
     m = data.shape[1]
+    modes = modes_from_dicts(res["modes"])
+    poles = chosen = None
+    if res["auto_json"] is not None:
+        doc = json.loads("{" + res["auto_json"].lstrip().lstrip(",") + "}")
+        chosen = MappingProxyType({k: MappingProxyType(v) if isinstance(v, dict) else v
+                                   for k, v in doc["chosen"].items()})
+        poles = tuple(Pole(**{f.name: getattr(md, f.name) for f in fields(Mode)},
+                           verdict="rejected" if why else "physical", reason=why)
+                      for md, why in zip(modes, res["verdicts"]))
+        modes = tuple(SelectedMode(**d) for d in res["selected"])
     return AmbientResult(
         order=res["order"], A=res["A"], C=res["C"], G=res["G"], correlations=res["correlations"],
         singular_values=res["singular_values"], realization_condition=res["realization_condition"],
-        modes=modes_from_dicts(res["modes"]), dt=res["dt"], samples=res["samples"], pairs=res["pairs"],
+        modes=modes, dt=res["dt"], samples=res["samples"], pairs=res["pairs"],
         hankel_rows=res["hankel_rows"], band_hz=res["band_hz"],
         references=tuple(refs) if refs else tuple(range(m)), warnings=WarningFlag(res["warnings"]),
-        frequency_std=res["frequency_std"], damping_std=res["damping_std"], segments_used=res["segments_used"])
+        frequency_std=res["frequency_std"], damping_std=res["damping_std"], segments_used=res["segments_used"],
+        poles=poles, chosen=chosen)

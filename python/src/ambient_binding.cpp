@@ -16,6 +16,7 @@
 #include "binding.h"
 
 extern "C" {
+#include "ambient_modes.h"
 #include "ambient_settings.h"
 #include "okid_fields.h"
 }
@@ -55,6 +56,34 @@ nb::dict result_dict(const okid_ambient_result &res, int m, int hankel_rows, dou
     d["band_hz"] = band_hz;
     return d;
 }
+
+// A physical mode of the selection: the okid_mode fields, its cluster's statistics, its support (okid.SelectedMode).
+nb::dict selected_dict(const ambient_modes &am, int k, int m)
+{
+    const okid_selected_mode *s = am.modes[k].selected;
+    nb::dict d = mode_dict(s->mode, m);
+    d["order"] = s->order;
+    d["num_orders"] = s->num_orders;
+    d["of_orders"] = am.runs[am.modes[k].window].table.num_orders;
+    d["lowest_order"] = s->lowest_order;
+    d["highest_order"] = s->highest_order;
+    const char *names[9] = {"frequency_mean", "frequency_std", "frequency_min", "frequency_max", "damping_mean",
+                            "damping_std", "damping_min", "damping_max", "cmi_min"};
+    const okid_real values[9] = {s->frequency_mean, s->frequency_std, s->frequency_min, s->frequency_max,
+                                 s->damping_mean, s->damping_std, s->damping_min, s->damping_max, s->cmi_min};
+    for (int i = 0; i < 9; ++i) d[names[i]] = (double)values[i];
+    d["windows"] = am.modes[k].windows;
+    d["of_windows"] = am.num_runs;
+    return d;
+}
+
+struct ModesFree {
+    void operator()(ambient_modes *am) const noexcept
+    {
+        ambient_modes_free(am);
+        std::free(am);
+    }
+};
 
 }  // namespace
 
@@ -107,6 +136,22 @@ void bind_ambient(nb::module_ &m)
                 return nb::make_tuple(status, std::string(issue.field ? issue.field : ""), issue.value, issue.min,
                                       issue.max, nb::none());
             }
+            /* without an order, the physical modes over three Hankel sizes (host_tools/common/ambient_modes.h) */
+            std::unique_ptr<ambient_modes, ModesFree> am;
+            if (order == 0) {
+                am.reset(static_cast<ambient_modes *>(std::calloc(1, sizeof(ambient_modes))));
+                if (!am) throw std::bad_alloc();
+                {
+                    nb::gil_scoped_release release;
+                    status = ambient_modes_find(&cfg, hankel_rows > 0, n, data.data(), nullptr, am.get());
+                }
+                if (status != OKID_OK) {
+                    return nb::make_tuple(status, std::string(), 0.0, 0.0, 0.0, nb::none());
+                }
+                cfg.order = am->order;
+                cfg.hankel_rows = am->choice.windows[0];
+                if (hankel_rows == 0) band_hz = am->choice.band_low_hz;
+            }
             size_t bytes = 0;
             okid_ambient_workspace_size(&cfg, &bytes);
             std::unique_ptr<void, AlignedFree> ws(std::aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16));
@@ -132,6 +177,18 @@ void bind_ambient(nb::module_ &m)
             }
             nb::dict d = result_dict(res, mo, cfg.hankel_rows, band_hz);
             d["rejected_samples"] = push_status == OKID_E_NONFINITE_SAMPLE;
+            d["auto_json"] = nb::none();
+            if (am) {
+                d["auto_json"] = write_to_string([&](FILE *out) { ambient_modes_json(out, am.get(), &res, mo); });
+                nb::list selected, verdicts;
+                for (int k = 0; k < am->num_modes; ++k) selected.append(selected_dict(*am, k, mo));
+                for (int i = 0; i < res.num_modes; ++i) {
+                    const char *why = ambient_pole_verdict(am.get(), &res.modes[i], mo);
+                    verdicts.append(why ? nb::cast(std::string(why)) : nb::none());
+                }
+                d["selected"] = selected;
+                d["verdicts"] = verdicts;
+            }
             return nb::make_tuple((int)OKID_OK, std::string(), 0.0, 0.0, 0.0, d);
         },
         nb::arg("y"), nb::arg("dt"), nb::arg("hankel_rows"), nb::arg("order"), nb::arg("references"),

@@ -114,14 +114,49 @@ def test_cli_correlations_are_numpys(ambient_csv):
         np.testing.assert_allclose(r[:, 2 * k:2 * k + 2], want, rtol=1e-10, atol=1e-12 * np.abs(want).max())
 
 
-def test_cli_chooses_the_hankel_size_and_the_order(ambient_csv):
-    """Without --hankel-rows, L dt is one period at the band's 5 % frequency; without --order, the gap rule."""
-    res = json.loads(run("identify", "--inputs", 0, "--json", ambient_csv).stdout)
-    assert 20 <= res["config"]["hankel_rows"] <= 60  # the slowest period is 2 s: about 40 samples
-    assert res["order"] == 4
-    assert_exact_modes(res["modes"], SAMPLES * DT)
+def assert_physical_modes(res_modes, poles, order):
+    """Without an order: the physical modes are the first exact mode alone (16 %; the second, 33 %,
+    is above the selection's damping_max 0.2, as on the input-output path), the model of order 4
+    holds both, the first with the verdict physical, the second rejected for its damping."""
+    assert_exact_modes_first(res_modes)
+    assert order == 4
+    pairs = [p for p in poles if p["is_pair"]]
+    assert [p["verdict"] for p in pairs] == ["physical", "rejected"]
+    assert "damping ratio above" in pairs[1]["reason"]
+    assert_exact_modes(pairs, SAMPLES * DT)
+
+
+def assert_exact_modes_first(modes):
+    (f, zeta), _ = exact_modes()
+    omega, duration = 2 * math.pi * f, SAMPLES * DT
+    assert len(modes) == 1, modes
+    assert modes[0]["frequency_hz"] == pytest.approx(f, rel=FREQ_FACTOR * math.sqrt(zeta / (omega * duration)))
+    assert modes[0]["damping_ratio"] == pytest.approx(zeta, rel=DAMP_FACTOR / math.sqrt(zeta * omega * duration))
+
+
+@pytest.fixture(scope="module")
+def chosen_json(ambient_csv):
+    """okid identify --inputs 0 --json with nothing chosen by the user."""
+    return json.loads(run("identify", "--inputs", 0, "--json", ambient_csv).stdout)
+
+
+def test_cli_chooses_the_hankel_size_and_the_physical_modes(ambient_csv, chosen_json):
+    """Without --hankel-rows, L dt is one period at the band's 5 % frequency, checked at 2/3 and 4/3
+    of it; without --order, the physical modes stable across orders and two of the three sizes."""
+    res = chosen_json
+    L = res["config"]["hankel_rows"]
+    assert 20 <= L <= 60  # the slowest period is 2 s: about 40 samples
+    chosen = res["chosen"]
+    assert chosen["hankel_rows"]["value"] == L and chosen["hankel_rows"]["chosen"] is True
+    assert chosen["hankel_windows"] == [L, round(2 * L / 3), round(4 * L / 3)] and chosen["max_order"] == 60
+    assert chosen["order"] == {"value": 4, "chosen": True,
+                               "reason": "the lowest order whose poles hold every physical mode"}
+    assert res["config"]["order"] == 0 and res["order"] == 4  # as given; the model's order at the top
+    assert_physical_modes(res["modes"], res["poles"], res["order"])
+    assert res["modes"][0]["windows"] >= 2 and res["modes"][0]["of_windows"] == 3
     table = run("identify", "--inputs", 0, ambient_csv)
     assert table.returncode == 0 and "output-only" in table.stdout and "chosen: one period" in table.stdout
+    assert "physical modes: 1" in table.stdout
 
 
 def test_cli_one_reference(ambient_csv):
@@ -207,12 +242,22 @@ def test_python_identifies_the_exact_modes_and_agrees_with_the_cli(ambient_csv):
         res.order = 3  # frozen
 
 
-def test_python_chooses_hankel_rows_as_the_cli_does(ambient_csv):
+def test_python_chooses_the_settings_and_the_modes_as_the_cli_does(ambient_csv, chosen_json):
     import okid
     data = np.loadtxt(ambient_csv, delimiter=",", skiprows=1)[:, 1:]
     res = okid.identify_ambient(data, DT)
-    cli = json.loads(run("identify", "--inputs", 0, "--json", ambient_csv).stdout)
+    cli = chosen_json
     assert res.hankel_rows == cli["config"]["hankel_rows"] and res.band_hz > 0 and res.order == cli["order"]
+    assert isinstance(res.modes[0], okid.SelectedMode) and isinstance(res.poles[0], okid.Pole)
+    assert dict(res.chosen["order"]) == cli["chosen"]["order"]
+    assert list(res.chosen["hankel_windows"]) == cli["chosen"]["hankel_windows"]
+    assert_physical_modes([{"frequency_hz": m.frequency_hz, "damping_ratio": m.damping_ratio} for m in res.modes],
+                          [{"is_pair": p.is_pair, "frequency_hz": p.frequency_hz, "damping_ratio": p.damping_ratio,
+                            "verdict": p.verdict, "reason": p.reason} for p in res.poles], res.order)
+    # the same sums and the same selection: the CLI's figures to the SVD backends' rounding
+    np.testing.assert_allclose(res.frequencies_hz, [m["frequency_hz"] for m in cli["modes"]], rtol=1e-9)
+    with_order = okid.identify_ambient(data, DT, order=4, hankel_rows=res.hankel_rows)
+    assert with_order.poles is None and with_order.chosen is None
 
 
 def test_python_one_reference_and_a_gap():

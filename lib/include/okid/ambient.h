@@ -48,6 +48,7 @@
 #include "okid/limits.h"
 #include "okid/modal.h"
 #include "okid/sizes.h"
+#include "okid/stabilization.h"
 #include "okid/status.h"
 #include "okid/types.h"
 
@@ -192,6 +193,43 @@ typedef struct okid_ambient_result {
  *         [OKID_MAGNITUDE_MIN, OKID_MAGNITUDE_MAX], or sums that overflowed)
  */
 okid_status okid_ambient_identify(okid_ambient *amb, okid_ambient_result *result);
+
+/**
+ * Stabilization workspace bytes as a constant expression: m outputs, r_ref references (0 = m), L
+ * block rows, the largest order and the order step. Equals okid_ambient_stabilization_workspace_size();
+ * saturates at SIZE_MAX.
+ */
+#define OKID_AMBIENT_STABILIZATION_WORKSPACE_BYTES(m, num_references, hankel_rows, max_order, step)        \
+    OKID__SIZE(OKID__AMBIENT_STABILIZATION_BYTES64(m, OKID__AMB_NREF(m, num_references), hankel_rows, max_order, \
+                                                   step))
+
+/**
+ * Workspace bytes of okid_ambient_stabilization_compute() for this identifier.
+ * \param[in]  amb       an initialised output-only identifier
+ * \param[in]  max_order largest order, 1..min(L min(m, r_ref), OKID_MAX_ORDER)
+ * \param[in]  step      order step, 1..max_order
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_BAD_ORDER (max_order),
+ *         OKID_E_BAD_SIZE (step, or above SIZE_MAX)
+ */
+okid_status okid_ambient_stabilization_workspace_size(const okid_ambient *amb, int max_order, int step,
+                                                      size_t *bytes);
+
+/**
+ * The stabilization diagram (okid/stabilization.h) of everything pushed so far: one ERA of the
+ * correlations' block Hankel matrix at the largest order, the modes of the orders step, 2 step,
+ * ... max_order (fewer when the Hankel rank is lower: rank_limit) by nested truncation, with
+ * their indicators (G's side in the role of B) and stability flags. okid_select_modes() then
+ * gives the physical modes (docs/ambient.md). The correlations, the scales and the realization
+ * live in the caller's workspace; the ERA scratch is the identifier's, so its last result stays
+ * valid and the sums are not changed.
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_NOT_ENOUGH_DATA (no pair at
+ *         lag 2L), OKID_E_BAD_ORDER, OKID_E_BAD_SIZE, OKID_E_BAD_PARAMETER (criteria),
+ *         OKID_E_WORKSPACE_ALIGNMENT, OKID_E_WORKSPACE_TOO_SMALL, OKID_E_DATA_RANGE,
+ *         OKID_E_RANK_DEFICIENT (not even order step is supported), OKID_E_DECOMPOSITION_FAILED
+ */
+okid_status okid_ambient_stabilization_compute(okid_ambient *amb, int max_order, int step,
+                                               const okid_stabilization_criteria *criteria, void *workspace,
+                                               size_t bytes, okid_stabilization *out);
 
 #ifdef __cplusplus
 }

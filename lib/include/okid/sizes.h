@@ -292,6 +292,19 @@
      + OKID__RB(OKID__Z(m) * OKID__Z(n)) + OKID__RB(OKID__Z(n) * OKID__Z(nref)) + OKID__PHASE_MODAL_BYTES(n)       \
      + OKID__RB(OKID__Z(n) * 2u * OKID__Z(nref)) + OKID__RB(OKID__LWORK_GELSY(n, 2u * OKID__Z(nref)))              \
      + OKID__ALIGN16(sizeof(int) * OKID__Z(n)))
+/* okid_ambient_stabilization_compute()'s workspace before the saturation (nref resolved): R(0..2L),
+   the scales, the singular values, H(1) V_N, A, G and its last block column, C and its last block
+   row, D, the modal and indicator phases at N, and the table of OKID__STABILIZATION_WORKSPACE_BYTES64. */
+#define OKID__AMBIENT_STABILIZATION_BYTES64(m, nref, L, nmax, step)                                              \
+    (OKID__RB(OKID__Z(m) * OKID__Z(nref) * OKID__AMB_BLOCKS(L)) + OKID__RB(OKID__Z(nref) + OKID__Z(m))            \
+     + OKID__RB(OKID__AMB_K(m, nref, L)) + OKID__RB(OKID__HR(m, L) * OKID__Z(nmax))                                \
+     + OKID__RB(OKID__Z(nmax) * OKID__Z(nmax)) + 2u * OKID__RB(OKID__Z(nmax) * OKID__Z(nref))                      \
+     + 2u * OKID__RB(OKID__Z(m) * OKID__Z(nmax)) + OKID__RB(OKID__Z(m) * OKID__Z(nref)) + OKID__PHASE_MODAL_BYTES(nmax) \
+     + OKID__PHASE_INDICATOR_BYTES(nmax, nref)                                                                     \
+     + OKID__ALIGN16(sizeof(okid_stabilization_order) * OKID__STAB_ORDERS(nmax, step))                             \
+     + OKID__ALIGN16(sizeof(okid_mode) * OKID__STAB_MODES(nmax, step))                                            \
+     + OKID__ALIGN16(sizeof(okid_complex) * 3u * OKID__Z(m) * OKID__STAB_MODES(nmax, step))                        \
+     + OKID__ALIGN16(sizeof(unsigned) * OKID__STAB_MODES(nmax, step)))
 /* OKID_AMBIENT_WORKSPACE_BYTES before the saturation (nref resolved). */
 #define OKID__AMBIENT_WORKSPACE_BYTES64(m, nref, L, order, segments, mode_bytes)                         \
     (OKID__AMB_PERSISTENT_BYTES(m, nref, L, segments)                                                   \

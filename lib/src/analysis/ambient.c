@@ -10,6 +10,7 @@
 #include <limits.h>
 #include <math.h>
 
+#include "analysis/ambient_internal.h"
 #include "numerics/carve.h"
 #include "numerics/real_math.h"
 #include "pipeline/era.h"
@@ -17,7 +18,7 @@
 #include "pipeline/output_correlation.h"
 #include "quality/modal_indicators_internal.h"
 
-#define OKID_AMBIENT_MAGIC 0x6f6b616du /* "okam" */
+#define OKID_AMBIENT_MAGIC OKID_AMBIENT_MAGIC_
 
 /* Identify's scratch views. */
 typedef struct ambient_scratch {
@@ -321,6 +322,24 @@ static okid_status channel_scales(const okid_correlation_sums_ *s, const okid_re
     return OKID_OK;
 }
 
+void okid_ambient_era_scratch_(const okid_ambient *amb, okid_era_scratch *era)
+{
+    okid_correlation_sums_ dry_sums;
+    okid_ambient_result_set_ dry_sets[2];
+    ambient_scratch s;
+    (void)ambient_carve(amb->sums_.m, amb->nref_, amb->cfg_.hankel_rows, amb->nmax_, amb->cfg_.segments,
+                        amb->workspace_, &dry_sums, dry_sets, &s);
+    *era = s.era;
+    era->t = NULL;
+}
+
+okid_status okid_ambient_scales_(const okid_ambient *amb, okid_real *scales)
+{
+    okid_real *rms = scales + amb->nref_; /* the outputs' RMS, then scales in place */
+    okid_corr_rms(&amb->sums_, rms);
+    return channel_scales(&amb->sums_, rms, scales);
+}
+
 /* ERA, modes and indicators into set from its correlations; the scratch is s. */
 static okid_status realize_modes(const okid_ambient *amb, okid_ambient_result_set_ *set, const ambient_scratch *s,
                                  unsigned *warnings, int *order, int *num_modes)
@@ -445,10 +464,8 @@ okid_status okid_ambient_identify(okid_ambient *amb, okid_ambient_result *result
     ambient_scratch s;
     (void)ambient_carve(sums->m, amb->nref_, amb->cfg_.hankel_rows, amb->nmax_, amb->cfg_.segments, amb->workspace_,
                         &dry_sums, dry_sets, &s);
-    okid_real *rms = s.scales + amb->nref_; /* the outputs' RMS, then scales in place */
     okid_corr_estimate(sums, -1, set->correlations);
-    okid_corr_rms(sums, rms);
-    okid_status st = channel_scales(sums, rms, s.scales);
+    okid_status st = okid_ambient_scales_(amb, s.scales);
     if (st != OKID_OK) {
         return st;
     }

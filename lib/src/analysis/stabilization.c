@@ -12,8 +12,7 @@
 #include "numerics/carve.h"
 #include "numerics/real_math.h"
 #include "pipeline/era.h"
-#include "pipeline/modal_internal.h"
-#include "quality/modal_indicators_internal.h"
+#include "analysis/stabilization_internal.h"
 
 okid_status okid_stabilization_criteria_default(okid_stabilization_criteria *criteria)
 {
@@ -88,8 +87,7 @@ static int criteria_valid(const okid_stabilization_criteria *c)
            c->mac_min >= 0 && c->mac_min <= 1;
 }
 
-/* Largest n with sigma_n > eps k sigma_1: the orders okid_era_realize() accepts. */
-static int hankel_rank(const okid_real *sv, int k)
+int okid_stab_hankel_rank_(const okid_real *sv, int k)
 {
     int rank = 0;
     while (rank < k && sv[0] > 0 && sv[rank] > OKID_EPSILON * (okid_real)k * sv[0]) {
@@ -127,6 +125,58 @@ static unsigned stability_flags(const okid_mode *md, const okid_mode *prev, int 
     return flags;
 }
 
+okid_status okid_stab_fill_orders_(const okid_stab_realization_ *rz, int step, const okid_stabilization_criteria *crit,
+                                   const okid_stab_table_views_ *v, int *count_out)
+{
+    const int m = rz->m, top = rz->top;
+    int count = 0, first = 0;
+    for (int n = step; n <= top; n += step) {
+        int num_modes = 0;
+        unsigned warnings = 0;
+        okid_status st = okid_modal_compute(n, m, rz->a, top, rz->c, m, rz->dt, rz->sensing, v->modal,
+                                            v->shapes + (size_t)first * 3u * (size_t)m, v->modes + first, &num_modes,
+                                            &warnings);
+        if (st != OKID_OK) {
+            return st;
+        }
+        const okid_indicator_inputs in = {n, m, rz->r, rz->alpha, rz->beta, rz->b, top, rz->c, m,
+                                          rz->obs_last, m, rz->ctrl_last, top};
+        st = okid_modal_indicators(&in, v->modal->vr, v->modal->wr, v->modal->wi, v->ind, v->modes + first, num_modes);
+        if (st != OKID_OK) {
+            return st;
+        }
+        const okid_stabilization_order *prev = count > 0 ? &v->orders[count - 1] : NULL;
+        for (int i = 0; i < num_modes; ++i) {
+            v->stability[first + i] = prev ? stability_flags(&v->modes[first + i], v->modes + prev->first,
+                                                             prev->num_modes, m, crit)
+                                           : 0u;
+        }
+        v->orders[count].order = n;
+        v->orders[count].first = first;
+        v->orders[count].num_modes = num_modes;
+        first += num_modes;
+        ++count;
+    }
+    *count_out = count;
+    return OKID_OK;
+}
+
+okid_status okid_stab_check_(const okid_stabilization_criteria *criteria, const void *workspace, size_t bytes,
+                             size_t needed, okid_stabilization_criteria *crit)
+{
+    (void)okid_stabilization_criteria_default(crit);
+    if (criteria != NULL) {
+        if (!criteria_valid(criteria)) {
+            return OKID_E_BAD_PARAMETER;
+        }
+        *crit = *criteria;
+    }
+    if (((size_t)workspace % OKID_WORKSPACE_ALIGN) != 0) {
+        return OKID_E_WORKSPACE_ALIGNMENT;
+    }
+    return bytes < needed ? OKID_E_WORKSPACE_TOO_SMALL : OKID_OK;
+}
+
 /* ERA at order top on the last result's Markov parameters, into the stabilization views. */
 static okid_status realize_largest(const okid_identifier *id, int top, const stab_views *v)
 {
@@ -161,22 +211,13 @@ okid_status okid_stabilization_compute(okid_identifier *id, int max_order, int s
         return OKID_E_NOT_AVAILABLE;
     }
     okid_stabilization_criteria crit;
-    (void)okid_stabilization_criteria_default(&crit);
-    if (criteria != NULL) {
-        if (!criteria_valid(criteria)) {
-            return OKID_E_BAD_PARAMETER;
-        }
-        crit = *criteria;
-    }
-    if (((size_t)workspace % OKID_WORKSPACE_ALIGN) != 0) {
-        return OKID_E_WORKSPACE_ALIGNMENT;
-    }
-    if (bytes < needed) {
-        return OKID_E_WORKSPACE_TOO_SMALL;
+    st = okid_stab_check_(criteria, workspace, bytes, needed, &crit);
+    if (st != OKID_OK) {
+        return st;
     }
     stab_views v;
     (void)stab_carve(id, max_order, step, (unsigned char *)workspace, &v);
-    const int rank_limit = hankel_rank(id->at_.result[id->result_].sv, id->dims_.svd_size); /* the SVD of the last identification */
+    const int rank_limit = okid_stab_hankel_rank_(id->at_.result[id->result_].sv, id->dims_.svd_size); /* the SVD of the last identification */
     const int limit = rank_limit < max_order ? rank_limit : max_order;
     const int top = limit / step * step;
     if (top > 0) {
@@ -185,33 +226,13 @@ okid_status okid_stabilization_compute(okid_identifier *id, int max_order, int s
             return st;
         }
     }
-    const int m = id->dims_.m, r = id->dims_.r;
-    int count = 0, first = 0;
-    for (int n = step; n <= top; n += step) {
-        int num_modes = 0;
-        unsigned warnings = 0;
-        st = okid_modal_compute(n, m, v.a, top, v.c, m, id->cfg_.dt, id->cfg_.sensing, &v.modal,
-                                v.shapes + (size_t)first * 3u * (size_t)m, v.modes + first, &num_modes, &warnings);
-        if (st != OKID_OK) {
-            return st;
-        }
-        const okid_indicator_inputs in = {n, m, r, id->cfg_.hankel_rows, id->cfg_.hankel_cols, v.b, top, v.c, m,
-                                          v.obs_last, m, v.ctrl_last, top};
-        st = okid_modal_indicators(&in, v.modal.vr, v.modal.wr, v.modal.wi, &v.ind, v.modes + first, num_modes);
-        if (st != OKID_OK) {
-            return st;
-        }
-        const okid_stabilization_order *prev = count > 0 ? &v.orders[count - 1] : NULL;
-        for (int i = 0; i < num_modes; ++i) {
-            v.stability[first + i] = prev ? stability_flags(&v.modes[first + i], v.modes + prev->first,
-                                                            prev->num_modes, m, &crit)
-                                          : 0u;
-        }
-        v.orders[count].order = n;
-        v.orders[count].first = first;
-        v.orders[count].num_modes = num_modes;
-        first += num_modes;
-        ++count;
+    const okid_stab_realization_ rz = {top, id->dims_.m, id->dims_.r, id->cfg_.hankel_rows, id->cfg_.hankel_cols,
+                                       id->cfg_.dt, id->cfg_.sensing, v.a, v.b, v.c, v.obs_last, v.ctrl_last};
+    const okid_stab_table_views_ tv = {&v.modal, &v.ind, v.orders, v.modes, v.shapes, v.stability};
+    int count = 0;
+    st = okid_stab_fill_orders_(&rz, step, &crit, &tv, &count);
+    if (st != OKID_OK) {
+        return st;
     }
     out->num_orders = count;
     out->rank_limit = rank_limit;

@@ -60,8 +60,16 @@ void okid_corr_add(okid_correlation_sums_ *s, const okid_real *y)
         s->squares[a] += y[a] * y[a];
     }
     ++pairs[0];
-    for (int k = 1; k <= s->past.fill; ++k) {
-        add_outer(s, base, k, y, okid_ring_past(&s->past, k));
+    /* lag k is ring slot head - (k - 1): walked down from head, then from the top, without the
+       modulo okid_ring_past() takes per lag (the same products in the same order) */
+    const okid_ring_ *ring = &s->past;
+    int k = 1;
+    for (int slot = ring->head; slot >= 0 && k <= ring->fill; --slot, ++k) {
+        add_outer(s, base, k, y, ring->data + (size_t)slot * (size_t)ring->width);
+        ++pairs[k];
+    }
+    for (int slot = ring->depth - 1; k <= ring->fill; --slot, ++k) {
+        add_outer(s, base, k, y, ring->data + (size_t)slot * (size_t)ring->width);
         ++pairs[k];
     }
     ++s->added;

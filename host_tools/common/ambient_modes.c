@@ -1,0 +1,323 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The physical modes of an output-only record over three Hankel sizes: sums, table, select, combine. */
+#include "ambient_modes.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ambient_settings.h"
+#include "auto_report.h" /* auto_print_sensor_shape */
+#include "auto_settings.h"
+#include "json_writer.h"
+
+/* The tables' largest order: the input-output path's 60 (docs/quality.md section 8). */
+enum { AMBIENT_TABLE_ORDERS = 60 };
+
+static void *workspace_of(size_t bytes)
+{
+    return aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + OKID_WORKSPACE_ALIGN - 1) / OKID_WORKSPACE_ALIGN *
+                                                   OKID_WORKSPACE_ALIGN);
+}
+
+static int references_of(const okid_ambient_config *cfg)
+{
+    return cfg->num_references > 0 ? cfg->num_references : cfg->num_outputs;
+}
+
+/* The selection's clustering gates in frequency and shape: the same physical mode. */
+static int same_mode(const okid_mode_selection_criteria *c, const okid_mode *a, const okid_mode *b, int m)
+{
+    const double fa = (double)a->frequency_hz, fb = (double)b->frequency_hz;
+    return a->is_pair && b->is_pair && fabs(fa - fb) <= (double)c->frequency_distance * fa &&
+           (double)okid_mac(a->sensor_shape, b->sensor_shape, m) >= (double)c->mac_min;
+}
+
+/*
+ * L, when not given: one slowest period (ambient_choose_hankel_rows()), confirmed at two thirds
+ * and four thirds of it, as the input-output path confirms its three periods at two and four; the
+ * selection's band from f5 / 3 (less than a cycle in the Hankel span below) to 0.8 Nyquist.
+ */
+static void choose(const okid_ambient_config *cfg, int hankel_given, size_t n, const okid_real *y, ambient_choice *c)
+{
+    const int m = cfg->num_outputs, nref = references_of(cfg);
+    const double dt = (double)cfg->dt;
+    auto_band band;
+    c->hankel_given = hankel_given;
+    c->no_band = auto_channel_band(y, n, m, dt, &band) != 0 || !(band.low_hz > 0);
+    c->band_low_hz = c->no_band ? 0 : band.low_hz;
+    c->band_high_hz = c->no_band ? 0 : band.high_hz;
+    if (hankel_given) {
+        c->windows[0] = cfg->hankel_rows;
+        c->num_windows = 1;
+    } else {
+        double f5 = 0;
+        const int main = ambient_choose_hankel_rows(y, n, m, dt, 0, nref, &f5);
+        int most = ambient_hankel_rows_most(n, m);
+        most = most > main ? most : main;
+        c->windows[0] = main;
+        c->windows[1] = (int)floor(2.0 * main / 3.0 + 0.5);
+        c->windows[2] = (int)floor(4.0 * main / 3.0 + 0.5);
+        for (int w = 1; w < 3; ++w) c->windows[w] = c->windows[w] < 2 ? 2 : c->windows[w] > most ? most : c->windows[w];
+        c->num_windows = 3;
+    }
+    c->max_order = AMBIENT_TABLE_ORDERS;
+    c->frequency_min_hz = c->band_low_hz / 3;
+    c->frequency_max_hz = 0.8 * 0.5 / dt;
+}
+
+/* One size: the sums of the record, the table of the even orders 2..min(max_order, L min(m, r_ref)), the selection. */
+static okid_status run_size(ambient_run *run, const okid_ambient_config *cfg, int L, int max_order, size_t n,
+                            const okid_real *y, const okid_mode_selection_criteria *criteria)
+{
+    const int m = cfg->num_outputs, nref = references_of(cfg), side = m < nref ? m : nref;
+    int top = max_order < L * side ? max_order : L * side;
+    top -= top % 2;
+    if (top < 2) return OKID_E_BAD_ORDER;
+    run->cfg = *cfg;
+    run->cfg.hankel_rows = L;
+    run->cfg.order = top;  /* the identifier's workspace only holds the sums and the ERA scratch here */
+    run->cfg.segments = 0; /* the segments serve the reported model only */
+    run->cfg.segment_samples = 0;
+    size_t bytes = 0;
+    okid_status st = okid_ambient_workspace_size(&run->cfg, &bytes);
+    if (st != OKID_OK) return st;
+    if ((run->workspace = workspace_of(bytes)) == NULL) return OKID_E_WORKSPACE_TOO_SMALL;
+    st = okid_ambient_init(&run->amb, &run->cfg, run->workspace, bytes, NULL);
+    if (st == OKID_OK) {
+        st = okid_ambient_push_block(&run->amb, n, y, (size_t)m, NULL);
+        if (st == OKID_E_NONFINITE_SAMPLE) st = OKID_OK; /* gaps: no product spans them */
+    }
+    if (st == OKID_OK) st = okid_ambient_stabilization_workspace_size(&run->amb, top, 2, &bytes);
+    if (st == OKID_OK && (run->table_workspace = workspace_of(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
+    if (st == OKID_OK) {
+        st = okid_ambient_stabilization_compute(&run->amb, top, 2, NULL, run->table_workspace, bytes, &run->table);
+    }
+    if (st == OKID_OK) st = okid_mode_selection_workspace_size(top, 2, &bytes);
+    if (st == OKID_OK && (run->selection_workspace = workspace_of(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
+    if (st == OKID_OK) {
+        st = okid_select_modes(&run->table, m, criteria, run->selection_workspace, bytes, &run->selection, NULL);
+    }
+    return st;
+}
+
+/* The lowest order of the main table whose poles hold every reported mode (else the most of them). */
+static void choose_order(ambient_modes *am, int m)
+{
+    const okid_stabilization *t = &am->runs[0].table;
+    int best = 0, best_count = -1;
+    for (int i = 0; i < t->num_orders; ++i) {
+        const okid_stabilization_order *o = &t->orders[i];
+        int count = 0;
+        for (int k = 0; k < am->num_modes; ++k) {
+            for (int j = 0; j < o->num_modes; ++j) {
+                if (same_mode(&am->criteria, &am->modes[k].selected->mode, &t->modes[o->first + j], m)) {
+                    ++count;
+                    break;
+                }
+            }
+        }
+        if (count > best_count) best = o->order, best_count = count;
+    }
+    am->order = am->num_modes > 0 ? best : 0;
+    am->order_holds_all = best_count == am->num_modes;
+}
+
+okid_status ambient_modes_find(const okid_ambient_config *cfg, int hankel_given, size_t n, const okid_real *y,
+                               const okid_mode_selection_criteria *criteria, ambient_modes *out)
+{
+    memset(out, 0, sizeof *out);
+    choose(cfg, hankel_given, n, y, &out->choice);
+    if (criteria != NULL) {
+        out->criteria = *criteria;
+    } else {
+        okid_mode_selection_criteria_default(&out->criteria);
+        out->criteria.frequency_min_hz = (okid_real)out->choice.frequency_min_hz;
+        out->criteria.frequency_max_hz = (okid_real)out->choice.frequency_max_hz;
+    }
+    out->num_runs = out->choice.num_windows;
+    for (int w = 0; w < out->num_runs; ++w) {
+        out->runs[w].status = run_size(&out->runs[w], cfg, out->choice.windows[w], out->choice.max_order, n, y,
+                                       &out->criteria);
+    }
+    if (out->runs[0].status == OKID_E_BAD_ORDER) {
+        return OKID_OK; /* a Hankel matrix too small for one pair (L min(m, r_ref) < 2): no mode, the gap order */
+    }
+    if (out->runs[0].status != OKID_OK) {
+        return out->runs[0].status;
+    }
+    /* group the sizes' modes: a mode of size w joins the first reported mode it matches */
+    const int m = cfg->num_outputs;
+    int support[OKID_MAX_ORDER] = {0};
+    for (int w = 0; w < out->num_runs; ++w) {
+        const ambient_run *run = &out->runs[w];
+        if (run->status != OKID_OK) continue;
+        for (int k = 0; k < run->selection.num_modes; ++k) {
+            const okid_selected_mode *s = &run->selection.modes[k];
+            int g = 0;
+            while (g < out->num_modes && !same_mode(&out->criteria, &out->modes[g].selected->mode, &s->mode, m)) ++g;
+            if (g == out->num_modes) {
+                if (g == OKID_MAX_ORDER) continue;
+                out->modes[g] = (auto_mode){s, w, 0};
+                ++out->num_modes;
+            }
+            if (!(support[g] & (1 << w))) support[g] |= 1 << w, ++out->modes[g].windows;
+        }
+    }
+    const int needed = out->num_runs > 1 ? 2 : 1; /* two of three sizes; one size alone */
+    int kept = 0;
+    for (int g = 0; g < out->num_modes; ++g) {
+        if (out->modes[g].windows >= needed) out->modes[kept++] = out->modes[g];
+    }
+    out->num_modes = kept;
+    for (int i = 1; i < kept; ++i) { /* by increasing frequency */
+        const auto_mode x = out->modes[i];
+        int j = i;
+        while (j > 0 && out->modes[j - 1].selected->mode.frequency_hz > x.selected->mode.frequency_hz) {
+            out->modes[j] = out->modes[j - 1];
+            --j;
+        }
+        out->modes[j] = x;
+    }
+    choose_order(out, m);
+    return OKID_OK;
+}
+
+const char *ambient_pole_verdict(const ambient_modes *am, const okid_mode *pole, int m)
+{
+    for (int k = 0; k < am->num_modes; ++k) {
+        if (same_mode(&am->criteria, &am->modes[k].selected->mode, pole, m)) return NULL;
+    }
+    const okid_mode_selection_criteria *c = &am->criteria;
+    const double f = (double)pole->frequency_hz, z = (double)pole->damping_ratio;
+    const double magnitude = hypot((double)pole->eigenvalue.re, (double)pole->eigenvalue.im);
+    if (!pole->is_pair) return "real pole";
+    if (!(magnitude < 1)) return "unstable (|lambda| >= 1)";
+    if (!(z > (double)c->damping_min)) return "damping ratio at or below the selection's minimum";
+    if (z > (double)c->damping_max) return "damping ratio above the selection's maximum";
+    if (f < (double)c->frequency_min_hz || (c->frequency_max_hz > 0 && f > (double)c->frequency_max_hz)) {
+        return "outside the band of the selection";
+    }
+    if ((double)pole->mpc < (double)c->mpc_min) return "MPC below the selection's minimum";
+    if ((double)pole->emac < (double)c->emac_min) return "EMAC below the selection's minimum";
+    return "not stable across orders and Hankel sizes";
+}
+
+void ambient_print_modes(const ambient_modes *am, const okid_ambient_result *res, const char *const *output_names,
+                         int m)
+{
+    const ambient_choice *c = &am->choice;
+    const okid_stabilization *t = &am->runs[0].table;
+    if (!c->no_band) {
+        printf("band of the outputs' energy: 5 %% below %.3g Hz, 95 %% below %.3g Hz\n", c->band_low_hz, c->band_high_hz);
+    }
+    if (c->num_windows > 1) {
+        printf("Hankel sizes L = %d (one period of the 5 %% frequency), checked at %d and %d\n", c->windows[0],
+               c->windows[1], c->windows[2]);
+    }
+    printf("physical modes: %d (stable in at least %d of the %d orders 2..%d of a table, in %s; band %.3g..%.3g Hz)\n",
+           am->num_modes, am->runs[0].selection.min_orders, t->num_orders,
+           t->num_orders > 0 ? t->orders[t->num_orders - 1].order : 0,
+           am->num_runs > 1 ? "two of the three Hankel sizes" : "the one Hankel size", (double)am->criteria.frequency_min_hz,
+           (double)am->criteria.frequency_max_hz);
+    if (am->num_modes == 0) {
+        printf("warning: no physical mode found: no pole stays put across the orders%s; the model below has the "
+               "largest-gap order\n", am->num_runs > 1 ? " and the Hankel sizes" : "");
+        return;
+    }
+    printf(" mode  frequency [Hz]  damping ratio  f std over orders  damping range    orders  sizes  EMAC   MPC\n");
+    for (int k = 0; k < am->num_modes; ++k) {
+        const okid_selected_mode *s = am->modes[k].selected;
+        printf("%5d  %14.6f  %13.6f  %17.3g  %6.4f..%6.4f  %4d/%-3d  %2d/%-2d  %5.3f  %5.3f\n", k + 1,
+               (double)s->mode.frequency_hz, (double)s->mode.damping_ratio, (double)s->frequency_std,
+               (double)s->damping_min, (double)s->damping_max, s->num_orders,
+               am->runs[am->modes[k].window].table.num_orders, am->modes[k].windows, am->num_runs,
+               (double)s->mode.emac, (double)s->mode.mpc);
+    }
+    printf("\nsensor shapes C psi (largest component 1); columns:");
+    for (int i = 0; i < m; ++i) printf(" %s", output_names[i]);
+    printf("\n");
+    for (int k = 0; k < am->num_modes; ++k) {
+        printf("%5d", k + 1);
+        auto_print_sensor_shape(&am->modes[k].selected->mode, m);
+    }
+    printf("\nmodel: order %d at L = %d, %s\n", res->order, c->windows[0],
+           am->order_holds_all ? "the lowest whose poles hold every physical mode"
+                               : "the one whose poles hold the most physical modes");
+}
+
+static void json_setting(FILE *out, const char *name, int value, int chosen, const char *reason)
+{
+    fprintf(out, "\"%s\": {\"value\": %d, \"chosen\": %s, \"reason\": ", name, value, chosen ? "true" : "false");
+    json_string(out, reason);
+    fputc('}', out);
+}
+
+void ambient_modes_json(FILE *out, const ambient_modes *am, const okid_ambient_result *res, int m)
+{
+    const ambient_choice *c = &am->choice;
+    fputs(",\n  \"chosen\": {\"band_hz\": [", out);
+    json_number(out, c->band_low_hz);
+    fputs(", ", out);
+    json_number(out, c->band_high_hz);
+    fputs("], \"slowest_period_seconds\": ", out);
+    json_number(out, c->band_low_hz > 0 ? 1 / c->band_low_hz : 0);
+    fputs(",\n    ", out);
+    char reason[256];
+    snprintf(reason, sizeof reason, "%.6g s, one period of the 5 %% energy frequency; checked at 2/3 and 4/3 of it",
+             c->windows[0] * (double)res->dt);
+    const int chosen = !c->hankel_given && !c->no_band;
+    json_setting(out, "hankel_rows", c->windows[0], chosen,
+                 chosen ? reason : c->hankel_given ? "given" : "default (the record has no band)");
+    fprintf(out, ",\n    \"hankel_windows\": [%d", c->windows[0]);
+    for (int i = 1; i < c->num_windows; ++i) fprintf(out, ", %d", c->windows[i]);
+    fprintf(out, "], \"max_order\": %d, \"selection_band_hz\": [", c->max_order);
+    json_number(out, (double)am->criteria.frequency_min_hz);
+    fputs(", ", out);
+    json_number(out, (double)am->criteria.frequency_max_hz);
+    fputs("],\n    ", out);
+    json_setting(out, "order", res->order, am->num_modes > 0,
+                 am->num_modes == 0       ? "no physical mode: the largest singular-value gap"
+                 : am->order_holds_all ? "the lowest order whose poles hold every physical mode"
+                                       : "the order whose poles hold the most physical modes");
+    fputs("}", out);
+    fputs(",\n  \"modes\": [", out);
+    for (int k = 0; k < am->num_modes; ++k) {
+        const okid_selected_mode *s = am->modes[k].selected;
+        fputs(k ? ",\n    {" : "\n    {", out);
+        json_mode_members(out, &s->mode, m);
+        fprintf(out, ", \"order\": %d, \"num_orders\": %d, \"of_orders\": %d, \"lowest_order\": %d, \"highest_order\": %d",
+                s->order, s->num_orders, am->runs[am->modes[k].window].table.num_orders, s->lowest_order,
+                s->highest_order);
+        const char *names[9] = {"frequency_mean", "frequency_std", "frequency_min", "frequency_max", "damping_mean",
+                                "damping_std", "damping_min", "damping_max", "cmi_min"};
+        const okid_real values[9] = {s->frequency_mean, s->frequency_std, s->frequency_min, s->frequency_max,
+                                     s->damping_mean, s->damping_std, s->damping_min, s->damping_max, s->cmi_min};
+        for (int i = 0; i < 9; ++i) {
+            fprintf(out, ", \"%s\": ", names[i]);
+            json_number(out, (double)values[i]);
+        }
+        fprintf(out, ", \"windows\": %d, \"of_windows\": %d}", am->modes[k].windows, am->num_runs);
+    }
+    fputs(am->num_modes ? "\n  ]" : "]", out);
+    fputs(",\n  \"poles\": [", out);
+    for (int i = 0; i < res->num_modes; ++i) {
+        const char *why = ambient_pole_verdict(am, &res->modes[i], m);
+        fputs(i ? ",\n    {" : "\n    {", out);
+        json_mode_members(out, &res->modes[i], m);
+        fprintf(out, ", \"verdict\": \"%s\", \"reason\": ", why ? "rejected" : "physical");
+        if (why) json_string(out, why); else fputs("null", out);
+        fputc('}', out);
+    }
+    fputs(res->num_modes ? "\n  ]" : "]", out);
+}
+
+void ambient_modes_free(ambient_modes *am)
+{
+    for (int w = 0; w < am->num_runs; ++w) {
+        free(am->runs[w].workspace);
+        free(am->runs[w].table_workspace);
+        free(am->runs[w].selection_workspace);
+    }
+    memset(am, 0, sizeof *am);
+}
