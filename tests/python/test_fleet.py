@@ -132,38 +132,6 @@ def data(tmp_path_factory):
             "extra": str(root / "extra"), "big": big["records_dir"], "tiny": tiny["records_dir"], "root": root}
 
 
-@pytest.fixture(scope="module")
-def s3():
-    """A real S3 API on localhost (moto's server) with an empty bucket, its endpoint and made-up
-    credentials in the environment variables that s3fs reads, here and in the cluster's workers
-    (started after this); None without moto or s3fs."""
-    try:
-        import s3fs
-        from moto.server import ThreadedMotoServer
-    except ImportError:
-        yield None
-        return
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port = probe.getsockname()[1]
-    logging.getLogger("werkzeug").setLevel(logging.WARNING)  # not a line per request
-    server = ThreadedMotoServer(ip_address="127.0.0.1", port=port, verbose=False)
-    server.start()
-    env = {"AWS_ENDPOINT_URL": f"http://127.0.0.1:{port}", "AWS_ACCESS_KEY_ID": "okid-test",
-           "AWS_SECRET_ACCESS_KEY": "okid-test", "AWS_DEFAULT_REGION": "us-east-1"}
-    saved = {k: os.environ.get(k) for k in env}
-    os.environ.update(env)
-    fs = s3fs.S3FileSystem()
-    fs.mkdir(BUCKET)
-    yield fs
-    for k, v in saved.items():
-        if v is None:
-            os.environ.pop(k, None)
-        else:
-            os.environ[k] = v
-    server.stop()
-
-
 @contextlib.contextmanager
 def _environment(env):
     """ENV in os.environ (for this process and the processes started meanwhile), restored after."""
@@ -177,6 +145,36 @@ def _environment(env):
                 os.environ.pop(k, None)
             else:
                 os.environ[k] = v
+
+
+def _free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
+@pytest.fixture(scope="module")
+def s3():
+    """A real S3 API on localhost (moto's server) with an empty bucket, its endpoint and made-up
+    credentials in the environment variables that s3fs reads, here and in the cluster's workers
+    (started after this); None without moto or s3fs."""
+    try:
+        import s3fs
+        from moto.server import ThreadedMotoServer
+    except ImportError:
+        yield None
+        return
+    port = _free_port()
+    logging.getLogger("werkzeug").setLevel(logging.WARNING)  # not a line per request
+    server = ThreadedMotoServer(ip_address="127.0.0.1", port=port, verbose=False)
+    server.start()
+    env = {"AWS_ENDPOINT_URL": f"http://127.0.0.1:{port}", "AWS_ACCESS_KEY_ID": "okid-test",
+           "AWS_SECRET_ACCESS_KEY": "okid-test", "AWS_DEFAULT_REGION": "us-east-1"}
+    with _environment(env):
+        fs = s3fs.S3FileSystem()
+        fs.mkdir(BUCKET)
+        yield fs
+    server.stop()
 
 
 @pytest.fixture(scope="module")
@@ -196,9 +194,7 @@ def gcs():
         except ImportError:
             yield None
             return
-        with socket.socket() as probe:
-            probe.bind(("127.0.0.1", 0))
-            port = probe.getsockname()[1]
+        port = _free_port()
         logging.getLogger("gcp_storage_emulator").setLevel(logging.WARNING)
         server = create_server("127.0.0.1", port, in_memory=True, default_bucket=BUCKET)
         server.start()
@@ -637,6 +633,13 @@ def test_records_past_their_limits_fail_alone(cluster, tmp_path, capsys):
     assert status == 2 and "--memory-limit is the local cluster's" in err, err
     status, _, err = okid_fleet_here(capsys, "identify", "nosuch://bucket/records", "--out", tmp_path / "o2")
     assert status == 1 and "nosuch://bucket/records:" in err and len(err.splitlines()) == 1, err
+    status, _, err = okid_fleet_here(capsys, "identify", tmp_path / "records", "--out", tmp_path / "o2",
+                                     "--workers", "0")
+    assert status == 2 and err == "okid-fleet: --workers 0: a count >= 1\n", err
+    status, _, err = okid_fleet_here(capsys, "track", tmp_path / "nosuch", "--out", tmp_path / "t.parquet")
+    assert status == 1 and err == f"okid-fleet: {tmp_path / 'nosuch'}: no such file or folder\n", err
+    status, _, err = okid_fleet_here(capsys, "track", tmp_path / "modes", "--out", tmp_path / "no" / "t.parquet")
+    assert status == 1 and len(err.splitlines()) == 1 and "non-existent directory" in err, err
 
 
 def _upload(fs, local_dir, url):
@@ -788,7 +791,8 @@ def test_a_port_that_is_not_dask_times_out(data, tmp_path):
                           f"tcp://127.0.0.1:{server.getsockname()[1]}", "--connect-timeout", "2", check=False,
                           timeout=120)
         assert proc.returncode == 1 and "no Dask scheduler answered" in proc.stderr, proc
-        assert "Traceback" not in proc.stderr and len(proc.stderr.strip().splitlines()) <= 2, proc.stderr
+        # the records found, the scheduler asked, the refusal
+        assert "Traceback" not in proc.stderr and len(proc.stderr.strip().splitlines()) <= 3, proc.stderr
         assert time.monotonic() - t0 < 60
     finally:
         stop.set()

@@ -447,6 +447,10 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
         run = out.prepare(settings(options, channels), resume=resume, overwrite=overwrite)
     except (OutputError, StorageError) as exc:
         raise FleetError(str(exc)) from None
+    if progress is not None:  # listing an object store and reading Parquet metadata take a while
+        files = len({r.path for r in refs})
+        progress.write(f"okid-fleet: {len(refs)} records in {files} file(s) or object(s)\n")
+        progress.flush()
     done = records_done(out.path) if resume else set()
     todo = [r for r in refs if r.record not in done]
     # A local cluster closes a nanny whose worker has not come back within this (Dask's default:
