@@ -62,12 +62,12 @@ class RecordRef:
 @dataclass(frozen=True)
 class ChannelSpec:
     """Which columns are inputs and outputs, as ``okid identify --inputs/--outputs`` take them: a
-    count (taken in order after the time column) or comma-separated names; outputs None = the rest."""
+    count (taken in order after the time column) or comma-separated names; outputs None = the rest.
+    Inputs "0": output-only records, every channel an output (okid.identify_ambient)."""
     inputs: str = "1"
     outputs: Optional[str] = None
     dt: Optional[float] = None       #: sample interval when a CSV has no time column
     covariates: Tuple[str, ...] = () #: columns that are no channel: their mean over the record is kept (temperature, load)
-    # inputs "0": output-only records (no measured force), identified by okid.identify_ambient
 
     @property
     def output_only(self) -> bool:
