@@ -725,8 +725,8 @@ def test_output_only_records_are_identified_and_tracked(cluster, tmp_path, capsy
     pandas, bit for bit, in the table's one schema; every record's modes are matched to the
     baseline, the tracked changes agree with the exact ones (numpy, synth.py), the damaged asset's
     mode 1 (-2 %) drifts and no mode of the others does. (One scenario, seed 9: of seeds 9 to 11,
-    10 and 11 also call one undamaged mode drifting, by 1.4 and 0.9 %: output-only frequencies of
-    short records scatter more than input-output ones.) The observer's settings are refused in one
+    seed 10 also calls two undamaged modes drifting, by -1.4 and +0.9 %: output-only frequencies
+    of short records scatter more than input-output ones.) The observer's settings are refused in one
     line."""
     spec = fleet.FleetSpec(assets=3, records=AMBIENT_RECORDS, damaged=1, stiffness_loss=0.10,
                            samples=AMBIENT_SAMPLES, seed=9, ambient=True, damping_scale=0.1)
