@@ -16,6 +16,7 @@ import os
 # threaded OpenBLAS kernel rounds otherwise, and the tables are compared bit for bit.
 os.environ["OPENBLAS_NUM_THREADS"] = "1"
 
+import contextlib
 import json
 import logging
 import shutil
@@ -40,7 +41,12 @@ DASK = os.path.join(os.path.dirname(sys.executable), "dask")
 POISON = os.path.join(os.path.dirname(os.path.abspath(__file__)), "fleet_poison.py")
 POISON_DT = 0.0421  # fleet_poison.py kills the worker that identifies a record sampled so
 HANG_DT = 0.0433    # and hangs the one identifying a record sampled so
+MEMORY_DT = 0.0437  # and takes memory until its worker's nanny kills it, for a record sampled so
 BUCKET = "okid-fleet"
+AMBIENT_RECORDS, AMBIENT_SAMPLES = 8, 4000
+# the tracked change of an output-only fleet against the exact one: worst error 0.014 over seeds 9-11
+# (20 s records of a chain damped 1.6 and 3.4 %, identified at L = 40, n = 4), with a margin
+AMBIENT_CHANGE_TOLERANCE = 0.02
 
 
 def okid_fleet_here(capsys, *args):
@@ -126,6 +132,27 @@ def data(tmp_path_factory):
             "extra": str(root / "extra"), "big": big["records_dir"], "tiny": tiny["records_dir"], "root": root}
 
 
+@contextlib.contextmanager
+def _environment(env):
+    """ENV in os.environ (for this process and the processes started meanwhile), restored after."""
+    saved = {k: os.environ.get(k) for k in env}
+    os.environ.update(env)
+    try:
+        yield
+    finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+def _free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
 @pytest.fixture(scope="module")
 def s3():
     """A real S3 API on localhost (moto's server) with an empty bucket, its endpoint and made-up
@@ -137,32 +164,58 @@ def s3():
     except ImportError:
         yield None
         return
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port = probe.getsockname()[1]
+    port = _free_port()
     logging.getLogger("werkzeug").setLevel(logging.WARNING)  # not a line per request
     server = ThreadedMotoServer(ip_address="127.0.0.1", port=port, verbose=False)
     server.start()
     env = {"AWS_ENDPOINT_URL": f"http://127.0.0.1:{port}", "AWS_ACCESS_KEY_ID": "okid-test",
            "AWS_SECRET_ACCESS_KEY": "okid-test", "AWS_DEFAULT_REGION": "us-east-1"}
-    saved = {k: os.environ.get(k) for k in env}
-    os.environ.update(env)
-    fs = s3fs.S3FileSystem()
-    fs.mkdir(BUCKET)
-    yield fs
-    for k, v in saved.items():
-        if v is None:
-            os.environ.pop(k, None)
-        else:
-            os.environ[k] = v
+    with _environment(env):
+        fs = s3fs.S3FileSystem()
+        fs.mkdir(BUCKET)
+        yield fs
     server.stop()
 
 
 @pytest.fixture(scope="module")
-def cluster(tmp_path_factory, s3):
+def gcs():
+    """A Google Cloud Storage JSON API on localhost (gcp-storage-emulator, in memory) with an empty
+    bucket; None without it or gcsfs. gcsfs finds it through STORAGE_EMULATOR_HOST and asks no
+    credentials with token "anon" (fsspec's FSSPEC_GS_TOKEN, here and in the cluster's workers).
+    gcsfs's experimental zonal/HNS bucket support (on by default since 2025) asks each bucket's
+    layout over gRPC with TLS, which the emulator does not serve (the call retries for minutes):
+    GCSFS_EXPERIMENTAL_ZB_HNS_SUPPORT=false keeps gcsfs on the JSON API, which a real bucket
+    serves too."""
+    env = {"GCSFS_EXPERIMENTAL_ZB_HNS_SUPPORT": "false", "FSSPEC_GS_TOKEN": "anon"}
+    with _environment(env):
+        try:
+            import gcsfs
+            from gcp_storage_emulator.server import create_server
+        except ImportError:
+            yield None
+            return
+        port = _free_port()
+        logging.getLogger("gcp_storage_emulator").setLevel(logging.WARNING)
+        server = create_server("127.0.0.1", port, in_memory=True, default_bucket=BUCKET)
+        server.start()
+        import fsspec.config
+
+        saved = fsspec.config.conf.get("gs")
+        fsspec.config.conf["gs"] = dict(saved or {}, token="anon")
+        with _environment({"STORAGE_EMULATOR_HOST": f"http://127.0.0.1:{port}"}):
+            yield gcsfs.GCSFileSystem()
+        if saved is None:
+            fsspec.config.conf.pop("gs", None)
+        else:
+            fsspec.config.conf["gs"] = saved
+        server.stop()
+
+
+@pytest.fixture(scope="module")
+def cluster(tmp_path_factory, s3, gcs):
     """The shared cluster: its workers run in a folder of their own, import fleet_poison.py, reach
-    the S3 endpoint, and a task is given up after its second worker death (Dask's default is the
-    fourth)."""
+    the S3 endpoint and the GCS emulator, and a task is given up after its second worker death
+    (Dask's default is the fourth)."""
     c = Cluster(str(tmp_path_factory.mktemp("dask")), preload=POISON, allowed_failures=1)
     yield c
     c.close()
@@ -507,6 +560,43 @@ def test_a_record_that_kills_its_worker_fails_alone(cluster, tmp_path):
         assert list(rows["frequency_hz"]) == [m.frequency_hz for m in expected.modes]
 
 
+def test_a_record_past_the_memory_limit_fails_alone(tmp_path, capsys):
+    """--memory-limit on the local cluster, whose workers import fleet_poison.py (Dask's worker
+    preload, from the configuration): one record of three (a task each: the batch's isolation is
+    test_a_record_that_kills_its_worker_fails_alone's) takes memory until the worker's nanny
+    restarts it past 95 % of the limit, twice, then twice more alone. It ends as one out_of_memory
+    row naming the worker's memory and the limit; the two others are identified as okid.identify
+    does; 1 of 3 failed: exit 0."""
+    import dask
+    import distributed  # noqa: F401  its defaults in dask.config first: the set below restores what it found
+
+    folder = tmp_path / "records" / "asset-m"
+    _csv_record(folder / "a.csv", 0.05, 1)
+    _csv_record(folder / "b.csv", MEMORY_DT, 2)
+    _csv_record(folder / "c.csv", 0.05, 3)
+    # a worker holds about 150 MiB after importing okid, pandas and pyarrow: 400 MiB leaves room
+    # below the 80 % at which Dask pauses a worker
+    with dask.config.set({"distributed.worker.preload": [POISON]}):
+        status, out, err = okid_fleet_here(capsys, "identify", tmp_path / "records", "--out", tmp_path / "modes",
+                                           "--workers", "2", "--memory-limit", "400MiB", "--batch-size", "1",
+                                           "--order", "2")
+    assert status == 0, err
+    assert "3 records identified (1 failed" in out and "1 out_of_memory, e.g. its worker used" in out, (out, err)
+    table = fleet.read_modes(str(tmp_path / "modes")).set_index("record")
+    row = table.loc["asset-m/b"]
+    assert row["status"] == "out_of_memory" and "of a 400 MiB limit" in row["message"], row["message"]
+    used = float(row["message"].split("its worker used ")[1].split(" MiB")[0])
+    # past the nanny's 95 %; at most what the hook takes (1.2 x the limit) on top of the worker's own
+    # ~150 MiB (250 MiB allowed: the nanny looks every 100 ms, later on a loaded machine)
+    assert 0.95 * 400 <= used <= 1.2 * 400 + 250, used
+    for name in ("a", "c"):
+        rec = okid.read_record(folder / f"{name}.csv")
+        expected = okid.identify(rec.u, rec.y, rec.dt, order=2)
+        rows = table.loc[[f"asset-m/{name}"]]
+        assert (rows["status"] == "ok").all()
+        assert list(rows["frequency_hz"]) == [m.frequency_hz for m in expected.modes]
+
+
 def test_records_past_their_limits_fail_alone(cluster, tmp_path, capsys):
     """One batch of four records: one hangs inside okid.identify (fleet_poison.py), one is larger
     than --max-record-mb. The hanging one is a timed_out row after --record-timeout, the large one
@@ -543,6 +633,13 @@ def test_records_past_their_limits_fail_alone(cluster, tmp_path, capsys):
     assert status == 2 and "--memory-limit is the local cluster's" in err, err
     status, _, err = okid_fleet_here(capsys, "identify", "nosuch://bucket/records", "--out", tmp_path / "o2")
     assert status == 1 and "nosuch://bucket/records:" in err and len(err.splitlines()) == 1, err
+    status, _, err = okid_fleet_here(capsys, "identify", tmp_path / "records", "--out", tmp_path / "o2",
+                                     "--workers", "0")
+    assert status == 2 and err == "okid-fleet: --workers 0: a count >= 1\n", err
+    status, _, err = okid_fleet_here(capsys, "track", tmp_path / "nosuch", "--out", tmp_path / "t.parquet")
+    assert status == 1 and err == f"okid-fleet: {tmp_path / 'nosuch'}: no such file or folder\n", err
+    status, _, err = okid_fleet_here(capsys, "track", tmp_path / "modes", "--out", tmp_path / "no" / "t.parquet")
+    assert status == 1 and len(err.splitlines()) == 1 and "non-existent directory" in err, err
 
 
 def _upload(fs, local_dir, url):
@@ -599,6 +696,77 @@ def test_object_storage_gives_the_local_table(data, cluster, cluster_table, s3, 
     assert_same_table(fleet.read_modes(out), expected)
 
 
+def test_google_cloud_storage_gives_the_local_table(data, cluster, cluster_table, gcs, tmp_path, capsys):
+    """The records of the S3 test in a bucket of a GCS emulator on localhost, read and written
+    by the cluster's workers through gcsfs: the table equals the local run's rows of those records
+    bit for bit, the messages naming the objects."""
+    if gcs is None:
+        pytest.skip("needs gcsfs and gcp-storage-emulator (host_tools/requirements.txt)")
+    root = data["root"]
+    gcs.put_file(os.path.join(data["records"], "asset-000.parquet"), f"{BUCKET}/small/records/asset-000.parquet")
+    _upload(gcs, root / "extra", f"{BUCKET}/extra")
+    out = f"gs://{BUCKET}/modes"
+    status, stdout, stderr = okid_fleet_here(capsys, "identify", f"gs://{BUCKET}/small/records",
+                                             f"gs://{BUCKET}/extra", "--out", out, "--scheduler", cluster.address,
+                                             *CLI_OPTIONS, "--quiet")
+    assert status == 0 and "10 records identified (2 failed, 0 already done)" in stdout, (stdout, stderr)
+    expected = cluster_table[cluster_table["asset"].isin(["asset-000", "asset-bad"])].copy()
+    expected["message"] = expected["message"].str.replace(str(root), f"gs://{BUCKET}", regex=False)
+    assert f"gs://{BUCKET}/extra/asset-bad/corrupt.csv" in " ".join(expected["message"])
+    assert_same_table(fleet.read_modes(out), expected)
+    gcs.invalidate_cache()
+    written = sorted(gcs.ls(f"{BUCKET}/modes"))
+    assert written[0].endswith("/_okid_fleet.json") and all("/part-" in p for p in written[1:]), written
+
+
+def test_output_only_records_are_identified_and_tracked(cluster, tmp_path, capsys):
+    """A synthetic fleet whose force is not recorded (okid-fleet synth --ambient), identified with
+    --inputs 0 on the cluster: the rows are okid.identify_ambient's on the records read with
+    pandas, bit for bit, in the table's one schema; every record's modes are matched to the
+    baseline, the tracked changes agree with the exact ones (numpy, synth.py), the damaged asset's
+    mode 1 (-2 %) drifts and no mode of the others does. (One scenario, seed 9: of seeds 9 to 11,
+    seed 10 also calls two undamaged modes drifting, by -1.4 and +0.9 %: output-only frequencies
+    of short records scatter more than input-output ones.) The observer's settings are refused in one
+    line."""
+    spec = fleet.FleetSpec(assets=3, records=AMBIENT_RECORDS, damaged=1, stiffness_loss=0.10,
+                           samples=AMBIENT_SAMPLES, seed=9, ambient=True, damping_scale=0.1)
+    info = fleet.synthesize(str(tmp_path / "fleet"), spec)
+    out = tmp_path / "modes"
+    status, stdout, stderr = okid_fleet_here(capsys, "identify", info["records_dir"], "--out", out, "--scheduler",
+                                             cluster.address, "--inputs", "0", "--hankel-rows", "40", "--order", "4",
+                                             "--quiet")
+    assert status == 0 and f"{3 * AMBIENT_RECORDS} records identified (0 failed" in stdout, (stdout, stderr)
+    table = fleet.read_modes(str(out))
+    assert list(table.columns) == fleet.rows.schema().names
+    for name in sorted(os.listdir(info["records_dir"])):
+        frame = pd.read_parquet(os.path.join(info["records_dir"], name))
+        assert "force" not in frame.columns
+        for record, rows in frame.groupby("record", sort=False):
+            expected = okid.identify_ambient(rows[["acc1", "acc2"]].to_numpy(), float(rows["dt"].iloc[0]),
+                                             hankel_rows=40, order=4)
+            got = table[table["record"] == record]
+            assert (got["status"] == "ok").all(), got[["status", "message"]]
+            assert list(got["frequency_hz"]) == [m.frequency_hz for m in expected.modes], record
+            assert list(got["damping_ratio"]) == [m.damping_ratio for m in expected.modes], record
+            assert (got["order"] == expected.order).all() and (got["samples"] == expected.samples).all()
+    tracks, summary = fleet.track(table, fleet.TrackOptions(baseline_records=3))
+    truth = pd.read_parquet(info["truth"])
+    for (asset, mode), rows in truth.groupby(["asset", "mode"]):
+        rows = rows.sort_values("start")
+        true_change = rows["frequency_hz"].iloc[-1] / rows["frequency_hz"].iloc[0] - 1
+        got = summary[(summary["asset"] == asset) & (summary["mode"] == mode)].iloc[0]
+        assert got["records"] == AMBIENT_RECORDS, got  # every record's mode matched to the baseline
+        assert abs(got["frequency_change"] - true_change) < AMBIENT_CHANGE_TOLERANCE, (asset, mode, got, true_change)
+        if asset in info["damaged"] and mode == 1:
+            assert true_change < -0.015 and got["drift"], (asset, mode, got, true_change)
+        elif asset not in info["damaged"]:
+            assert not got["drift"], (asset, mode, got)
+    status, _, err = okid_fleet_here(capsys, "identify", info["records_dir"], "--out", tmp_path / "o2",
+                                     "--inputs", "0", "--observer-order", "10", "--zero-initial-state")
+    assert status == 2 and len(err.splitlines()) == 1, err
+    assert "--observer-order, --zero-initial-state: not a setting of output-only records" in err, err
+
+
 def test_a_port_that_is_not_dask_times_out(data, tmp_path):
     """A TCP server that accepts and never speaks: refused in about --connect-timeout, one line."""
     server = socket.socket()
@@ -623,7 +791,8 @@ def test_a_port_that_is_not_dask_times_out(data, tmp_path):
                           f"tcp://127.0.0.1:{server.getsockname()[1]}", "--connect-timeout", "2", check=False,
                           timeout=120)
         assert proc.returncode == 1 and "no Dask scheduler answered" in proc.stderr, proc
-        assert "Traceback" not in proc.stderr and len(proc.stderr.strip().splitlines()) <= 2, proc.stderr
+        # the records found, the scheduler asked, the refusal
+        assert "Traceback" not in proc.stderr and len(proc.stderr.strip().splitlines()) <= 3, proc.stderr
         assert time.monotonic() - t0 < 60
     finally:
         stop.set()

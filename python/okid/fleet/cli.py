@@ -34,12 +34,19 @@ def _add_okid_options(p: argparse.ArgumentParser) -> None:
         g.add_argument(_flag(name), dest=name, type=kind, default=None, metavar=kind.__name__.upper(),
                        help=f"default {default}")
     c = p.add_argument_group("channels (as okid identify)")
-    c.add_argument("--inputs", default="1", help="input columns: a count or comma-separated names (default 1)")
+    c.add_argument("--inputs", default="1", help="input columns: a count or comma-separated names (default 1); 0: "
+                   "output-only records, identified by okid.identify_ambient (--hankel-rows, --order, --sensing)")
     c.add_argument("--outputs", default=None, help="output columns: a count or names (default: the rest)")
     c.add_argument("--dt", type=float, default=None, help="sample interval [s] of CSV files without a time column")
     c.add_argument("--covariates", default="", metavar="NAMES",
                    help="comma-separated columns that are no channel (temperature, load): their mean per record "
                    "goes to the table, for okid-fleet track --covariates")
+
+
+def _first_line(exc: BaseException) -> str:
+    """An exception's message for a one-line refusal."""
+    text = str(exc).strip()
+    return text.splitlines()[0] if text else type(exc).__name__
 
 
 def _names(text: str) -> tuple:
@@ -122,6 +129,10 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--temperature-swing", type=float, default=0.0,
                    help="relative frequency swing by a temperature cycle, e.g. 0.02 (default 0: no temperature)")
     s.add_argument("--temperature-period", type=int, default=24, help="records per temperature cycle (default 24)")
+    s.add_argument("--damping-scale", type=float, default=1.0,
+                   help="scale the dampers (default 1: the paper's 16 and 34 %% damping; 0.1: 1.6 and 3.4 %%)")
+    s.add_argument("--ambient", action="store_true",
+                   help="leave the force out of the records (unmeasured excitation: identify with --inputs 0)")
     return p
 
 
@@ -130,6 +141,7 @@ def _identify(a) -> int:
 
     from .job import FleetError, Interrupted, Limits, identify_fleet
     from .records import ChannelSpec, RecordError
+    from .rows import check_options
 
     options = {name: getattr(a, name) for name in okid.OPTION_NAMES if getattr(a, name) is not None}
     if a.scheduler and a.scheduler_file:
@@ -139,18 +151,24 @@ def _identify(a) -> int:
         print("okid-fleet: --memory-limit is the local cluster's: a running cluster's workers have their own "
               "(dask worker --memory-limit)", file=sys.stderr)
         return EXIT_USAGE
+    for flag, value in (("--workers", a.workers), ("--batch-size", a.batch_size)):
+        if value is not None and value < 1:
+            print(f"okid-fleet: {flag} {value}: a count >= 1", file=sys.stderr)
+            return EXIT_USAGE
     if not 0 <= a.max_failed_fraction <= 1:
         print(f"okid-fleet: --max-failed-fraction {a.max_failed_fraction}: a fraction in [0, 1]", file=sys.stderr)
         return EXIT_USAGE
     limits = Limits(a.record_timeout, a.max_record_mb)
+    channels = ChannelSpec(a.inputs, a.outputs, a.dt, _names(a.covariates))
     try:
         limits.check()
-    except FleetError as exc:
+        check_options(options, channels)
+    except (FleetError, ValueError) as exc:
         print(f"okid-fleet: {exc}", file=sys.stderr)
         return EXIT_USAGE
     try:
         summary = identify_fleet(a.records, a.out, options=options,
-                                 channels=ChannelSpec(a.inputs, a.outputs, a.dt, _names(a.covariates)), scheduler=a.scheduler,
+                                 channels=channels, scheduler=a.scheduler,
                                  scheduler_file=a.scheduler_file, workers=a.workers, batch_size=a.batch_size,
                                  resume=a.resume, overwrite=a.overwrite, connect_timeout=a.connect_timeout,
                                  progress=None if a.quiet else sys.stderr, memory_limit=a.memory_limit,
@@ -162,7 +180,7 @@ def _identify(a) -> int:
         print(f"okid-fleet: {exc}", file=sys.stderr)
         return EXIT_ERROR
     except OSError as exc:  # storage that refuses (no credentials, no bucket, no permission)
-        print(f"okid-fleet: {type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}", file=sys.stderr)
+        print(f"okid-fleet: {type(exc).__name__}: {_first_line(exc)}", file=sys.stderr)
         return EXIT_ERROR
     rate = summary.records / summary.seconds if summary.seconds > 0 else float("nan")
     print(f"okid-fleet: {summary.records} records identified ({summary.failed} failed, {summary.skipped} already "
@@ -180,9 +198,18 @@ def _identify(a) -> int:
 def _track(a) -> int:
     from .job import read_modes
     from .plot import plot_tracks
+    from .storage import StorageError, resolve
     from .track import TrackOptions, alarms, track
 
-    modes = read_modes(a.modes)
+    try:
+        fs, path = resolve(a.modes)
+        if not fs.exists(path):
+            print(f"okid-fleet: {a.modes}: no such file or folder", file=sys.stderr)
+            return EXIT_ERROR
+        modes = read_modes(a.modes)
+    except (OSError, StorageError) as exc:
+        print(f"okid-fleet: {a.modes}: {_first_line(exc)}", file=sys.stderr)
+        return EXIT_ERROR
     if modes.empty:
         print(f"okid-fleet: {a.modes} holds no rows", file=sys.stderr)
         return EXIT_ERROR
@@ -192,13 +219,17 @@ def _track(a) -> int:
     except ValueError as exc:
         print(f"okid-fleet: {exc}", file=sys.stderr)
         return EXIT_ERROR
-    tracks.to_parquet(a.out, index=False)
-    if a.summary:
-        summary.to_csv(a.summary, index=False)
-    if a.alarms:
-        alarms(tracks).to_csv(a.alarms, index=False)
-    if a.plot:
-        plot_tracks(tracks, summary, a.plot, a.asset)
+    try:
+        tracks.to_parquet(a.out, index=False)
+        if a.summary:
+            summary.to_csv(a.summary, index=False)
+        if a.alarms:
+            alarms(tracks).to_csv(a.alarms, index=False)
+        if a.plot:
+            plot_tracks(tracks, summary, a.plot, a.asset)
+    except OSError as exc:  # a folder that does not exist, no permission, a full disk
+        print(f"okid-fleet: {_first_line(exc)}", file=sys.stderr)
+        return EXIT_ERROR
     with_drift = summary[summary["drift"]]
     print(f"okid-fleet: {len(tracks)} tracked points of {summary['asset'].nunique()} asset(s) in {a.out}; "
           f"drift in {len(with_drift)} of {len(summary)} tracked modes")
@@ -216,7 +247,8 @@ def _synth(a) -> int:
     spec = FleetSpec(assets=a.assets, records=a.records, damaged=a.damaged, stiffness_loss=a.stiffness_loss,
                      masses=a.masses, samples=a.samples, dt=a.dt, noise=a.noise,
                      interval_minutes=a.interval_minutes, seed=a.seed, fmt=a.format, damage_start=a.damage_start,
-                     temperature_swing=a.temperature_swing, temperature_period=a.temperature_period)
+                     temperature_swing=a.temperature_swing, temperature_period=a.temperature_period,
+                     ambient=a.ambient, damping_scale=a.damping_scale)
     try:
         info = synthesize(a.out, spec)
     except ValueError as exc:

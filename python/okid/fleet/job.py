@@ -15,7 +15,8 @@ upload, seen whole or not at all), so an interrupted job leaves only whole parts
 (output.py) keeps the job's settings and the runs that wrote it: nothing else is ever removed.
 
 A task that fails or kills its worker (Dask's KilledWorker) is retried record by record, so one
-poison record costs its batch a retry and ends as its own status row; the others are kept. A
+poison record costs its batch a retry and ends as its own status row (worker_died, or
+out_of_memory when the worker's nanny restarted it past its memory limit); the others are kept. A
 record past its Limits (time, size) is a status row too, and a worker left busy by a record that
 timed out is restarted.
 """
@@ -38,13 +39,14 @@ from . import storage
 from .storage import StorageError
 from .output import Output, OutputError, part_name, settings, write_part
 from .records import ChannelSpec, RecordRef, RowGroupCache, discover, expand
-from .rows import (STATUS_OK, STATUS_TASK_FAILED, STATUS_TIMED_OUT, STATUS_TOO_LARGE, STATUS_WORKER_DIED, failure_row,
-                   identify_record)
+from .rows import (STATUS_OK, STATUS_OUT_OF_MEMORY, STATUS_TASK_FAILED, STATUS_TIMED_OUT, STATUS_TOO_LARGE,
+                   STATUS_WORKER_DIED, check_options, failure_row, identify_record)
 
 if TYPE_CHECKING:  # for the annotations only: pandas and pyarrow are the fleet extra's
     import pandas as pd
     import pyarrow as pa
 
+LOST_WORKER_TIMEOUT: str = "600s"  # a local nanny's worker may take this long to come back (see identify_fleet)
 MAX_BATCH: int = 50  # records per task at most: the scheduler's ~1 ms per task stays small against them
 
 
@@ -313,6 +315,40 @@ def _restart(client, worker: str, progress: Optional[TextIO]) -> None:
             progress.write(f"okid-fleet: could not restart {worker}, whose record timed out ({exc})\n")
 
 
+def _memory_restart(client, worker: str, wait: float = 1.0) -> Optional[Dict[str, Any]]:
+    """The nanny's event "worker-restart-memory" of WORKER (its RSS past the memory limit's
+    terminate fraction, 95 % by default), or None. The nanny sends it as it kills the worker, so it
+    is waited for up to WAIT seconds."""
+    deadline = time.monotonic() + wait
+    while True:
+        try:
+            events = client.get_events("worker-restart-memory")
+        except Exception:  # a scheduler that keeps no events: nothing to tell
+            return None
+        for _, event in reversed(list(events)):
+            if isinstance(event, dict) and event.get("worker") == worker:
+                return event
+        if time.monotonic() >= deadline:
+            return None
+        time.sleep(0.1)
+
+
+def _death(client, exc: BaseException) -> Tuple[str, str]:
+    """(status, message) of a record whose task failed alone: worker_died when it killed its worker
+    twice, out_of_memory when the worker's nanny killed it for its memory, task_failed else."""
+    if type(exc).__name__ != "KilledWorker":
+        return STATUS_TASK_FAILED, f"{type(exc).__name__}: {exc}"
+    worker = getattr(getattr(exc, "last_worker", None), "address", None)
+    event = _memory_restart(client, worker) if worker else None
+    if event is not None:
+        limit = getattr(getattr(exc, "last_worker", None), "memory_limit", 0) or 0
+        of_limit = f" of a {limit / 2**20:.0f} MiB limit" if limit else ""
+        return STATUS_OUT_OF_MEMORY, (f"its worker used {event.get('rss', 0) / 2**20:.0f} MiB{of_limit} identifying "
+                                      f"this record and was restarted by its nanny, twice (the record alone)")
+    return STATUS_WORKER_DIED, (f"the task of this record killed its worker process twice (a native crash, or "
+                                f"the kernel's out-of-memory killer): {exc}")
+
+
 def _silence_shutdown_logs() -> None:
     for name in ("distributed", "tornado", "asyncio"):
         logging.getLogger(name).setLevel(logging.CRITICAL)
@@ -395,6 +431,10 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
     options = dict(options or {})
     limits.check()
     try:
+        check_options(options, channels)
+    except ValueError as exc:
+        raise FleetError(str(exc)) from None
+    try:
         inputs = expand(paths)
         refs = discover(inputs)
         out = Output(out_dir)
@@ -407,9 +447,24 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
         run = out.prepare(settings(options, channels), resume=resume, overwrite=overwrite)
     except (OutputError, StorageError) as exc:
         raise FleetError(str(exc)) from None
+    if progress is not None:  # listing an object store and reading Parquet metadata take a while
+        files = len({r.path for r in refs})
+        progress.write(f"okid-fleet: {len(refs)} records in {files} file(s) or object(s)\n")
+        progress.flush()
     done = records_done(out.path) if resume else set()
     todo = [r for r in refs if r.record not in done]
-    client, cluster = _client(scheduler, scheduler_file, workers, connect_timeout, progress, memory_limit)
+    # A local cluster closes a nanny whose worker has not come back within this (Dask's default:
+    # 15 s), even while the nanny is restarting it: a record that kills its worker twice in a row,
+    # on a loaded machine, would leave the job without workers. The nanny's own restarts decide.
+    import dask
+    import distributed  # noqa: F401  its defaults in dask.config first: the set below restores what it found
+
+    lost_worker = dask.config.set({"distributed.deploy.lost-worker-timeout": LOST_WORKER_TIMEOUT})
+    try:
+        client, cluster = _client(scheduler, scheduler_file, workers, connect_timeout, progress, memory_limit)
+    except BaseException:
+        lost_worker.__exit__(None, None, None)
+        raise
     try:
         if progress is not None:
             progress.write(f"okid-fleet: {_dashboard(client)}\n")
@@ -429,12 +484,24 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
             tasks[submit(batch, part_name(run, i))] = (i, None, batch, 0)
         records = rows = 0
         failures: Dict[str, List] = {}
+        suspects: List[Tuple[int, Optional[int], Sequence[RecordRef]]] = []
         with _ctrl_c_as_flag() as interrupted:
             pending = set(tasks)
-            while pending and not interrupted.is_set():
+            suspect_out = False
+            while (pending or suspects) and not interrupted.is_set():
+                if suspects and not suspect_out:
+                    # alone, once more, one at a time: a record queued on a worker that another
+                    # record killed (its result lost with that worker) is not the killer; two
+                    # suspects run side by side could kill each other's workers again
+                    i, j, batch = suspects.pop(0)
+                    again = submit(batch, part_name(run, i, j if j is not None else 0), 1)
+                    tasks[again] = (i, j, batch, 1)
+                    pending.add(again)
+                    suspect_out = True
                 done_now, pending = _wait_some(pending)
                 for future in done_now:
                     i, j, batch, attempt = tasks.pop(future)
+                    suspect_out = suspect_out and attempt == 0
                     if future.status == "error":
                         exc = future.exception()
                         if len(batch) > 1:  # isolate: every record of the batch alone
@@ -444,16 +511,9 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
                                 pending.add(single)
                             continue
                         if type(exc).__name__ == "KilledWorker" and attempt == 0:
-                            # alone, once more: a record whose worker another record killed (its
-                            # result lost with that worker) is not the killer
-                            again = submit(batch, part_name(run, i, j if j is not None else 0), attempt + 1)
-                            tasks[again] = (i, j, batch, attempt + 1)
-                            pending.add(again)
+                            suspects.append((i, j, batch))
                             continue
-                        status = STATUS_WORKER_DIED if type(exc).__name__ == "KilledWorker" else STATUS_TASK_FAILED
-                        message = (f"the task of this record killed its worker process (a native crash, or the "
-                                   f"worker past its memory limit): {exc}"
-                                   if status == STATUS_WORKER_DIED else f"{type(exc).__name__}: {exc}")
+                        status, message = _death(client, exc)
                         part = part_name(run, i, j if j is not None else 0)
                         write_part([failure_row(batch[0], status, message, options)], out.path, part)
                         result = {"records": 1, "rows": 1, "statuses": [(status, message)]}
@@ -466,7 +526,7 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
                     failed = _count(result["statuses"], failures)
                     if bar:
                         bar.update(result["records"], failed)
-        if pending:  # Ctrl-C: the tasks still out are cancelled, the parts written are whole
+        if pending or suspects:  # Ctrl-C: the tasks still out are cancelled, the parts written are whole
             _quiet_shutdown(client)
             client.cancel(list(pending))
             if bar:
@@ -483,3 +543,4 @@ def identify_fleet(paths: Iterable[str], out_dir: str, *, options: Optional[Mapp
         client.close()
         if cluster is not None:
             cluster.close()
+        lost_worker.__exit__(None, None, None)

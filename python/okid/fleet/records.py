@@ -62,15 +62,21 @@ class RecordRef:
 @dataclass(frozen=True)
 class ChannelSpec:
     """Which columns are inputs and outputs, as ``okid identify --inputs/--outputs`` take them: a
-    count (taken in order after the time column) or comma-separated names; outputs None = the rest."""
+    count (taken in order after the time column) or comma-separated names; outputs None = the rest.
+    Inputs "0": output-only records, every channel an output (okid.identify_ambient)."""
     inputs: str = "1"
     outputs: Optional[str] = None
     dt: Optional[float] = None       #: sample interval when a CSV has no time column
     covariates: Tuple[str, ...] = () #: columns that are no channel: their mean over the record is kept (temperature, load)
 
+    @property
+    def output_only(self) -> bool:
+        """``--inputs 0``: no input column, the records identified by okid.identify_ambient."""
+        return self.inputs.strip() == "0"
+
     def select(self, names: Sequence[str]) -> Tuple[List[int], List[int]]:
         used: set = set()
-        ins = self._pick(self.inputs, names, used, "inputs", 0)
+        ins = [] if self.output_only else self._pick(self.inputs, names, used, "inputs", 0)
         start = (max(ins) + 1) if ins and self.inputs.strip().isdigit() else 0
         if self.outputs is None:
             outs = [i for i in range(len(names)) if i not in used]

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import json
 import re
-from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional
+from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Tuple
 
 import numpy as np
 
@@ -20,6 +20,7 @@ if TYPE_CHECKING:  # for the annotations only: pyarrow is the fleet extra's
 STATUS_OK: str = "ok"
 STATUS_UNREADABLE: str = "unreadable"
 STATUS_WORKER_DIED: str = "worker_died"   # the record's task killed its worker process, alone, twice
+STATUS_OUT_OF_MEMORY: str = "out_of_memory"  # the same, its worker restarted by its nanny past its memory limit
 STATUS_TASK_FAILED: str = "task_failed"   # the record's task raised outside the identification
 STATUS_TIMED_OUT: str = "timed_out"       # reading and identifying it took longer than --record-timeout
 STATUS_TOO_LARGE: str = "too_large"       # the record is larger than --max-record-mb: refused unread
@@ -80,9 +81,25 @@ def failure_row(ref: RecordRef, status: str, message: str, options: Mapping[str,
     return row
 
 
+#: The settings of an output-only job (``--inputs 0``, okid.identify_ambient's keywords that are
+#: okid_config's names too); the observer's settings mean nothing without an input.
+AMBIENT_OPTIONS: Tuple[str, ...] = ("hankel_rows", "order", "sensing")
+
+
+def check_options(options: Mapping[str, Any], channels: ChannelSpec) -> None:
+    """Refuse (ValueError, one line) the settings an output-only job cannot use."""
+    if channels.output_only:
+        other = [name for name in options if name not in AMBIENT_OPTIONS]
+        if other:
+            flags = ", ".join("--" + name.replace("_", "-") for name in other)
+            raise ValueError(f"{flags}: not a setting of output-only records (--inputs 0 takes "
+                             f"{', '.join('--' + n.replace('_', '-') for n in AMBIENT_OPTIONS)})")
+
+
 def identify_record(ref: RecordRef, channels: ChannelSpec, options: Mapping[str, Any],
                     cache: Optional[RowGroupCache] = None) -> List[Dict[str, Any]]:
-    """Read and identify one record with okid.identify; never raises for a property of the record."""
+    """Read and identify one record with okid.identify (okid.identify_ambient for output-only
+    records, ``--inputs 0``); never raises for a property of the record."""
     import okid
 
     config = json.dumps(dict(options), sort_keys=True)
@@ -91,7 +108,10 @@ def identify_record(ref: RecordRef, channels: ChannelSpec, options: Mapping[str,
     except RecordError as exc:
         return [_failure(ref, ref.start, exc, config)]
     try:
-        result = okid.identify(data.u, data.y, data.dt, **options)
+        if channels.output_only:
+            result = okid.identify_ambient(data.y, data.dt, **options)
+        else:
+            result = okid.identify(data.u, data.y, data.dt, **options)
     except (okid.OkidError, ValueError) as exc:
         return [_failure(ref, data.start, exc, config)]
     common = _base(ref, data.start)

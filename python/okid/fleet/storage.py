@@ -6,8 +6,9 @@ does not matter); a URL goes through fsspec, whose file system for its scheme mu
 (s3fs for ``s3://``, gcsfs for ``gs://``) on the client and on every worker. Credentials and the
 endpoint come from the usual places of that file system: for S3 the environment variables
 ``AWS_ACCESS_KEY_ID``, ``AWS_SECRET_ACCESS_KEY``, ``AWS_ENDPOINT_URL`` (a MinIO or other S3 API),
-``AWS_DEFAULT_REGION`` or ``~/.aws``, read by each process for itself: okid-fleet never sends a
-credential to a worker.
+``AWS_DEFAULT_REGION`` or ``~/.aws``; for GCS gcsfs's (``GOOGLE_APPLICATION_CREDENTIALS``, the
+metadata server, fsspec's ``FSSPEC_GS_TOKEN``, ``STORAGE_EMULATOR_HOST`` for an emulator); read
+by each process for itself: okid-fleet never sends a credential to a worker.
 
 Paths inside a file system are kept in fsspec's form ('/' separated, without the scheme; a local
 path is its absolute path), and turned back into what the user would type by ``url``.

@@ -6,8 +6,9 @@ mass with output noise; DAMAGED of the assets lose stiffness of their first spri
 their records (or, with ``damage_start``, all at once from that record on). With a
 ``temperature_swing``, every asset's springs also follow a temperature cycle (a ``temperature``
 column in every record: identify with ``--covariates temperature``), moving every frequency by up
-to +- the swing, as the seasons move a real structure's. The exact modes of every record are
-written beside the records (truth.parquet).
+to +- the swing, as the seasons move a real structure's. With ``ambient``, the force is not
+written (an unmeasured excitation, as wind or traffic: identify with ``--inputs 0``). The exact
+modes of every record are written beside the records (truth.parquet).
 """
 from __future__ import annotations
 
@@ -43,6 +44,8 @@ class FleetSpec:
     damage_start: Optional[int] = None  #: the record from which the loss is whole (a step), else a ramp
     temperature_swing: float = 0.0  #: relative frequency swing by temperature (0.02: +- 2 %), 0: no temperature
     temperature_period: int = 24    #: records per temperature cycle
+    ambient: bool = False           #: the force unmeasured: records of the accelerations alone
+    damping_scale: float = 1.0      #: the dampers scaled (0.1: the paper's chain with damping ratios of 1.6 and 3.4 %)
 
 
 def chain(n: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -77,12 +80,15 @@ def synthesize(out_dir: str, spec: FleetSpec = FleetSpec()) -> Dict[str, Any]:
         raise ValueError("synth needs at least 1 asset, 1 record, 10 samples and 1 mass")
     if not 0 <= spec.temperature_swing < 0.5 or spec.temperature_period < 1:
         raise ValueError(f"temperature swing {spec.temperature_swing}: in [0, 0.5); period {spec.temperature_period}: >= 1")
+    if not spec.damping_scale > 0:
+        raise ValueError(f"damping scale {spec.damping_scale}: > 0")
     if spec.fmt not in ("parquet", "csv"):
         raise ValueError(f"format {spec.fmt!r}: 'parquet' or 'csv'")
     rng = np.random.default_rng(spec.seed)
     damaged_count = spec.damaged if spec.damaged is not None else max(1, spec.assets // 3)
     damaged = set(rng.choice(spec.assets, size=min(damaged_count, spec.assets), replace=False).tolist())
     masses, dampers, springs0 = chain(spec.masses)
+    dampers = dampers * spec.damping_scale
     records_dir = os.path.join(out_dir, "records")
     os.makedirs(records_dir, exist_ok=True)
     truth: List[Dict[str, Any]] = []
@@ -124,18 +130,19 @@ def synthesize(out_dir: str, spec: FleetSpec = FleetSpec()) -> Dict[str, Any]:
                               "stiffness_factor": 1 - loss, "temperature": float(temperature), "mode": k,
                               "frequency_hz": float(f), "damping_ratio": float(z)})
             time_s = np.arange(spec.samples) * spec.dt
+            measured = {} if spec.ambient else {"force": force[:, 0]}
             extra = {"temperature": np.full(spec.samples, temperature)} if spec.temperature_swing else {}
             if spec.fmt == "csv":
                 folder = os.path.join(records_dir, asset)
                 os.makedirs(folder, exist_ok=True)
-                data = np.column_stack([time_s, force[:, 0], y, *extra.values()])
+                data = np.column_stack([time_s, *measured.values(), y, *extra.values()])
                 np.savetxt(os.path.join(folder, stamp + ".csv"), data, delimiter=",", fmt="%.17g",
-                           header=",".join(["time", "force"] + outputs + list(extra)), comments="")
+                           header=",".join(["time", *measured] + outputs + list(extra)), comments="")
                 continue
             columns = {"asset": pa.array([asset] * spec.samples), "record": pa.array([record] * spec.samples),
                        "start": pa.array([start] * spec.samples, pa.timestamp("us", tz="UTC")),
-                       "dt": pa.array(np.full(spec.samples, spec.dt)), "time": pa.array(time_s),
-                       "force": pa.array(force[:, 0])}
+                       "dt": pa.array(np.full(spec.samples, spec.dt)), "time": pa.array(time_s)}
+            columns.update({name: pa.array(v) for name, v in measured.items()})
             columns.update({name: pa.array(y[:, i]) for i, name in enumerate(outputs)})
             columns.update({name: pa.array(v) for name, v in extra.items()})
             table = pa.table(columns)
