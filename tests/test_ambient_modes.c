@@ -169,9 +169,10 @@ static void assert_selects_plant(const plant *p, uint64_t seed, const okid_mode_
 
 /*
  * The paper's plant with the default criteria: its first mode (16 %) and nothing else. Its second
- * (33 %) is above the default damping_max 0.2, as on the input-output path (docs/quality.md
- * section 8); with damping_max 0.5 and EMAC off it is selected at L = 49 only (its damping wanders
- * 0.26..0.35 across orders), one size of three: docs/ambient.md lists that gap.
+ * (33 %) is under the damping limit 1/sqrt(2) of the input-output path (docs/quality.md section 8)
+ * but fails EMAC at these sizes (its correlations die out within L lags); with EMAC off it is
+ * selected at L = 49 only (its damping wanders 0.26..0.35 across orders), one size of three:
+ * docs/ambient.md lists that gap.
  */
 static void test_paper_modes(void **state)
 {
@@ -187,7 +188,7 @@ static void test_chain_modes(void **state)
     (void)state;
     plant p;
     chain_plant(&p);
-    assert_selects_plant(&p, 22, NULL); /* the defaults: damping up to 0.2, the band from the record */
+    assert_selects_plant(&p, 22, NULL); /* the defaults: damping up to 1/sqrt(2), the band from the record */
 }
 
 static void test_close_modes(void **state)

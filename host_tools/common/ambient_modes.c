@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "ambient_settings.h"
+#include "auto_modes.h"  /* AUTO_DAMPING_MAX */
 #include "auto_report.h" /* auto_print_sensor_shape */
 #include "auto_settings.h"
 #include "json_writer.h"
@@ -132,6 +133,7 @@ okid_status ambient_modes_find(const okid_ambient_config *cfg, int hankel_given,
         out->criteria = *criteria;
     } else {
         okid_mode_selection_criteria_default(&out->criteria);
+        out->criteria.damping_max = (okid_real)AUTO_DAMPING_MAX; /* the input-output path's limit */
         out->criteria.frequency_min_hz = (okid_real)out->choice.frequency_min_hz;
         out->criteria.frequency_max_hz = (okid_real)out->choice.frequency_max_hz;
     }
@@ -194,7 +196,7 @@ const char *ambient_pole_verdict(const ambient_modes *am, const okid_mode *pole,
     if (!pole->is_pair) return "real pole";
     if (!(magnitude < 1)) return "unstable (|lambda| >= 1)";
     if (!(z > (double)c->damping_min)) return "damping ratio at or below the selection's minimum";
-    if (z > (double)c->damping_max) return "damping ratio above the selection's maximum";
+    if (z > (double)c->damping_max) return "damping ratio above the selection's maximum (by default 1/sqrt(2): no resonance peak)";
     if (f < (double)c->frequency_min_hz || (c->frequency_max_hz > 0 && f > (double)c->frequency_max_hz)) {
         return "outside the band of the selection";
     }
