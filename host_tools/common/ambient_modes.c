@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "ambient_settings.h"
-#include "auto_modes.h"  /* AUTO_DAMPING_MAX */
+#include "auto_modes.h" /* AUTO_DAMPING_MAX */
 #include "auto_report.h" /* auto_print_sensor_shape */
 #include "auto_settings.h"
 #include "json_writer.h"
@@ -15,23 +15,9 @@
 /* The tables' largest order: the input-output path's 60 (docs/quality.md section 8). */
 enum { AMBIENT_TABLE_ORDERS = 60 };
 
-static void *workspace_of(size_t bytes)
-{
-    return aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + OKID_WORKSPACE_ALIGN - 1) / OKID_WORKSPACE_ALIGN *
-                                                   OKID_WORKSPACE_ALIGN);
-}
-
 static int references_of(const okid_ambient_config *cfg)
 {
     return cfg->num_references > 0 ? cfg->num_references : cfg->num_outputs;
-}
-
-/* The selection's clustering gates in frequency and shape: the same physical mode. */
-static int same_mode(const okid_mode_selection_criteria *c, const okid_mode *a, const okid_mode *b, int m)
-{
-    const double fa = (double)a->frequency_hz, fb = (double)b->frequency_hz;
-    return a->is_pair && b->is_pair && fabs(fa - fb) <= (double)c->frequency_distance * fa &&
-           (double)okid_mac(a->sensor_shape, b->sensor_shape, m) >= (double)c->mac_min;
 }
 
 /*
@@ -83,45 +69,23 @@ static okid_status run_size(ambient_run *run, const okid_ambient_config *cfg, in
     size_t bytes = 0;
     okid_status st = okid_ambient_workspace_size(&run->cfg, &bytes);
     if (st != OKID_OK) return st;
-    if ((run->workspace = workspace_of(bytes)) == NULL) return OKID_E_WORKSPACE_TOO_SMALL;
+    if ((run->workspace = mode_windows_workspace(bytes)) == NULL) return OKID_E_WORKSPACE_TOO_SMALL;
     st = okid_ambient_init(&run->amb, &run->cfg, run->workspace, bytes, NULL);
     if (st == OKID_OK) {
         st = okid_ambient_push_block(&run->amb, n, y, (size_t)m, NULL);
         if (st == OKID_E_NONFINITE_SAMPLE) st = OKID_OK; /* gaps: no product spans them */
     }
     if (st == OKID_OK) st = okid_ambient_stabilization_workspace_size(&run->amb, top, 2, &bytes);
-    if (st == OKID_OK && (run->table_workspace = workspace_of(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
+    if (st == OKID_OK && (run->table_workspace = mode_windows_workspace(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
     if (st == OKID_OK) {
         st = okid_ambient_stabilization_compute(&run->amb, top, 2, NULL, run->table_workspace, bytes, &run->table);
     }
     if (st == OKID_OK) st = okid_mode_selection_workspace_size(top, 2, &bytes);
-    if (st == OKID_OK && (run->selection_workspace = workspace_of(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
+    if (st == OKID_OK && (run->selection_workspace = mode_windows_workspace(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
     if (st == OKID_OK) {
         st = okid_select_modes(&run->table, m, criteria, run->selection_workspace, bytes, &run->selection, NULL);
     }
     return st;
-}
-
-/* The lowest order of the main table whose poles hold every reported mode (else the most of them). */
-static void choose_order(ambient_modes *am, int m)
-{
-    const okid_stabilization *t = &am->runs[0].table;
-    int best = 0, best_count = -1;
-    for (int i = 0; i < t->num_orders; ++i) {
-        const okid_stabilization_order *o = &t->orders[i];
-        int count = 0;
-        for (int k = 0; k < am->num_modes; ++k) {
-            for (int j = 0; j < o->num_modes; ++j) {
-                if (same_mode(&am->criteria, &am->modes[k].selected->mode, &t->modes[o->first + j], m)) {
-                    ++count;
-                    break;
-                }
-            }
-        }
-        if (count > best_count) best = o->order, best_count = count;
-    }
-    am->order = am->num_modes > 0 ? best : 0;
-    am->order_holds_all = best_count == am->num_modes;
 }
 
 okid_status ambient_modes_find(const okid_ambient_config *cfg, int hankel_given, size_t n, const okid_real *y,
@@ -152,57 +116,21 @@ okid_status ambient_modes_find(const okid_ambient_config *cfg, int hankel_given,
     const int m = cfg->num_outputs;
     int support[OKID_MAX_ORDER] = {0};
     for (int w = 0; w < out->num_runs; ++w) {
-        const ambient_run *run = &out->runs[w];
-        if (run->status != OKID_OK) continue;
-        for (int k = 0; k < run->selection.num_modes; ++k) {
-            const okid_selected_mode *s = &run->selection.modes[k];
-            int g = 0;
-            while (g < out->num_modes && !same_mode(&out->criteria, &out->modes[g].selected->mode, &s->mode, m)) ++g;
-            if (g == out->num_modes) {
-                if (g == OKID_MAX_ORDER) continue;
-                out->modes[g] = (auto_mode){s, w, 0};
-                ++out->num_modes;
-            }
-            if (!(support[g] & (1 << w))) support[g] |= 1 << w, ++out->modes[g].windows;
+        if (out->runs[w].status == OKID_OK) {
+            mode_windows_add(&out->criteria, &out->runs[w].selection, w, m, out->modes, &out->num_modes, support);
         }
     }
-    const int needed = out->num_runs > 1 ? 2 : 1; /* two of three sizes; one size alone */
-    int kept = 0;
-    for (int g = 0; g < out->num_modes; ++g) {
-        if (out->modes[g].windows >= needed) out->modes[kept++] = out->modes[g];
-    }
-    out->num_modes = kept;
-    for (int i = 1; i < kept; ++i) { /* by increasing frequency */
-        const auto_mode x = out->modes[i];
-        int j = i;
-        while (j > 0 && out->modes[j - 1].selected->mode.frequency_hz > x.selected->mode.frequency_hz) {
-            out->modes[j] = out->modes[j - 1];
-            --j;
-        }
-        out->modes[j] = x;
-    }
-    choose_order(out, m);
+    mode_windows_keep(out->modes, &out->num_modes, out->num_runs > 1 ? 2 : 1); /* two of three sizes; one size alone */
+    mode_windows_order(&out->runs[0].table, &out->criteria, out->modes, out->num_modes, m, &out->order,
+                       &out->order_holds_all);
+    if (out->num_modes == 0) out->order = 0; /* no mode: the gap order */
     return OKID_OK;
 }
 
 const char *ambient_pole_verdict(const ambient_modes *am, const okid_mode *pole, int m)
 {
-    for (int k = 0; k < am->num_modes; ++k) {
-        if (same_mode(&am->criteria, &am->modes[k].selected->mode, pole, m)) return NULL;
-    }
-    const okid_mode_selection_criteria *c = &am->criteria;
-    const double f = (double)pole->frequency_hz, z = (double)pole->damping_ratio;
-    const double magnitude = hypot((double)pole->eigenvalue.re, (double)pole->eigenvalue.im);
-    if (!pole->is_pair) return "real pole";
-    if (!(magnitude < 1)) return "unstable (|lambda| >= 1)";
-    if (!(z > (double)c->damping_min)) return "damping ratio at or below the selection's minimum";
-    if (z > (double)c->damping_max) return "damping ratio above the selection's maximum (by default 1/sqrt(2): no resonance peak)";
-    if (f < (double)c->frequency_min_hz || (c->frequency_max_hz > 0 && f > (double)c->frequency_max_hz)) {
-        return "outside the band of the selection";
-    }
-    if ((double)pole->mpc < (double)c->mpc_min) return "MPC below the selection's minimum";
-    if ((double)pole->emac < (double)c->emac_min) return "EMAC below the selection's minimum";
-    return "not stable across orders and Hankel sizes";
+    return mode_windows_verdict(&am->criteria, am->modes, am->num_modes, pole, m,
+                                "not stable across orders and Hankel sizes");
 }
 
 void ambient_print_modes(const ambient_modes *am, const okid_ambient_result *res, const char *const *output_names,

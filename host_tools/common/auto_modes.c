@@ -6,25 +6,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void *workspace_of(size_t bytes)
-{
-    return aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + OKID_WORKSPACE_ALIGN - 1) / OKID_WORKSPACE_ALIGN *
-                                                   OKID_WORKSPACE_ALIGN);
-}
-
-/* The selection's clustering gates in frequency and shape: the same physical mode. */
-static int same_mode(const okid_mode_selection_criteria *c, const okid_mode *a, const okid_mode *b, int m)
-{
-    const double fa = (double)a->frequency_hz, fb = (double)b->frequency_hz;
-    return a->is_pair && b->is_pair && fabs(fa - fb) <= (double)c->frequency_distance * fa &&
-           (double)okid_mac(a->sensor_shape, b->sensor_shape, m) >= (double)c->mac_min;
-}
 
 /* The selection of table with criteria, in a workspace of bytes of its own (*workspace, freed by auto_modes_free). */
 static okid_status select_into(const okid_stabilization *table, int m, const okid_mode_selection_criteria *criteria,
                                size_t bytes, void **workspace, okid_mode_selection *selection)
 {
-    if ((*workspace = workspace_of(bytes)) == NULL) return OKID_E_WORKSPACE_TOO_SMALL;
+    if ((*workspace = mode_windows_workspace(bytes)) == NULL) return OKID_E_WORKSPACE_TOO_SMALL;
     return okid_select_modes(table, m, criteria, *workspace, bytes, selection, NULL);
 }
 
@@ -38,7 +25,7 @@ static okid_status run_window(auto_run *run, const okid_config *cfg, int window,
     size_t bytes = 0;
     okid_status st = okid_workspace_size(&run->cfg, &bytes);
     if (st != OKID_OK) return st;
-    if ((run->workspace = workspace_of(bytes)) == NULL) return OKID_E_WORKSPACE_TOO_SMALL;
+    if ((run->workspace = mode_windows_workspace(bytes)) == NULL) return OKID_E_WORKSPACE_TOO_SMALL;
     st = okid_init(&run->id, &run->cfg, run->workspace, bytes, NULL);
     if (st == OKID_OK) {
         st = okid_push_block(&run->id, n, u, (size_t)cfg->num_inputs, y, (size_t)cfg->num_outputs, NULL);
@@ -48,7 +35,7 @@ static okid_status run_window(auto_run *run, const okid_config *cfg, int window,
     top -= top % 2;
     if (st == OKID_OK && top < 2) st = OKID_E_BAD_ORDER;
     if (st == OKID_OK) st = okid_stabilization_workspace_size(&run->id, top, 2, &bytes);
-    if (st == OKID_OK && (run->table_workspace = workspace_of(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
+    if (st == OKID_OK && (run->table_workspace = mode_windows_workspace(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
     if (st == OKID_OK) st = okid_stabilization_compute(&run->id, top, 2, NULL, run->table_workspace, bytes, &run->table);
     if (st == OKID_OK) st = okid_mode_selection_workspace_size(top, 2, &bytes);
     if (st == OKID_OK) st = select_into(&run->table, cfg->num_outputs, criteria, bytes, &run->selection_workspace, &run->selection);
@@ -62,28 +49,6 @@ static okid_status run_window(auto_run *run, const okid_config *cfg, int window,
         run->noise_floor = run->result.num_singular_values > top && sv[0] > 0 ? (double)(sv[top] / sv[0]) : 0;
     }
     return st;
-}
-
-/* The lowest order of the main table whose poles hold every reported mode (else the most of them). */
-static void choose_order(auto_modes *am, int m)
-{
-    const okid_stabilization *t = &am->runs[0].table;
-    int best = -1, best_count = -1;
-    for (int i = 0; i < t->num_orders; ++i) {
-        const okid_stabilization_order *o = &t->orders[i];
-        int count = 0;
-        for (int k = 0; k < am->num_modes; ++k) {
-            for (int j = 0; j < o->num_modes; ++j) {
-                if (same_mode(&am->criteria, &am->modes[k].selected->mode, &t->modes[o->first + j], m)) {
-                    ++count;
-                    break;
-                }
-            }
-        }
-        if (count > best_count) best = o->order, best_count = count;
-    }
-    am->order = best;
-    am->order_holds_all = best_count == am->num_modes;
 }
 
 okid_status auto_modes_find(const auto_choice *choice, const okid_config *cfg, size_t n, const okid_real *u,
@@ -108,18 +73,8 @@ okid_status auto_modes_find(const auto_choice *choice, const okid_config *cfg, s
     const int m = cfg->num_outputs;
     int support[OKID_MAX_ORDER] = {0};
     for (int w = 0; w < out->num_runs; ++w) {
-        const auto_run *run = &out->runs[w];
-        if (run->status != OKID_OK) continue;
-        for (int k = 0; k < run->selection.num_modes; ++k) {
-            const okid_selected_mode *s = &run->selection.modes[k];
-            int g = 0;
-            while (g < out->num_modes && !same_mode(&out->criteria, &out->modes[g].selected->mode, &s->mode, m)) ++g;
-            if (g == out->num_modes) {
-                if (g == OKID_MAX_ORDER) continue;
-                out->modes[g] = (auto_mode){s, w, 0};
-                ++out->num_modes;
-            }
-            if (!(support[g] & (1 << w))) support[g] |= 1 << w, ++out->modes[g].windows;
+        if (out->runs[w].status == OKID_OK) {
+            mode_windows_add(&out->criteria, &out->runs[w].selection, w, m, out->modes, &out->num_modes, support);
         }
     }
     /* a window whose span outlasts a mode (its amplitude decays below the Hankel matrix's noise share
@@ -133,7 +88,7 @@ okid_status auto_modes_find(const auto_choice *choice, const okid_config *cfg, s
             const double magnitude = hypot((double)s->mode.eigenvalue.re, (double)s->mode.eigenvalue.im);
             if (!(pow(magnitude, run->cfg.hankel_rows - 1) < run->noise_floor)) continue;
             for (int g = 0; g < out->num_modes; ++g) {
-                if (!(support[g] & (1 << w)) && same_mode(&out->criteria, &out->modes[g].selected->mode, &s->mode, m)) {
+                if (!(support[g] & (1 << w)) && mode_windows_same(&out->criteria, &out->modes[g].selected->mode, &s->mode, m)) {
                     support[g] |= 1 << w, ++out->modes[g].windows;
                     break;
                 }
@@ -143,44 +98,15 @@ okid_status auto_modes_find(const auto_choice *choice, const okid_config *cfg, s
     /* every window: a physical mode does not move with the window, and a window that outlasts it
        confirms it without EMAC (above); two of three let a mode at the edge of the cluster-size rule
        in two windows through (GWS 261: 1.32 Hz, zeta 0.08, docs/quality.md section 8) */
-    const int needed = out->num_runs;
-    int kept = 0;
-    for (int g = 0; g < out->num_modes; ++g) {
-        if (out->modes[g].windows >= needed) out->modes[kept++] = out->modes[g];
-    }
-    out->num_modes = kept;
-    /* by increasing frequency */
-    for (int i = 1; i < kept; ++i) {
-        const auto_mode x = out->modes[i];
-        int j = i;
-        while (j > 0 && out->modes[j - 1].selected->mode.frequency_hz > x.selected->mode.frequency_hz) {
-            out->modes[j] = out->modes[j - 1];
-            --j;
-        }
-        out->modes[j] = x;
-    }
-    choose_order(out, m);
+    mode_windows_keep(out->modes, &out->num_modes, out->num_runs);
+    mode_windows_order(&out->runs[0].table, &out->criteria, out->modes, out->num_modes, m, &out->order,
+                       &out->order_holds_all);
     return OKID_OK;
 }
 
 const char *auto_pole_verdict(const auto_modes *am, const okid_mode *pole, int m)
 {
-    for (int k = 0; k < am->num_modes; ++k) {
-        if (same_mode(&am->criteria, &am->modes[k].selected->mode, pole, m)) return NULL;
-    }
-    const okid_mode_selection_criteria *c = &am->criteria;
-    const double f = (double)pole->frequency_hz, z = (double)pole->damping_ratio;
-    const double magnitude = hypot((double)pole->eigenvalue.re, (double)pole->eigenvalue.im);
-    if (!pole->is_pair) return "real pole";
-    if (!(magnitude < 1)) return "unstable (|lambda| >= 1)";
-    if (!(z > (double)c->damping_min)) return "damping ratio <= 0";
-    if (z > (double)c->damping_max) return "damping ratio above 1/sqrt(2) (no resonance peak)";
-    if (f < (double)c->frequency_min_hz || (c->frequency_max_hz > 0 && f > (double)c->frequency_max_hz)) {
-        return "outside the band of the selection";
-    }
-    if ((double)pole->mpc < (double)c->mpc_min) return "MPC below 0.5";
-    if ((double)pole->emac < (double)c->emac_min) return "EMAC below 0.5";
-    return "not stable across orders and windows";
+    return mode_windows_verdict(&am->criteria, am->modes, am->num_modes, pole, m, "not stable across orders and windows");
 }
 
 void auto_modes_free(auto_modes *am)

@@ -12,6 +12,7 @@
 #include <stddef.h>
 
 #include "auto_settings.h"
+#include "mode_windows.h" /* auto_mode */
 #include "okid/okid.h"
 
 /* The selection's damping limit here: above 1/sqrt(2) a mode has no resonance peak. */
@@ -29,13 +30,6 @@ typedef struct auto_run {
     double noise_floor;             /* sigma_(top + 1) / sigma_1 of the Hankel matrix: its noise's share */
     okid_status status;  /* OKID_OK when the selection is valid */
 } auto_run;
-
-/* A reported mode: its representative (from the first window that holds it) and its support. */
-typedef struct auto_mode {
-    const okid_selected_mode *selected;
-    int window;   /* index into choice->windows of the representative */
-    int windows;  /* windows whose selection holds the mode */
-} auto_mode;
 
 typedef struct auto_modes {
     auto_run runs[3];
