@@ -90,8 +90,22 @@
 #endif
 #define OKID__NB(r, m, p, block_rows) \
     ((block_rows) > 0 ? OKID__Z(block_rows) : OKID__AUTO_BLOCK_ROWS(OKID__W(r, m, p)))
+/*
+ * The fold's tile (xTPQRT's nb): 8 columns for w <= 128, else 16; with block_rows 0 and w > 128
+ * on the LAPACK backend a panel of OKID__FOLD_PANEL_TILE columns factored recursively down to
+ * OKID__FOLD_PANEL_BASE (linalg_lapacke.c: GEMM-rich updates, docs/design.md "Recursive fold
+ * panel"); the T tile and the update's work are nbt x w reals each either way.
+ */
+#define OKID__FOLD_PANEL_TILE 64
+#define OKID__FOLD_PANEL_BASE 8
+#if OKID_LINALG_EIGEN
+#define OKID__TILE(w, block_rows) (OKID__Z(w) <= 128u ? 8u : 16u + 0u * OKID__Z(block_rows))
+#else
+#define OKID__TILE(w, block_rows) \
+    (OKID__Z(w) <= 128u ? 8u : OKID__Z(block_rows) == 0u ? OKID__Z(OKID__FOLD_PANEL_TILE) : 16u)
+#endif
 #define OKID__NBT(r, m, p, block_rows) \
-    OKID__MIN(OKID__MIN(OKID__NB(r, m, p, block_rows), OKID__W(r, m, p)), OKID__W(r, m, p) <= 128u ? 8u : 16u)
+    OKID__MIN(OKID__MIN(OKID__NB(r, m, p, block_rows), OKID__W(r, m, p)), OKID__TILE(OKID__W(r, m, p), block_rows))
 
 #define OKID__PERSISTENT_BYTES(r, m, p, block_rows)                                                \
     (OKID__RB(OKID__Z(p) * (OKID__Z(r) + OKID__Z(m))) + OKID__RB(OKID__NB(r, m, p, block_rows) * OKID__W(r, m, p)) \
