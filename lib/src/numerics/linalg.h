@@ -50,7 +50,7 @@ okid_status okid_la_lstsq_rank(int n, int nrhs, okid_real *a, int lda, okid_real
 /*
  * Thin SVD a = U S V': a (m x n) is overwritten by the first min(m, n) left singular vectors,
  * s gets min(m, n) singular values in decreasing order, vt (min(m, n) x n) the right ones.
- * work holds OKID__LWORK_GESVD(m, n) reals.
+ * work holds OKID__LWORK_GESVD(m, n) reals (LAPACK: divide and conquer when OKID__SVD_DC(m, n)).
  */
 okid_status okid_la_svd(int m, int n, okid_real *a, int lda, okid_real *s, okid_real *vt, int ldvt,
                         okid_real *work);

@@ -161,7 +161,12 @@ okid_status okid_la_lstsq_rank(int n, int nrhs, okid_real *a, int lda, okid_real
 okid_status okid_la_svd(int m, int n, okid_real *a, int lda, okid_real *s, okid_real *vt, int ldvt,
                         okid_real *work)
 {
-    const lapack_int lwork = (lapack_int)OKID__LWORK_GESVD(m, n);
+    if (OKID__SVD_DC(m, n)) { /* U over a, V' (n x n) in vt, as xGESVD's 'O', 'S' below */
+        const lapack_int lwork = (lapack_int)OKID__LWORK_GESDD(m, n);
+        lapack_int *iwork = (lapack_int *)(void *)(work + lwork);
+        return from_info(LA(gesdd)(LAPACK_COL_MAJOR, 'O', m, n, a, lda, s, NULL, 1, vt, ldvt, work, lwork, iwork));
+    }
+    const lapack_int lwork = (lapack_int)OKID__LWORK_GESVD_QR(m, n);
     return from_info(LA(gesvd)(LAPACK_COL_MAJOR, 'O', 'S', m, n, a, lda, s, NULL, 1, vt, ldvt, work, lwork));
 }
 
