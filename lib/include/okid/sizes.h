@@ -141,6 +141,9 @@
 #define OKID__PHASE_FOLD_BYTES(r, m, p, block_rows)                                                 \
     (2u * OKID__RB(OKID__NBT(r, m, p, block_rows) * OKID__W(r, m, p))                                 \
      + (OKID__NB(r, m, p, block_rows) > 1u ? OKID__RB(OKID__NB(r, m, p, block_rows) * OKID__W(r, m, p)) : 0u))
+/* From this many regressor columns the solve tries a condition estimate before the rank-revealing
+   solve (least_squares.c); below it every solve keeps its bits. */
+#define OKID__FAST_SOLVE_MIN 200
 /* Work of the core's rank-revealing solve on a triangle (triangular_lstsq.h), in reals. */
 #define OKID__LWORK_TRIANGULAR_LSTSQ(n) (4u * OKID__Z(n))
 /* The rank-revealing solves (least squares, the diagnostics' noise-free test) run in R's unused

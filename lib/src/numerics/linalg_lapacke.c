@@ -144,6 +144,22 @@ okid_status okid_la_cholesky_rows(int q, int n, okid_real *c, int ldc)
     return st;
 }
 
+okid_status okid_la_solve_conditioned(int n, int nrhs, const okid_real *l, int ldl, okid_real *b, int ldb,
+                                      okid_real min_rcond, int *solved, okid_real *work, int *iwork)
+{
+    *solved = 0;
+    okid_real rcond = 0;
+    okid_status st = from_info(LA(trcon)(LAPACK_COL_MAJOR, '1', 'L', 'N', n, l, ldl, &rcond, work, iwork));
+    if (st != OKID_OK || !(rcond >= min_rcond)) {
+        return st;
+    }
+    if (nrhs > 0) {
+        st = from_info(LA(trtrs)(LAPACK_COL_MAJOR, 'L', 'T', 'N', n, nrhs, l, ldl, b, ldb));
+    }
+    *solved = st == OKID_OK;
+    return st;
+}
+
 okid_status okid_la_lstsq_rank(int n, int nrhs, okid_real *a, int lda, okid_real *b, int ldb, okid_real rcond,
                                int *rank, int *jpvt, okid_real *work)
 {
