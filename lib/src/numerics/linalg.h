@@ -42,8 +42,8 @@ okid_status okid_la_cholesky_rows(int q, int n, okid_real *c, int ldc);
  * A solve that needs no rank decision: when the n x n lower triangle l (leading dimension ldl) has
  * a reciprocal condition estimate (1-norm, xTRCON) of at least min_rcond, b (n x nrhs, leading
  * dimension ldb; nrhs may be 0) becomes l'^-1 b (xTRTRS) and *solved is 1; otherwise nothing is
- * written and *solved is 0, as always in the Eigen backend (the caller then runs the rank-revealing
- * solve). work holds 3 n reals, iwork n ints.
+ * written and *solved is 0 (the caller then runs the rank-revealing solve). work holds 3 n reals,
+ * iwork n ints. LAPACK backend only (the Eigen backend, the firmware's, has no condition estimate).
  */
 okid_status okid_la_solve_conditioned(int n, int nrhs, const okid_real *l, int ldl, okid_real *b, int ldb,
                                       okid_real min_rcond, int *solved, okid_real *work, int *iwork);

@@ -268,15 +268,6 @@ extern "C" okid_status okid_la_cholesky_rows(int q, int n, okid_real *c, int ldc
     return OKID_OK;
 }
 
-extern "C" okid_status okid_la_solve_conditioned(int n, int nrhs, const okid_real *l, int ldl, okid_real *b,
-                                                 int ldb, okid_real min_rcond, int *solved, okid_real *work,
-                                                 int *iwork)
-{
-    (void)n, (void)nrhs, (void)l, (void)ldl, (void)b, (void)ldb, (void)min_rcond, (void)work, (void)iwork;
-    *solved = 0; /* no condition estimate here: the rank-revealing solve decides (and the firmware's q is small) */
-    return OKID_OK;
-}
-
 extern "C" okid_status okid_la_lstsq_rank(int n, int nrhs, okid_real *a, int lda, okid_real *b, int ldb,
                                           okid_real rcond, int *rank, int *jpvt, okid_real *work)
 {
