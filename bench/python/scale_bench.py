@@ -6,7 +6,7 @@
 
 Cases, on the same data for every method (okid.model's simulation, white force, output noise as a
 fraction of each channel's RMS):
-- "paper, 2 % noise": the paper's 2-DOF system (okid.model.paper_system), 1 force, 2 accelerometers,
+- "paper, noise-free": the paper's 2-DOF system (okid.model.paper_system), 1 force, 2 accelerometers,
   1001 samples at 0.01 s, p = 20, n = 4, 20 x 20 Hankel (the paper case of docs/benchmarks.md);
 - "5 % noise": the same system at 0.05 s, 2001 samples, 5 % noise, p = 20, n = 4, 40 x 40 Hankel;
 - "5-DOF, 10 acc.": a 5-mass chain (record() below), 1 force on mass 1, two accelerometers
@@ -166,7 +166,7 @@ def main(argv=None):
     a = parser.parse_args(argv)
     scale = 10 if a.quick else 1
     # (name, record, p, n, Hankel blocks, SIPPY's horizon)
-    cases = [("paper, 2 % noise", lambda: paper_record(0.01, 1001, 0.02, 1), 0.01, 20, 4, (20, 20), 20),
+    cases = [("paper, noise-free", lambda: paper_record(0.01, 1001, 0.0, 1), 0.01, 20, 4, (20, 20), 20),
              ("dt 0.05 s, 5 % noise", lambda: paper_record(0.05, 2001, 0.05, 1), 0.05, 20, 4, (40, 40), 20),
              ("5-DOF, 10 acc., 100 000 samples", lambda: record(5, 2, 100_000 // scale, seed=1), 0.01, 20, 10,
               (20, 20), 10),
