@@ -128,9 +128,13 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims, okid_conf
     /* Inner block of the blocked QR update (xTPQRT's NB): a narrow panel keeps the level-2 part
        small and hands the rest to level-3 BLAS; 8 up to w = 128, 16 above, was fastest with both
        the reference BLAS and OpenBLAS (2.2x at r = 1, m = 2, p = 20; docs/benchmarks.md). With
-       block_rows 0 and w > 128 (LAPACK backend) the recursive panel's 64 (OKID__TILE). */
-    dims->block_tile = (int)OKID__MIN(OKID__MIN((unsigned long long)dims->block_rows, (unsigned long long)dims->w),
-                                      OKID__TILE(dims->w, cfg->block_rows));
+       block_rows 0 and w > 128 (LAPACK backend) the recursive panel's 64: OKID__TILE's rule. */
+#if OKID_LINALG_EIGEN
+    const int wide_tile = 16;
+#else
+    const int wide_tile = cfg->block_rows == 0 ? OKID__FOLD_PANEL_TILE : 16;
+#endif
+    dims->block_tile = MIN(MIN(dims->block_rows, dims->w), dims->w <= 128 ? 8 : wide_tile);
     dims->decimation = cfg->decimation > 1 ? cfg->decimation : 1;
     dims->instrument_lags = 0;
     dims->nz = 0;
