@@ -2,7 +2,8 @@
 /*
  * The fold's rate against the same run's DGEMM (issue 29): okid_push_block of N samples of white
  * noise (r = 1 input, m outputs, p = 20: q = 61, 221, 501) with block_rows 0 (the QR fold, 2 w^2 N
- * flops) and with the correlation estimator (xSYRK, w^2 N flops), CPU time, next to DGEMM of
+ * flops: for w > 128 the recursive panel of 64 columns), with block_rows 256 (the same rows per
+ * fold with xTPQRT's tile of 16: the rate the recursive panel replaced) and with the correlation estimator (xSYRK, w^2 N flops), CPU time, next to DGEMM of
  * w x 512 by 512 x w. One BLAS thread: run with OPENBLAS_NUM_THREADS=1.
  *   build/bench/okid_fold_rate_bench [samples]      (default 50 000)
  * Prints figures; nothing is asserted.
@@ -44,13 +45,15 @@ static double dgemm_rate(int w)
 }
 
 /* CPU seconds of pushing the samples (the folds, and the regressor rows they are made of). */
-static double push_seconds(int m, okid_estimator estimator, size_t samples, const double *u, const double *y)
+static double push_seconds(int m, okid_estimator estimator, int block_rows, size_t samples, const double *u,
+                           const double *y)
 {
     okid_config cfg;
     okid_config_default(&cfg, 1, m);
     cfg.dt = 0.01;
     cfg.order = 2;
     cfg.estimator = estimator;
+    cfg.block_rows = block_rows;
     size_t bytes = 0;
     if (okid_workspace_size(&cfg, &bytes) != OKID_OK) {
         return -1;
@@ -77,8 +80,8 @@ int main(int argc, char **argv)
 {
     const size_t samples = argc > 1 ? (size_t)strtoul(argv[1], NULL, 10) : 50000;
     const int outputs[3] = {2, 10, 24};
-    printf("| q | w | DGEMM [GFlop/s] | QR fold [s] | QR fold [GFlop/s] | of DGEMM | correlation [s] | "
-           "SYRK [GFlop/s] | of DGEMM |\n|---|---|---|---|---|---|---|---|---|\n");
+    printf("| q | w | DGEMM [GFlop/s] | QR fold [s] | QR fold [GFlop/s] | of DGEMM | block_rows 256 [GFlop/s] | "
+           "of DGEMM | correlation [s] | SYRK [GFlop/s] | of DGEMM |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (int c = 0; c < 3; ++c) {
         const int m = outputs[c], q = 1 + (1 + m) * 20, w = q + m;
         double *u = malloc(sizeof(double) * samples), *y = malloc(sizeof(double) * samples * (size_t)m);
@@ -94,15 +97,17 @@ int main(int argc, char **argv)
         }
         const double gemm = dgemm_rate(w);
         const double rows = (double)(samples - 20);
-        const double qr = push_seconds(m, OKID_ESTIMATOR_LEAST_SQUARES, samples, u, y);
-        const double co = push_seconds(m, OKID_ESTIMATOR_CORRELATION, samples, u, y);
-        if (qr <= 0 || co <= 0) {
+        const double qr = push_seconds(m, OKID_ESTIMATOR_LEAST_SQUARES, 0, samples, u, y);
+        const double tp = push_seconds(m, OKID_ESTIMATOR_LEAST_SQUARES, 256, samples, u, y);
+        const double co = push_seconds(m, OKID_ESTIMATOR_CORRELATION, 0, samples, u, y);
+        if (qr <= 0 || tp <= 0 || co <= 0) {
             fprintf(stderr, "q = %d: the identifier refused the configuration\n", q);
             return 1;
         }
         const double qr_rate = 2.0 * w * w * rows / qr / 1e9, co_rate = 1.0 * w * w * rows / co / 1e9;
-        printf("| %d | %d | %.1f | %.3f | %.1f | %.0f %% | %.3f | %.1f | %.0f %% |\n", q, w, gemm, qr, qr_rate,
-               100 * qr_rate / gemm, co, co_rate, 100 * co_rate / gemm);
+        const double tp_rate = 2.0 * w * w * rows / tp / 1e9;
+        printf("| %d | %d | %.1f | %.3f | %.1f | %.0f %% | %.1f | %.0f %% | %.3f | %.1f | %.0f %% |\n", q, w, gemm, qr,
+               qr_rate, 100 * qr_rate / gemm, tp_rate, 100 * tp_rate / gemm, co, co_rate, 100 * co_rate / gemm);
         free(u);
         free(y);
     }

@@ -1,23 +1,28 @@
 # SPDX-License-Identifier: Apache-2.0
-"""okid on large records against numpy OKID/ERA and mdof SRIM (issue 29), one BLAS thread, CPU time.
+"""okid on small and large records against mdof SRIM, numpy OKID/ERA, python-control and SIPPY
+(issue 29), one BLAS thread, CPU time, and the fold's rate against the same run's DGEMM.
 
     .venv/bin/python bench/python/scale_bench.py [--repeats 3] [--quick] [--results bench/scale_results.json]
 
-Cases, on the same data for every method (okid's simulator, okid.model, 2 % output noise of each
-channel's RMS, white force):
+Cases, on the same data for every method (okid.model's simulation, white force, output noise as a
+fraction of each channel's RMS):
+- "paper, noise-free": the paper's 2-DOF system (okid.model.paper_system), 1 force, 2 accelerometers,
+  1001 samples at 0.01 s, p = 20, n = 4, 20 x 20 Hankel (the paper case of docs/benchmarks.md);
+- "5 % noise": the same system at 0.05 s, 2001 samples, 5 % noise, p = 20, n = 4, 40 x 40 Hankel;
 - "5-DOF, 10 acc.": a 5-mass chain (record() below), 1 force on mass 1, two accelerometers
   on every mass (10 channels, independent noise), 100 000 samples at 0.01 s, p = 20, n = 10,
-  20 x 20 Hankel (SRIM: horizon 20);
-- "24-ch. fleet, p = 4" and "p = 20": the shape of the fleet's sizing record (docs/fleet.md): a
-  lightly damped 24-mass chain, 1 force, 24 accelerometers, 10 minutes at 100 Hz, n = 48, 20 x 80
-  Hankel (SRIM: horizon 20).
-Prints one row per case and method: the median CPU time (time.process_time, the whole call: regressor
-rows, fold, solve, ERA, modes) and the largest relative error of the frequencies and damping ratios
-of the exact modes (each matched to the nearest identified frequency). okid runs with its defaults
-(block_rows 0: the block size from w and the cache), with block_rows 32 (the old default) and with
-the correlation-form estimator.
-No number is asserted. --results keeps the table (key "markdown"), which bench_compare.py copies into
-docs/benchmarks.md ("Large records"), as it does bench/stream_results.json.
+  20 x 20 Hankel;
+- "24-ch. lightly damped": fleet_bench.py --lightly-damped's record (24-mass chain, modes 1.26-20 Hz,
+  damping 0.19-3 %, 24 accelerometers, 2 % noise, 60 000 samples at 0.01 s), n = 48, at the
+  cheapest settings found to recover all its modes (LIGHT below; docs/benchmarks.md says how).
+Peers get the same model order; mdof SRIM a horizon of the Hankel's block rows, python-control
+markov + eigensys_realization with the Hankel's sizes, SIPPY N4SID with past = future horizon F.
+Prints one row per case and method: the median CPU time (time.process_time, the whole call) and the
+largest relative error of the frequencies and damping ratios of the exact modes (each matched to the
+nearest identified frequency). A method whose first call takes over 10 s runs once. Then
+build/bench/okid_fold_rate_bench (when built) for q = 61, 221, 501 at 50 000 samples.
+No number is asserted. --results keeps the tables (key "markdown") for docs/benchmarks.md
+("Large records").
 """
 import os
 
@@ -33,13 +38,19 @@ import sys  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
+import subprocess  # noqa: E402
+
 import numpy as np  # noqa: E402
 
 import okid  # noqa: E402
 from okid import model  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_compare import mdof_srim, numpy_okid_era  # noqa: E402
+from bench_compare import era_A, mdof_srim, modal, numpy_okid_markov, sippy_subspace  # noqa: E402
+from fleet_bench import _chain_record  # noqa: E402
+
+#: the 24-channel record's settings: the cheapest found that recover all 24 modes (docs/benchmarks.md)
+LIGHT = dict(p=20, h=(20, 300))
 
 
 def record(masses_count, sensors_per_mass, samples, seed):
@@ -66,6 +77,35 @@ def record(masses_count, sensors_per_mass, samples, seed):
     return u, y, np.abs(s) / (2 * np.pi), -s.real / np.abs(s)
 
 
+def paper_record(dt, samples, noise, seed):
+    """The paper's 2-DOF system (okid.model.paper_system), white force, noise on both outputs."""
+    a, b, c, d = model.paper_system(dt)
+    rng = np.random.default_rng(seed)
+    u = rng.standard_normal((samples, 1))
+    y, _ = model.simulate(a, b, c, d, u)
+    y = y + noise * np.sqrt(np.mean(y ** 2, axis=0)) * rng.standard_normal(y.shape)
+    ac = model._paper_continuous()[0]
+    s = np.linalg.eigvals(ac)
+    s = s[s.imag > 0]
+    s = s[np.argsort(np.abs(s))]
+    return u, y, np.abs(s) / (2 * np.pi), -s.real / np.abs(s)
+
+
+def light_record(samples):
+    """fleet_bench.py --lightly-damped's record: (u, y, exact frequencies [Hz], damping ratios)."""
+    springs = np.full(25, 3969.0)
+    u, y, ac = _chain_record(np.ones(24), 4.77e-4 * springs, springs, samples)
+    s = np.linalg.eigvals(ac)
+    s = s[s.imag > 0]
+    s = s[np.argsort(np.abs(s))]
+    return u, y, np.abs(s) / (2 * np.pi), -s.real / np.abs(s)
+
+
+def numpy_okid_era_rect(u, y, dt, p, h, n):
+    """numpy OKID, then ERA with an alpha x beta Hankel."""
+    return modal(era_A(numpy_okid_markov(u, y, p, h[0] + h[1] + 1), h[0], h[1], n), dt)
+
+
 def largest_error(found, exact_f, exact_z):
     """Largest relative error of frequency and damping over the exact modes, each matched to the
     nearest identified frequency (inf when nothing was identified)."""
@@ -79,13 +119,31 @@ def largest_error(found, exact_f, exact_z):
     return worst
 
 
-def okid_modes(u, y, p, n, h, block_rows, estimator="least_squares"):
-    res = okid.identify(u, y, 0.01, observer_order=p, order=n, hankel_rows=h[0], hankel_cols=h[1],
+def okid_modes(u, y, dt, p, n, h, block_rows, estimator="least_squares"):
+    res = okid.identify(u, y, dt, observer_order=p, order=n, hankel_rows=h[0], hankel_cols=h[1],
                         block_rows=block_rows, estimator=estimator)
     if res.warnings & okid.WarningFlag.CORRELATION_FALLBACK:
         print(f"(p = {p}: the correlation form fell back to the QR fold)", file=sys.stderr)
     pairs = [md for md in res.modes if md.is_pair]
     return [md.frequency_hz for md in pairs], [md.damping_ratio for md in pairs]
+
+
+def control_era_rect(u, y, dt, m, h, n):
+    """python-control: markov (m Markov parameters by least squares), then ERA with an h[0] x h[1] Hankel."""
+    import control
+    H = control.markov(y.T, u.T, m)
+    sys_, _ = control.eigensys_realization(H, n, m=h[0], n=h[1], dt=dt)
+    return modal(sys_.A, dt)
+
+
+def fold_rate(samples):
+    """okid_fold_rate_bench's table (one BLAS thread), or a line saying it is not built."""
+    bench = Path(__file__).resolve().parents[2] / "build" / "bench" / "okid_fold_rate_bench"
+    if not bench.exists():
+        return [f"({bench} not built: no fold rate)"]
+    out = subprocess.run([str(bench), str(samples)], capture_output=True, text=True, env=dict(os.environ))
+    return [f"`OPENBLAS_NUM_THREADS=1 build/bench/okid_fold_rate_bench {samples}` (the same run):", ""] \
+        + out.stdout.strip().splitlines()
 
 
 def timed(call, repeats):
@@ -95,6 +153,8 @@ def timed(call, repeats):
         t0 = time.process_time()
         value = call()
         times.append(time.process_time() - t0)
+        if times[0] > 10:  # a slow peer runs once
+            break
     return statistics.median(times), value
 
 
@@ -105,18 +165,24 @@ def main(argv=None):
     parser.add_argument("--results", default=None, help="write the table here (JSON, key markdown)")
     a = parser.parse_args(argv)
     scale = 10 if a.quick else 1
-    cases = [("5-DOF, 10 acc., 100 000 samples", 5, 2, 100_000 // scale, 20, 10, (20, 20)),
-             ("24-ch. fleet record, p = 4", 24, 1, 60_000 // scale, 4, 48, (20, 80)),
-             ("24-ch. fleet record, p = 20", 24, 1, 60_000 // scale, 20, 48, (20, 80))]
+    # (name, record, p, n, Hankel blocks, SIPPY's horizon)
+    cases = [("paper, noise-free", lambda: paper_record(0.01, 1001, 0.0, 1), 0.01, 20, 4, (20, 20), 20),
+             ("dt 0.05 s, 5 % noise", lambda: paper_record(0.05, 2001, 0.05, 1), 0.05, 20, 4, (40, 40), 20),
+             ("5-DOF, 10 acc., 100 000 samples", lambda: record(5, 2, 100_000 // scale, seed=1), 0.01, 20, 10,
+              (20, 20), 10),
+             ("24-ch. lightly damped, 60 000 samples", lambda: light_record(60_000 // scale), 0.01, LIGHT["p"], 48,
+              LIGHT["h"], 10)]
     lines = ["| case | method | CPU time [s] | largest relative error |", "|---|---|---|---|"]
     print("\n".join(lines))
-    for name, masses, per_mass, samples, p, n, h in cases:
-        u, y, exact_f, exact_z = record(masses, per_mass, samples, seed=1)
-        methods = [("okid.identify (defaults: block_rows 0)", lambda: okid_modes(u, y, p, n, h, 0)),
-                   ("okid.identify, block_rows 32 (the old default)", lambda: okid_modes(u, y, p, n, h, 32)),
-                   ('okid.identify, estimator="correlation"', lambda: okid_modes(u, y, p, n, h, 0, "correlation")),
-                   ("mdof SRIM (horizon 20)", lambda: mdof_srim(u, y, 0.01, 20, n)),
-                   (f"numpy OKID/ERA (p = {p})", lambda: numpy_okid_era(u, y, 0.01, p, max(h), n))]
+    for name, make, dt, p, n, h, f in cases:
+        u, y, exact_f, exact_z = make()
+        methods = [("okid.identify (defaults: block_rows 0)", lambda: okid_modes(u, y, dt, p, n, h, 0)),
+                   ('okid.identify, estimator="correlation"', lambda: okid_modes(u, y, dt, p, n, h, 0, "correlation")),
+                   (f"mdof SRIM (horizon {h[0]})", lambda: mdof_srim(u, y, dt, h[0], n)),
+                   (f"numpy OKID/ERA (p = {p})", lambda: numpy_okid_era_rect(u, y, dt, p, h, n)),
+                   (f"python-control (markov {sum(h) + 1}, ERA {h[0]} x {h[1]})",
+                    lambda: control_era_rect(u, y, dt, sum(h) + 1, h, n)),
+                   (f"SIPPY N4SID (horizon {f})", lambda: sippy_subspace(u, y, dt, "N4SID", f, n))]
         for label, call in methods:
             try:
                 seconds, found = timed(call, a.repeats)
@@ -124,13 +190,15 @@ def main(argv=None):
             except Exception as exc:  # a peer that fails on a case is reported, not fatal
                 lines.append(f"| {name} | {label} | failed: {type(exc).__name__}: {exc} | |")
             print(lines[-1], flush=True)
+    fold = fold_rate(50_000 // scale)
+    print("\n".join(fold))
     if a.results:
         header = ["## Large records (issue 29)", "",
                   f"`.venv/bin/python bench/python/scale_bench.py` on {platform.processor() or platform.machine()}, "
                   f"{os.cpu_count()} cores, one BLAS thread, median CPU time of {a.repeats} calls "
                   "(the whole identification; the script's docstring describes the cases).", ""]
         with open(a.results, "w") as f:
-            json.dump({"markdown": header + lines + [""]}, f, indent=1)
+            json.dump({"markdown": header + lines + [""] + fold + [""]}, f, indent=1)
             f.write("\n")
     return 0
 

@@ -44,10 +44,24 @@
     (OKID__MIN(OKID__Z(m), OKID__Z(n)) * (OKID__MIN(OKID__Z(m), OKID__Z(n)) + 3u) + 1u)
 #else
 #define OKID__LWORK_GELSY(n, nrhs) (OKID__Z(n) * 37u + OKID__Z(nrhs) * 33u + 33u)
-#define OKID__LWORK_GESVD(m, n)                                                                \
+/*
+ * The thin SVD: xGESVD, or for a Hankel matrix with m >= n >= OKID__SVD_DC_MIN columns the
+ * divide-and-conquer xGESDD (JOBZ = 'O': U over a, the same layout; 3-7x faster from n = 200,
+ * docs/design.md "Divide-and-conquer SVD"), whose work is its documented minimum 3 n + max(m, 5 n^2
+ * + 4 n), m n more for the unchunked U, and its 8 n ints (counted as reals, sizeof(int) <= a real's).
+ */
+#define OKID__SVD_DC_MIN 150u
+#define OKID__SVD_DC(m, n) (OKID__Z(m) >= OKID__Z(n) && OKID__Z(n) >= OKID__SVD_DC_MIN)
+#define OKID__LWORK_GESVD_QR(m, n)                                                             \
     (OKID__MAX(3u * OKID__MIN(OKID__Z(m), OKID__Z(n)) + OKID__MAX(OKID__Z(m), OKID__Z(n)),     \
                5u * OKID__MIN(OKID__Z(m), OKID__Z(n)))                                          \
      + 32u * (OKID__Z(m) + OKID__Z(n)))
+#define OKID__LWORK_GESDD_INTS(n) (8u * OKID__Z(n))
+#define OKID__LWORK_GESDD(m, n)                                                                       \
+    (3u * OKID__Z(n) + OKID__MAX(OKID__Z(m), 5u * OKID__Z(n) * OKID__Z(n) + 4u * OKID__Z(n))          \
+     + OKID__Z(m) * OKID__Z(n) + 32u * (OKID__Z(m) + OKID__Z(n)))
+#define OKID__LWORK_GESVD(m, n) \
+    (OKID__SVD_DC(m, n) ? OKID__LWORK_GESDD(m, n) + OKID__LWORK_GESDD_INTS(n) : OKID__LWORK_GESVD_QR(m, n))
 #endif
 /* Work array of the general eigenproblem with right eigenvectors, in reals. */
 #if OKID_LINALG_EIGEN
@@ -90,8 +104,22 @@
 #endif
 #define OKID__NB(r, m, p, block_rows) \
     ((block_rows) > 0 ? OKID__Z(block_rows) : OKID__AUTO_BLOCK_ROWS(OKID__W(r, m, p)))
+/*
+ * The fold's tile (xTPQRT's nb): 8 columns for w <= 128, else 16; with block_rows 0 and w > 128
+ * on the LAPACK backend a panel of OKID__FOLD_PANEL_TILE columns factored recursively down to
+ * OKID__FOLD_PANEL_BASE (linalg_lapacke.c: GEMM-rich updates, docs/design.md "Recursive fold
+ * panel"); the T tile and the update's work are nbt x w reals each either way.
+ */
+#define OKID__FOLD_PANEL_TILE 64
+#define OKID__FOLD_PANEL_BASE 8
+#if OKID_LINALG_EIGEN
+#define OKID__TILE(w, block_rows) (OKID__Z(w) <= 128u ? 8u : 16u + 0u * OKID__Z(block_rows))
+#else
+#define OKID__TILE(w, block_rows) \
+    (OKID__Z(w) <= 128u ? 8u : OKID__Z(block_rows) == 0u ? OKID__Z(OKID__FOLD_PANEL_TILE) : 16u)
+#endif
 #define OKID__NBT(r, m, p, block_rows) \
-    OKID__MIN(OKID__MIN(OKID__NB(r, m, p, block_rows), OKID__W(r, m, p)), OKID__W(r, m, p) <= 128u ? 8u : 16u)
+    OKID__MIN(OKID__MIN(OKID__NB(r, m, p, block_rows), OKID__W(r, m, p)), OKID__TILE(OKID__W(r, m, p), block_rows))
 
 #define OKID__PERSISTENT_BYTES(r, m, p, block_rows)                                                \
     (OKID__RB(OKID__Z(p) * (OKID__Z(r) + OKID__Z(m))) + OKID__RB(OKID__NB(r, m, p, block_rows) * OKID__W(r, m, p)) \
@@ -113,6 +141,9 @@
 #define OKID__PHASE_FOLD_BYTES(r, m, p, block_rows)                                                 \
     (2u * OKID__RB(OKID__NBT(r, m, p, block_rows) * OKID__W(r, m, p))                                 \
      + (OKID__NB(r, m, p, block_rows) > 1u ? OKID__RB(OKID__NB(r, m, p, block_rows) * OKID__W(r, m, p)) : 0u))
+/* From this many regressor columns the solve tries a condition estimate before the rank-revealing
+   solve (least_squares.c); below it every solve keeps its bits. */
+#define OKID__FAST_SOLVE_MIN 200
 /* Work of the core's rank-revealing solve on a triangle (triangular_lstsq.h), in reals. */
 #define OKID__LWORK_TRIANGULAR_LSTSQ(n) (4u * OKID__Z(n))
 /* The rank-revealing solves (least squares, the diagnostics' noise-free test) run in R's unused

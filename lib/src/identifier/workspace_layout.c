@@ -127,8 +127,14 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims, okid_conf
     dims->block_rows = cfg->block_rows > 0 ? cfg->block_rows : (int)OKID__AUTO_BLOCK_ROWS(dims->w);
     /* Inner block of the blocked QR update (xTPQRT's NB): a narrow panel keeps the level-2 part
        small and hands the rest to level-3 BLAS; 8 up to w = 128, 16 above, was fastest with both
-       the reference BLAS and OpenBLAS (2.2x at r = 1, m = 2, p = 20; docs/benchmarks.md). */
-    dims->block_tile = MIN(MIN(dims->block_rows, dims->w), dims->w <= 128 ? 8 : 16);
+       the reference BLAS and OpenBLAS (2.2x at r = 1, m = 2, p = 20; docs/benchmarks.md). With
+       block_rows 0 and w > 128 (LAPACK backend) the recursive panel's 64: OKID__TILE's rule. */
+#if OKID_LINALG_EIGEN
+    const int wide_tile = 16;
+#else
+    const int wide_tile = cfg->block_rows == 0 ? OKID__FOLD_PANEL_TILE : 16;
+#endif
+    dims->block_tile = MIN(MIN(dims->block_rows, dims->w), dims->w <= 128 ? 8 : wide_tile);
     dims->decimation = cfg->decimation > 1 ? cfg->decimation : 1;
     dims->instrument_lags = 0;
     dims->nz = 0;

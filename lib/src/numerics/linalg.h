@@ -39,6 +39,16 @@ okid_status okid_la_accumulate_rows(int n, okid_real *c, int ldc, int nrows, con
 okid_status okid_la_cholesky_rows(int q, int n, okid_real *c, int ldc);
 
 /*
+ * A solve that needs no rank decision: when the n x n lower triangle l (leading dimension ldl) has
+ * a reciprocal condition estimate (1-norm, xTRCON) of at least min_rcond, b (n x nrhs, leading
+ * dimension ldb; nrhs may be 0) becomes l'^-1 b (xTRTRS) and *solved is 1; otherwise nothing is
+ * written and *solved is 0 (the caller then runs the rank-revealing solve). work holds 3 n reals,
+ * iwork n ints. LAPACK backend only (the Eigen backend, the firmware's, has no condition estimate).
+ */
+okid_status okid_la_solve_conditioned(int n, int nrhs, const okid_real *l, int ldl, okid_real *b, int ldb,
+                                      okid_real min_rcond, int *solved, okid_real *work, int *iwork);
+
+/*
  * Rank-revealing least squares on an n x n matrix a (overwritten): b (n x nrhs) becomes the
  * minimum-norm solution of min |a x - b| in which columns whose reciprocal condition falls below
  * rcond count as dependent (complete orthogonal factorisation with column pivoting). *rank is
@@ -50,7 +60,7 @@ okid_status okid_la_lstsq_rank(int n, int nrhs, okid_real *a, int lda, okid_real
 /*
  * Thin SVD a = U S V': a (m x n) is overwritten by the first min(m, n) left singular vectors,
  * s gets min(m, n) singular values in decreasing order, vt (min(m, n) x n) the right ones.
- * work holds OKID__LWORK_GESVD(m, n) reals.
+ * work holds OKID__LWORK_GESVD(m, n) reals (LAPACK: divide and conquer when OKID__SVD_DC(m, n)).
  */
 okid_status okid_la_svd(int m, int n, okid_real *a, int lda, okid_real *s, okid_real *vt, int ldvt,
                         okid_real *work);

@@ -62,6 +62,30 @@ okid_status okid_lsq_accumulate(int w, okid_real *c, int ldc, int nrows, okid_re
     return okid_la_accumulate_rows(w, c, ldc, nrows, rows, ldrows);
 }
 
+/*
+ * From OKID__FAST_SOLVE_MIN columns a condition estimate first: the pivoted
+ * solve's O(q^3) Givens sweeps were 40 % of a 24-channel identify at q = 501 (docs/design.md,
+ * "Conditioned solve"). The rank-revealing solve declares rank q when its estimate of
+ * sigma_min / sigma_max, never below the true 1 / cond_2, exceeds tol; cond_2 <= q cond_1 and
+ * xTRCON's estimate of 1 / cond_1 is rarely above it by more than a factor 10, so an estimate of
+ * at least 10 q tol means rank q, and the triangular solve gives the same unique solution.
+ */
+#if !OKID_LINALG_EIGEN
+int okid_lsq_equilibrated_rank(int q, int nrhs, okid_real *s, int ldr, okid_real *b, int ldb, okid_real tol,
+                               const okid_lsq_scratch *scratch)
+{
+    if (q >= OKID__FAST_SOLVE_MIN) {
+        int solved = 0;
+        const okid_status st = okid_la_solve_conditioned(q, nrhs, s, ldr, b, ldb, (okid_real)10 * (okid_real)q * tol,
+                                                         &solved, scratch->work, scratch->perm);
+        if (st == OKID_OK && solved) {
+            return q;
+        }
+    }
+    return okid_triangular_lstsq(q, nrhs, s, ldr, b, ldb, tol, scratch->perm, scratch->work);
+}
+#endif
+
 okid_status okid_lsq_correlation_factor(int q, int m, okid_real *c, int ldc, const okid_lsq_scratch *scratch)
 {
     const int w = q + m;
@@ -76,7 +100,7 @@ okid_status okid_lsq_correlation_factor(int q, int m, okid_real *c, int ldc, con
     }
     okid_lsq_column_norms(c, ldc, q, scratch->scale);
     okid_real *s = okid_lsq_equilibrated_copy(c, ldc, q, scratch->scale);
-    const int rank = okid_triangular_lstsq(q, 0, s, ldc, NULL, q, okid_sqrt(OKID_EPSILON), scratch->perm, scratch->work);
+    const int rank = okid_lsq_equilibrated_rank(q, 0, s, ldc, NULL, q, okid_sqrt(OKID_EPSILON), scratch);
     return rank < q ? OKID_E_DECOMPOSITION_FAILED : OKID_OK;
 }
 
@@ -118,7 +142,7 @@ okid_status okid_lsq_solve(int q, int m, int nu, okid_real *r, int ldr, okid_rea
     /* Minimum-norm solution of the equilibrated R11 x~ = R12, then x = diag(1/scale) x~. */
     okid_copy_matrix(q, m, r + (size_t)q * (size_t)ldr, ldr, x, ldx);
     s = okid_lsq_equilibrated_copy(r, ldr, q, scratch->scale);
-    *regressor_rank = okid_triangular_lstsq(q, m, s, ldr, x, ldx, tol, scratch->perm, scratch->work);
+    *regressor_rank = okid_lsq_equilibrated_rank(q, m, s, ldr, x, ldx, tol, scratch);
     for (int j = 0; j < m; ++j) {
         for (int i = 0; i < q; ++i) {
             OKID_AT(x, ldx, i, j) /= scratch->scale[i];

@@ -8,6 +8,7 @@
 #ifndef OKID_LEAST_SQUARES_H
 #define OKID_LEAST_SQUARES_H
 
+#include "numerics/triangular_lstsq.h"
 #include "okid/status.h"
 #include "okid/types.h"
 
@@ -39,6 +40,23 @@ okid_status okid_lsq_fold(int w, okid_real *r, int ldr, int nrows, okid_real *ro
  */
 okid_status okid_lsq_accumulate(int w, okid_real *c, int ldc, int nrows, okid_real *rows, int ldrows,
                                 okid_real lambda);
+
+/*
+ * The numerical rank of the equilibrated q x q triangle s (okid_lsq_equilibrated_copy(): stored
+ * by rows in R's lower triangle) at the reciprocal condition tol, solving s x = b on the way (nrhs
+ * columns of b, leading dimension ldb; 0: the rank only). s is overwritten. The rank-revealing
+ * solve (triangular_lstsq.h), after a condition estimate from OKID__FAST_SOLVE_MIN columns.
+ */
+#if OKID_LINALG_EIGEN /* no condition estimate: the rank-revealing solve, the firmware's code as before */
+static inline int okid_lsq_equilibrated_rank(int q, int nrhs, okid_real *s, int ldr, okid_real *b, int ldb,
+                                             okid_real tol, const okid_lsq_scratch *scratch)
+{
+    return okid_triangular_lstsq(q, nrhs, s, ldr, b, ldb, tol, scratch->perm, scratch->work);
+}
+#else
+int okid_lsq_equilibrated_rank(int q, int nrhs, okid_real *s, int ldr, okid_real *b, int ldb, okid_real tol,
+                               const okid_lsq_scratch *scratch);
+#endif
 
 /*
  * The factor okid_lsq_solve() needs, from the correlation matrix c (q + m columns, upper
