@@ -16,7 +16,7 @@ from . import _config, _core
 from ._config import DEFAULTS, Estimator, Realization, Scaling, Sensing
 from ._errors import (E_BAD_PARAMETER, E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_AVAILABLE, E_NOT_ENOUGH_DATA, OK,
                       BadParameterError, BadSizeError, DecompositionError, NonFiniteSampleWarning,
-                      NoOutputExplainedWarning, NotEnoughDataError, check, error_for)
+                      NoOutputExplainedWarning, NotEnoughDataError, OkidError, check, error_for)
 from ._mode import Mode, Pole, SelectedMode, WarningFlag
 from ._progress import CALLER, ProgressArg, phase, reported, run_unchunked
 from ._refine import REFINE_DEFAULTS, REFINE_MODELS, check_refine_model, check_settings
@@ -268,8 +268,11 @@ def identify(u: Any, y: Any, dt: float, *,
     config's num_inputs K r, dt K dt, decimation 1; K r <= 64; ``--decimation-method``,
     docs/refinement.md). Lifting needs decimation given, and allows refine.
     refine_model: with refine, the predictor fitted: "output_error" (default, the simulation from
-    the inputs) or "innovation" (the one-step predictor with its gain K free, the
+    the inputs), "innovation" (the one-step predictor with its gain K free, the
     maximum-likelihood one when forces nobody measured act; ``--refine-model``, docs/refinement.md)
+    or "auto" (output error, and the innovation form when output error's residual is not white,
+    kept only when its residual is white and its modes agree with output error's within 3
+    combined standard deviations: Result.refine_model_choice says which and why)
 
     progress: called as progress(done, total) after each chunk (some 10-50 ms of work: 16384
     samples for the paper's case, fewer for larger problems), first of the push
@@ -290,6 +293,9 @@ def identify(u: Any, y: Any, dt: float, *,
     Samples with NaN or Inf are rejected with a NonFiniteSampleWarning. A refinement that stops
     without converging gives an :class:`okid.RefinementWarning`.
     """
+    if refine is True and refine_model == "auto":
+        settings = {k: v for k, v in locals().items() if k not in ("u", "y", "dt")}
+        return _identify_choosing_the_model(u, y, dt, settings)
     # the settings not given are chosen from the data (docs/quality.md section 8), as okid identify does
     given = ((_core.AUTO_GIVEN_DECIMATION if decimation is not None else 0) |
              (_core.AUTO_GIVEN_OBSERVER if observer_order is not None else 0) |
@@ -305,7 +311,7 @@ def identify(u: Any, y: Any, dt: float, *,
     lift_factor = _config.integer("decimation", decimation) if decimation_method == "lift" else 1
     if _config.check_bool("refine", refine):
         max_passes, step_tolerance = check_settings(max_passes, step_tolerance)
-        refine_model = check_refine_model(refine_model)
+        refine_model = check_refine_model(refine_model, allow_auto=True)
         if decimation > 1 and lift_factor == 1:
             raise BadParameterError(f"refine=True with decimation = {decimation}: the refinement needs the record "
                                     f"at the model's sample interval; identify without decimation", E_BAD_PARAMETER)
@@ -392,6 +398,34 @@ def identify(u: Any, y: Any, dt: float, *,
         return _warn_if_unexplained(_measured(result, ub, yb), CALLER)
     return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=CALLER, progress=progress,
                                   refine_model=refine_model), start_search=search)
+
+
+def _identify_choosing_the_model(u: Any, y: Any, dt: Any, settings: Dict[str, Any]) -> Result:
+    """okid.identify(refine=True, refine_model="auto"), as okid identify --refine-model auto (the
+    host library's rule, host_tools/common/refine_choice.c): output error first; the innovation form
+    too when output error's residual is not white; the result is the chosen one's, with
+    Result.refine_model_choice; the warnings are the chosen run's (a drift keeps output error's)."""
+    def run(model: str):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            result = identify(u, y, dt, **{**settings, "refine_model": model})
+        return result, caught
+    oe, oe_warnings = run("output_error")
+    chosen, chosen_warnings = oe, oe_warnings
+    if _core.refine_needs_innovation(oe._refine_core):
+        try:
+            inn, inn_warnings = run("innovation")
+        except OkidError:  # the innovation form failed: nothing to compare, output error stays
+            inn = None
+        model, reason, detail = _core.refine_choose(oe._refine_core, None if inn is None else inn._refine_core)
+        if model == "innovation":
+            chosen, chosen_warnings = inn, inn_warnings
+    else:
+        model, reason, detail = _core.refine_choose(oe._refine_core, None)
+    for w in chosen_warnings:
+        warnings.warn(w.message, stacklevel=CALLER + 1)
+    choice = MappingProxyType({"requested": "auto", "chosen": model, "reason": reason, "detail": detail})
+    return replace(chosen, refine_model_choice=choice)
 
 
 def _measured(result: Result, u: np.ndarray, y: np.ndarray) -> Result:

@@ -116,11 +116,16 @@ def check_settings(max_passes: Any, step_tolerance: Any) -> Tuple[int, float]:
     return passes, tol
 
 
-def check_refine_model(refine_model: Any) -> str:
-    """refine_model's names: "output_error" (the default) or "innovation"."""
+def check_refine_model(refine_model: Any, allow_auto: bool = False) -> str:
+    """refine_model's names: "output_error" (the default) or "innovation"; with allow_auto (okid.identify,
+    as okid identify --refine-model) also "auto", the choice from the residual test."""
+    if allow_auto and refine_model == "auto":
+        return refine_model
     if not isinstance(refine_model, str) or refine_model not in REFINE_MODELS:
-        raise BadParameterError(f"refine_model = {refine_model!r}: one of {', '.join(map(repr, REFINE_MODELS))} "
-                                f"(default 'output_error')", E_BAD_PARAMETER)
+        auto = ", 'auto'" if allow_auto else ""
+        where = "" if allow_auto else "; 'auto' in okid.identify"
+        raise BadParameterError(f"refine_model = {refine_model!r}: one of {', '.join(map(repr, REFINE_MODELS))}{auto} "
+                                f"(default 'output_error'{where})", E_BAD_PARAMETER)
     return refine_model
 
 

@@ -150,6 +150,8 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
       MATLAB's compare (okid.identify() only: the record is needed; None with decimation > 1, and
       fit_note says why); every one below 50 sets WarningFlag.NO_OUTPUT_EXPLAINED and
       okid.identify() warns (okid.NoOutputExplainedWarning)
+    - refine_model_choice: with refine_model="auto", the model the residual test chose and why
+      ({requested, chosen, reason, detail}: words, no unit; docs/refinement.md), else None
     """
     order: int                          #: n, the realized order (states)
     A: np.ndarray                       #: (n, n) discrete state matrix
@@ -198,6 +200,10 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
     #: model's; None without a record (Identifier.identify()) or with decimation > 1 (fit_note says why)
     fit_percent: Optional[np.ndarray] = None
     _auto_json: Optional[str] = field(repr=False, default=None)
+    #: with refine=True and refine_model="auto": which model the residual test chose and why,
+    #: {"requested": "auto", "chosen", "reason", "detail"} (the JSON's "refine_model_choice",
+    #: docs/refinement.md), else None
+    refine_model_choice: Optional[Mapping[str, str]] = None
     #: after a refinement: the OKID/ERA result it started from (modes, warnings and model as
     #: identified; this result's modes and warnings are the refined ones, JSON "start"), else None
     start: Optional["Result"] = field(repr=False, default=None)
@@ -248,6 +254,9 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
         out.pop("start_search", None)
         if self.start_search is not None:
             out["start_search"] = json.loads(json.dumps(self.start_search))
+        out.pop("refine_model_choice", None)
+        if self.refine_model_choice is not None:  # okid identify --refine-model auto's top-level member
+            out["refine_model_choice"] = dict(self.refine_model_choice)
         return out
 
     def _private_state(self) -> Dict[str, Any]:

@@ -18,6 +18,7 @@
 extern "C" {
 #include "config_names.h"
 #include "json_writer.h"
+#include "refine_choice.h"
 #include "start_search.h"
 }
 
@@ -244,6 +245,23 @@ void bind_refine(nb::module_ &m)
         "okid_refine_init from (A, B, C, D, dt) fitting refine_model (okid_refine_model), okid_refine_set_noise when noise_std is given, then passes over "
         "(u, y) until the state is not NEED_PASS, in chunks (Ctrl-C raises between two, progress(done, "
         "max_passes count) is called after each): (status, RefineCore).");
+
+    // refine_model = "auto" (host_tools/common/refine_choice.c, the CLI's rule): whether output
+    // error's result calls for the innovation form, and the choice between the two
+    m.def(
+        "refine_needs_innovation", [](const RefineCore &oe) { return refine_choice_needs_innovation(&oe.out) != 0; },
+        nb::arg("oe"), "refine_choice_needs_innovation(): output error's residual is not white.");
+    m.def(
+        "refine_choose",
+        [](const RefineCore &oe, const RefineCore *inn) {
+            refine_choice c{};
+            refine_choose(&oe.out, inn != nullptr ? &inn->out : nullptr, oe.m, &c);
+            return nb::make_tuple(std::string(okid_refine_model_str(c.chosen)),
+                                  std::string(refine_choice_reason_name(c.reason)), std::string(c.detail));
+        },
+        nb::arg("oe"), nb::arg("inn").none(),
+        "refine_choose() of output error's and (None: not run) the innovation form's refinements of one record: "
+        "(chosen model, reason, detail), the CLI's refine_model_choice.");
 
     m.def(
         "start_search",
