@@ -465,8 +465,10 @@ static void test_api_refusals(void **state)
     assert_int_equal(st, OKID_REFINE_ITERATION_LIMIT);
     assert_int_equal(okid_refine_get_result(rf, &run.out), OKID_OK);
     assert_int_equal(run.out.state, OKID_REFINE_ITERATION_LIMIT);
-    /* how far it was: one step from OKID/ERA's noisy start leaves a decrement far above the tolerance */
-    assert_true(isfinite((double)run.out.decrement) && run.out.decrement > 100 * OKID_REFINE_STEP_TOLERANCE);
+    /* how far it was: one step from OKID/ERA's noisy start leaves a decrement above the tolerance
+       (0.035 in double and in float alike, a step of some 0.2 standard deviations: 3.5e4 times the
+       double tolerance 1e-6, 3.5 times the float one 1e-2) */
+    assert_true(isfinite((double)run.out.decrement) && run.out.decrement > OKID_REFINE_STEP_TOLERANCE);
     assert_int_equal(okid_refine_begin_pass(rf), OKID_E_NOT_AVAILABLE);
     assert_non_null(okid_refine_state_str(OKID_REFINE_DIVERGED));
 
