@@ -110,6 +110,10 @@ static void check_svd(int m, int n)
     free(work);
 }
 
+#ifndef OKID__SVD_DC_MIN
+#define OKID__SVD_DC_MIN 150u /* the Eigen backend has one SVD at every size: the same sizes check it */
+#endif
+
 static void test_svd_below_threshold(void **state)
 {
     (void)state;

@@ -12,8 +12,8 @@
 #include "auto_settings.h"
 #include "json_writer.h"
 
-/* The tables' largest order: the input-output path's 60 (docs/quality.md section 8). */
-enum { AMBIENT_TABLE_ORDERS = 60 };
+/* The tables' largest order: the input-output path's (docs/quality.md section 8). */
+enum { AMBIENT_TABLE_ORDERS = MODE_WINDOWS_MAX_ORDER };
 
 static int references_of(const okid_ambient_config *cfg)
 {

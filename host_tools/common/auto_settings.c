@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mode_windows.h" /* MODE_WINDOWS_MAX_ORDER */
+
 static const double PI = 3.14159265358979323846;
 
 enum {
@@ -167,7 +169,7 @@ void auto_choose(okid_config *cfg, unsigned given, size_t n, const auto_band *ba
     choice->hankel = cfg->hankel_rows;
     choice->hankel_cols = cfg->hankel_cols;
     /* tables overfitted up to 60 states (section 7), within the Hankel matrix and the observer */
-    int nmax = 60;
+    int nmax = MODE_WINDOWS_MAX_ORDER;
     const int columns = cfg->realization == OKID_REALIZATION_COMBINED ? r + m : r;
     int smallest_window = choice->windows[0];
     for (int i = 1; i < choice->num_windows; ++i) {

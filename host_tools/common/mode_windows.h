@@ -14,6 +14,14 @@
 
 #include "okid/okid.h"
 
+/* The stabilization tables' largest order: 60 (docs/quality.md section 8), or the Eigen backend's
+   largest model when that is lower (OKID_EIGEN_MAX_ORDER: its eigen-solver holds no more). */
+#if OKID_LINALG_EIGEN && OKID_EIGEN_MAX_ORDER < 60
+#define MODE_WINDOWS_MAX_ORDER OKID_EIGEN_MAX_ORDER
+#else
+#define MODE_WINDOWS_MAX_ORDER 60
+#endif
+
 /* A reported mode: its representative (from the first window that holds it) and its support. */
 typedef struct auto_mode {
     const okid_selected_mode *selected;
