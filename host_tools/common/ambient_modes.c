@@ -14,6 +14,8 @@
 
 /* The tables' largest order: the input-output path's (docs/quality.md section 8). */
 enum { AMBIENT_TABLE_ORDERS = MODE_WINDOWS_MAX_ORDER };
+/* The verdict of a pole that passes every hard criterion but no two sizes hold. */
+#define AMBIENT_UNSTABLE_ACROSS "not stable across orders and Hankel sizes"
 
 static int references_of(const okid_ambient_config *cfg)
 {
@@ -129,8 +131,7 @@ okid_status ambient_modes_find(const okid_ambient_config *cfg, int hankel_given,
 
 const char *ambient_pole_verdict(const ambient_modes *am, const okid_mode *pole, int m)
 {
-    return mode_windows_verdict(&am->criteria, am->modes, am->num_modes, pole, m,
-                                "not stable across orders and Hankel sizes");
+    return mode_windows_verdict(&am->criteria, am->modes, am->num_modes, pole, m, AMBIENT_UNSTABLE_ACROSS);
 }
 
 void ambient_print_modes(const ambient_modes *am, const okid_ambient_result *res, const char *const *output_names,
@@ -211,35 +212,10 @@ void ambient_modes_json(FILE *out, const ambient_modes *am, const okid_ambient_r
                  : am->order_holds_all ? "the lowest order whose poles hold every physical mode"
                                        : "the order whose poles hold the most physical modes");
     fputs("}", out);
-    fputs(",\n  \"modes\": [", out);
-    for (int k = 0; k < am->num_modes; ++k) {
-        const okid_selected_mode *s = am->modes[k].selected;
-        fputs(k ? ",\n    {" : "\n    {", out);
-        json_mode_members(out, &s->mode, m);
-        fprintf(out, ", \"order\": %d, \"num_orders\": %d, \"of_orders\": %d, \"lowest_order\": %d, \"highest_order\": %d",
-                s->order, s->num_orders, am->runs[am->modes[k].window].table.num_orders, s->lowest_order,
-                s->highest_order);
-        const char *names[9] = {"frequency_mean", "frequency_std", "frequency_min", "frequency_max", "damping_mean",
-                                "damping_std", "damping_min", "damping_max", "cmi_min"};
-        const okid_real values[9] = {s->frequency_mean, s->frequency_std, s->frequency_min, s->frequency_max,
-                                     s->damping_mean, s->damping_std, s->damping_min, s->damping_max, s->cmi_min};
-        for (int i = 0; i < 9; ++i) {
-            fprintf(out, ", \"%s\": ", names[i]);
-            json_number(out, (double)values[i]);
-        }
-        fprintf(out, ", \"windows\": %d, \"of_windows\": %d}", am->modes[k].windows, am->num_runs);
-    }
-    fputs(am->num_modes ? "\n  ]" : "]", out);
-    fputs(",\n  \"poles\": [", out);
-    for (int i = 0; i < res->num_modes; ++i) {
-        const char *why = ambient_pole_verdict(am, &res->modes[i], m);
-        fputs(i ? ",\n    {" : "\n    {", out);
-        json_mode_members(out, &res->modes[i], m);
-        fprintf(out, ", \"verdict\": \"%s\", \"reason\": ", why ? "rejected" : "physical");
-        if (why) json_string(out, why); else fputs("null", out);
-        fputc('}', out);
-    }
-    fputs(res->num_modes ? "\n  ]" : "]", out);
+    int orders[3] = {0, 0, 0};
+    for (int w = 0; w < am->num_runs; ++w) orders[w] = am->runs[w].table.num_orders;
+    mode_windows_json(out, am->modes, am->num_modes, orders, am->num_runs, res->modes, res->num_modes, &am->criteria, m,
+                      AMBIENT_UNSTABLE_ACROSS);
 }
 
 void ambient_modes_free(ambient_modes *am)

@@ -106,7 +106,7 @@ okid_status auto_modes_find(const auto_choice *choice, const okid_config *cfg, s
 
 const char *auto_pole_verdict(const auto_modes *am, const okid_mode *pole, int m)
 {
-    return mode_windows_verdict(&am->criteria, am->modes, am->num_modes, pole, m, "not stable across orders and windows");
+    return mode_windows_verdict(&am->criteria, am->modes, am->num_modes, pole, m, AUTO_UNSTABLE_ACROSS);
 }
 
 void auto_modes_free(auto_modes *am)

@@ -17,6 +17,8 @@
 
 /* The selection's damping limit here: above 1/sqrt(2) a mode has no resonance peak. */
 #define AUTO_DAMPING_MAX 0.70710678118654752
+/* The verdict of a pole that passes every hard criterion but no window holds. */
+#define AUTO_UNSTABLE_ACROSS "not stable across orders and windows"
 
 /* One window's identification, table and selection (each in its own heap workspace). */
 typedef struct auto_run {

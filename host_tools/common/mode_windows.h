@@ -11,6 +11,7 @@
 #define OKID_CLI_MODE_WINDOWS_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #include "okid/okid.h"
 
@@ -58,5 +59,15 @@ void mode_windows_order(const okid_stabilization *table, const okid_mode_selecti
  */
 const char *mode_windows_verdict(const okid_mode_selection_criteria *c, const auto_mode *modes, int num_modes,
                                  const okid_mode *pole, int m, const char *unstable_across);
+
+/*
+ * The JSON members ',\n  "modes": [...]' (the reported modes: each its representative, its
+ * cluster's statistics and its support; window_orders[w] the orders of window w's table) and
+ * ',\n  "poles": [...]' (every pole of the reported model with its verdict), as okid identify
+ * writes them without an order.
+ */
+void mode_windows_json(FILE *out, const auto_mode *modes, int num_modes, const int *window_orders, int num_windows,
+                       const okid_mode *poles, int num_poles, const okid_mode_selection_criteria *c, int m,
+                       const char *unstable_across);
 
 #endif

@@ -60,21 +60,8 @@ nb::dict result_dict(const okid_ambient_result &res, int m, int hankel_rows, dou
 // A physical mode of the selection: the okid_mode fields, its cluster's statistics, its support (okid.SelectedMode).
 nb::dict selected_dict(const ambient_modes &am, int k, int m)
 {
-    const okid_selected_mode *s = am.modes[k].selected;
-    nb::dict d = mode_dict(s->mode, m);
-    d["order"] = s->order;
-    d["num_orders"] = s->num_orders;
-    d["of_orders"] = am.runs[am.modes[k].window].table.num_orders;
-    d["lowest_order"] = s->lowest_order;
-    d["highest_order"] = s->highest_order;
-    const char *names[9] = {"frequency_mean", "frequency_std", "frequency_min", "frequency_max", "damping_mean",
-                            "damping_std", "damping_min", "damping_max", "cmi_min"};
-    const okid_real values[9] = {s->frequency_mean, s->frequency_std, s->frequency_min, s->frequency_max,
-                                 s->damping_mean, s->damping_std, s->damping_min, s->damping_max, s->cmi_min};
-    for (int i = 0; i < 9; ++i) d[names[i]] = (double)values[i];
-    d["windows"] = am.modes[k].windows;
-    d["of_windows"] = am.num_runs;
-    return d;
+    const auto_mode &md = am.modes[k];
+    return selected_mode_dict(*md.selected, am.runs[md.window].table.num_orders, md.windows, am.num_runs, m);
 }
 
 struct ModesFree {

@@ -58,25 +58,8 @@ okid_status push_with_progress(void *context, okid_identifier *id, size_t n, con
 // A selected mode: the okid_mode fields, then its cluster's statistics and its support.
 nb::dict selected_dict(const auto_modes &am, int k, int m)
 {
-    const okid_selected_mode *s = am.modes[k].selected;
-    nb::dict d = mode_dict(s->mode, m);
-    d["order"] = s->order;
-    d["num_orders"] = s->num_orders;
-    d["of_orders"] = am.runs[am.modes[k].window].table.num_orders;
-    d["lowest_order"] = s->lowest_order;
-    d["highest_order"] = s->highest_order;
-    d["frequency_mean"] = (double)s->frequency_mean;
-    d["frequency_std"] = (double)s->frequency_std;
-    d["frequency_min"] = (double)s->frequency_min;
-    d["frequency_max"] = (double)s->frequency_max;
-    d["damping_mean"] = (double)s->damping_mean;
-    d["damping_std"] = (double)s->damping_std;
-    d["damping_min"] = (double)s->damping_min;
-    d["damping_max"] = (double)s->damping_max;
-    d["cmi_min"] = (double)s->cmi_min;
-    d["windows"] = am.modes[k].windows;
-    d["of_windows"] = am.num_runs;
-    return d;
+    const auto_mode &md = am.modes[k];
+    return selected_mode_dict(*md.selected, am.runs[md.window].table.num_orders, md.windows, am.num_runs, m);
 }
 
 }  // namespace

@@ -65,6 +65,11 @@ inline ComplexArray complex_array(const okid_complex *values, int count)
 // One mode as a dict of the okid_mode fields (m outputs).
 nb::dict mode_dict(const okid_mode &md, int m);
 
+// A physical mode of a selection over Hankel windows (okid.SelectedMode): its representative's
+// okid_mode fields, its cluster's statistics, of_orders (the orders of its window's table), and
+// its support (windows of of_windows).
+nb::dict selected_mode_dict(const okid_selected_mode &s, int of_orders, int windows, int of_windows, int m);
+
 // Text written by a C writer into memory (open_memstream), as a Python str.
 template <class Writer> nb::str write_to_string(Writer &&write)
 {

@@ -80,6 +80,28 @@ nb::dict mode_dict(const okid_mode &md, int m)
     return d;
 }
 
+nb::dict selected_mode_dict(const okid_selected_mode &s, int of_orders, int windows, int of_windows, int m)
+{
+    nb::dict d = mode_dict(s.mode, m);
+    d["order"] = s.order;
+    d["num_orders"] = s.num_orders;
+    d["of_orders"] = of_orders;
+    d["lowest_order"] = s.lowest_order;
+    d["highest_order"] = s.highest_order;
+    d["frequency_mean"] = (double)s.frequency_mean;
+    d["frequency_std"] = (double)s.frequency_std;
+    d["frequency_min"] = (double)s.frequency_min;
+    d["frequency_max"] = (double)s.frequency_max;
+    d["damping_mean"] = (double)s.damping_mean;
+    d["damping_std"] = (double)s.damping_std;
+    d["damping_min"] = (double)s.damping_min;
+    d["damping_max"] = (double)s.damping_max;
+    d["cmi_min"] = (double)s.cmi_min;
+    d["windows"] = windows;
+    d["of_windows"] = of_windows;
+    return d;
+}
+
 // An okid_result copied out of the workspace, with its views pointing into its own storage.
 struct ResultCore {
     okid_config cfg{};
