@@ -39,30 +39,12 @@ static uint64_t instructions(uint32_t ticks)
     return board_ticks_to_instructions(ticks, OKID_ICOUNT_SHIFT);
 }
 
-/* The noisy record: white force, exact ZOH responses, white noise of NOISE x RMS per output. */
-static int make_data(void)
-{
-    okid_rng rng;
-    okid_rng_seed(&rng, 7);
-    if (plant_2dof_record(DT, &rng, SAMPLES, force, accelerations) != OKID_OK) {
-        return 0;
-    }
-    for (int i = 0; i < PLANT_OUTPUTS; ++i) {
-        okid_real power = 0;
-        for (int k = 0; k < SAMPLES; ++k) power += accelerations[PLANT_OUTPUTS * k + i] * accelerations[PLANT_OUTPUTS * k + i];
-        const okid_real rms = (okid_real)__builtin_sqrt((double)(power / SAMPLES));
-        if (okid_rng_normal(&rng, NOISE * rms, SAMPLES, noise, 1) != OKID_OK) return 0;
-        for (int k = 0; k < SAMPLES; ++k) accelerations[PLANT_OUTPUTS * k + i] += noise[k];
-    }
-    return 1;
-}
-
 int main(void)
 {
     board_counter_start();
     printf("real %s, refine_model %s\n", OKID_REAL_IS_FLOAT ? "float" : "double",
            okid_refine_model_str(OKID_REFINE_COST_MODEL));
-    if (!make_data()) return 2;
+    if (plant_2dof_noisy_record(DT, 7, NOISE, SAMPLES, force, accelerations, noise) != OKID_OK) return 2;
     okid_config cfg;
     plant_2dof_identifier_config(&cfg, DT, 32);
     okid_result start;

@@ -52,3 +52,19 @@ okid_status plant_2dof_record(okid_real dt, okid_rng *rng, int count, okid_real 
     if (st == OKID_OK) st = okid_simulate(&sim, (size_t)count, force, PLANT_INPUTS, accelerations, PLANT_OUTPUTS);
     return st;
 }
+
+okid_status plant_2dof_noisy_record(okid_real dt, uint64_t seed, okid_real noise, int count, okid_real *force,
+                                    okid_real *accelerations, okid_real *noise_scratch)
+{
+    okid_rng rng;
+    okid_rng_seed(&rng, seed);
+    okid_status st = plant_2dof_record(dt, &rng, count, force, accelerations);
+    for (int i = 0; i < PLANT_OUTPUTS && st == OKID_OK; ++i) {
+        okid_real power = 0;
+        for (int k = 0; k < count; ++k) power += accelerations[PLANT_OUTPUTS * k + i] * accelerations[PLANT_OUTPUTS * k + i];
+        const okid_real rms = (okid_real)__builtin_sqrt((double)(power / (okid_real)count));
+        st = okid_rng_normal(&rng, noise * rms, (size_t)count, noise_scratch, 1);
+        for (int k = 0; k < count && st == OKID_OK; ++k) accelerations[PLANT_OUTPUTS * k + i] += noise_scratch[k];
+    }
+    return st;
+}

@@ -35,4 +35,11 @@ void plant_2dof_identifier_config(okid_config *cfg, okid_real dt, int block_rows
  */
 okid_status plant_2dof_record(okid_real dt, okid_rng *rng, int count, okid_real *force, okid_real *accelerations);
 
+/*
+ * plant_2dof_record() seeded with seed, then white sensor noise of noise x the output's RMS added
+ * to each output (noise_scratch: count reals). The cost programs' noisy records.
+ */
+okid_status plant_2dof_noisy_record(okid_real dt, uint64_t seed, okid_real noise, int count, okid_real *force,
+                                    okid_real *accelerations, okid_real *noise_scratch);
+
 #endif
