@@ -434,6 +434,36 @@ static void test_rule_on_hand_table(void **state)
     assert_int_equal(okid_select_modes(&t, 2, &c, ws, bytes, &sel, NULL), OKID_OK);
     assert_int_equal(sel.num_modes, 1);
     assert_relative(sel.modes[0].mode.frequency_hz, 1.005, TOL(1e-12, 1e-6), "band", 0);
+    assert_int_equal(sel.exact_last_order, 0);
+    free(ws);
+}
+
+/* Noise-free data: a table that ends at the Hankel matrix's numerical rank counts its last order's
+   poles as confirmed; the same table from a noisy record (noise_free 0) does not. */
+static void test_noise_free_table_confirms_its_last_order(void **state)
+{
+    (void)state;
+    okid_stabilization t = hand_table();
+    size_t bytes = 0;
+    assert_int_equal(okid_mode_selection_workspace_size(18, 2, &bytes), OKID_OK);
+    void *ws = aligned_bytes(bytes);
+    okid_mode_selection sel;
+    /* the 3 Hz pole is in orders 16 and 18 only, under min_orders 3 */
+    t.noise_free = 1;
+    assert_int_equal(okid_select_modes(&t, 2, NULL, ws, bytes, &sel, NULL), OKID_OK);
+    assert_int_equal(sel.exact_last_order, 1);
+    assert_int_equal(sel.num_modes, 3);
+    assert_relative(sel.modes[2].mode.frequency_hz, 3.0, TOL(1e-12, 1e-6), "3 Hz", 0);
+    assert_int_equal(sel.modes[2].num_orders, 2);
+    /* the hard criteria still apply: the unstable 5 Hz and the real 6 Hz poles of order 18 stay out,
+       and the 1.0052 Hz pole of order 18 stays a duplicate of A */
+    assert_relative(sel.modes[0].mode.frequency_hz, 1.002, TOL(1e-12, 1e-6), "A", 0);
+    assert_relative(sel.modes[1].mode.frequency_hz, 1.005, TOL(1e-12, 1e-6), "B", 0);
+    /* a rank above the last order's next step: the table stopped at its largest order, not at the rank */
+    t.rank_limit = 20;
+    assert_int_equal(okid_select_modes(&t, 2, NULL, ws, bytes, &sel, NULL), OKID_OK);
+    assert_int_equal(sel.exact_last_order, 0);
+    assert_int_equal(sel.num_modes, 2);
     free(ws);
 }
 
@@ -533,6 +563,7 @@ int main(void)
     if (getenv("OKID_SELECTION_SEEDS") != NULL) SEEDS = atoi(getenv("OKID_SELECTION_SEEDS"));
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rule_on_hand_table),
+        cmocka_unit_test(test_noise_free_table_confirms_its_last_order),
         cmocka_unit_test(test_api_contract),
         cmocka_unit_test(test_paper_2_percent),
         cmocka_unit_test(test_paper_5_percent),

@@ -151,6 +151,10 @@ void ambient_print_modes(const ambient_modes *am, const okid_ambient_result *res
            t->num_orders > 0 ? t->orders[t->num_orders - 1].order : 0,
            am->num_runs > 1 ? "two of the three Hankel sizes" : "the one Hankel size", (double)am->criteria.frequency_min_hz,
            (double)am->criteria.frequency_max_hz);
+    if (am->runs[0].selection.exact_last_order) {
+        printf("(noise-free data: the correlations' Hankel matrix has numerical rank %d, so its order-%d model is exact "
+               "and its modes need no higher order to confirm them)\n", t->rank_limit, t->orders[t->num_orders - 1].order);
+    }
     if (am->num_modes == 0) {
         printf("warning: no physical mode found: no pole stays put across the orders%s; the model below has the "
                "largest-gap order\n", am->num_runs > 1 ? " and the Hankel sizes" : "");

@@ -72,6 +72,11 @@ void auto_print_modes(const auto_modes *am, const okid_result *res, const char *
     printf("\nphysical modes: %d (stable in at least %d of the %d orders 2..%d of a Hankel window, in %s)\n",
            am->num_modes, am->runs[0].selection.min_orders, orders, orders > 0 ? am->runs[0].table.orders[orders - 1].order : 0,
            am->num_runs > 1 ? "each of its three windows" : "the one window");
+    if (am->runs[0].selection.exact_last_order) {
+        printf("(noise-free data: the Hankel matrix has numerical rank %d, so its order-%d model is exact and its modes "
+               "need no higher order to confirm them)\n", am->runs[0].table.rank_limit,
+               am->runs[0].table.orders[orders - 1].order);
+    }
     if (am->num_modes == 0) {
         printf("warning: no physical mode found: no pole stays put across the orders%s (--all-poles lists the "
                "model's poles and why each was rejected)\n", am->num_runs > 1 ? " and the Hankel windows" : "");

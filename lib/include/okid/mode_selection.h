@@ -18,7 +18,11 @@
  * 3. Physical modes. A cluster is a physical mode when it holds poles of at least
  *    min_orders = max(2, ceil(min_fraction K)) of the table's K orders. Of two such clusters whose
  *    seeds are closer than the clustering gates (a pole split in two by the one-per-order rule),
- *    only the one in more orders is kept.
+ *    only the one in more orders is kept. Noise-free data: when the table ends at the Hankel
+ *    matrix's numerical rank and that rank is one no noise gives (okid_stabilization::noise_free,
+ *    and no further order of the step fits under rank_limit), its last order is the exact model
+ *    and no higher order can confirm its poles; a cluster holding a pole of that order counts as
+ *    in min_orders orders.
  * 4. The representative of a mode is its cluster's pole of median frequency (the lower median);
  *    the mean, standard deviation (population) and range of frequency and damping over the cluster
  *    are reported with it. Modes are listed by increasing representative frequency.
@@ -80,6 +84,8 @@ typedef struct okid_mode_selection {
     int num_candidates;               /**< poles that met the hard criteria */
     int num_clusters;                 /**< clusters formed */
     int num_dropped;                  /**< physical clusters left out: duplicates, or beyond the room (see below) */
+    int exact_last_order;             /**< 1 when the table ends at the Hankel matrix's numerical rank (noise-free
+                                           data, rule 3): the last order's poles counted as confirmed */
 } okid_mode_selection;
 
 /**

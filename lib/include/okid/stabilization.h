@@ -58,6 +58,9 @@ typedef struct okid_stabilization_order {
 typedef struct okid_stabilization {
     int num_orders;                         /**< orders computed (step, 2 step, ... up to min(max_order, rank_limit)) */
     int rank_limit;                         /**< largest order the Hankel matrix supports (sigma_n > eps k sigma_1) */
+    int noise_free;                         /**< 1 when the singular values beyond rank_limit are round-off that no noise
+                                                 explains: rank_limit below the Hankel matrix's size and, input-output,
+                                                 below the m p that an observer of order p gives any noisy record */
     const okid_stabilization_order *orders; /**< num_orders entries, increasing order */
     const okid_mode *modes;                 /**< every order's modes, with indicators and shapes */
     const unsigned *stability;              /**< per mode: okid_stability bits */

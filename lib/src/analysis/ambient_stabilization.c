@@ -139,6 +139,7 @@ okid_status okid_ambient_stabilization_compute(okid_ambient *amb, int max_order,
     }
     out->num_orders = count;
     out->rank_limit = rank_limit;
+    out->noise_free = rank_limit < amb->k_;
     out->orders = v.orders;
     out->modes = v.modes;
     out->stability = v.stability;

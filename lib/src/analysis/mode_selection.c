@@ -390,6 +390,18 @@ okid_status okid_select_modes(const okid_stabilization *table, int num_outputs,
         ++min_orders;
     }
     min_orders = min_orders < 2 ? 2 : min_orders;
+    /* noise-free data: a table cut at the Hankel matrix's numerical rank ends at the exact model,
+       and no higher order is there to confirm its poles (the orders beyond hold only round-off);
+       a cluster with a pole of that last order counts as confirmed */
+    const int step = K > 1 ? table->orders[1].order - table->orders[0].order : K == 1 ? table->orders[0].order : 0;
+    const int exact_last_order = K > 0 && table->noise_free && table->rank_limit < table->orders[K - 1].order + step;
+    if (exact_last_order) {
+        for (int k = 0; k < num_clusters; ++k) {
+            if (v.count[k] < min_orders && has_order(table, &v, k, K - 1)) {
+                v.count[k] = min_orders;
+            }
+        }
+    }
     int dropped = 0;
     for (int k = 0; k < num_clusters; ++k) {
         if (v.count[k] < min_orders) {
@@ -446,5 +458,6 @@ okid_status okid_select_modes(const okid_stabilization *table, int num_outputs,
     out->num_candidates = num_cand;
     out->num_clusters = num_clusters;
     out->num_dropped = dropped;
+    out->exact_last_order = exact_last_order;
     return OKID_OK;
 }

@@ -236,6 +236,9 @@ okid_status okid_stabilization_compute(okid_identifier *id, int max_order, int s
     }
     out->num_orders = count;
     out->rank_limit = rank_limit;
+    /* the observer's Markov parameters obey an order-p recursion beyond lag p, so the Hankel matrix of
+       a noisy record has rank m p at most (when smaller than its size): only a rank below that is noise-free */
+    out->noise_free = rank_limit < id->dims_.svd_size && rank_limit < id->dims_.m * id->dims_.p;
     out->orders = v.orders;
     out->modes = v.modes;
     out->stability = v.stability;
