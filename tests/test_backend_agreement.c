@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /*
- * Both linear-algebra backends on the paper, MIMO and 3-DOF cases: this program links the Eigen
+ * Both linear-algebra backends on the paper, MIMO and 3-DOF cases and the output-only paper case
+ * (backend_values.c): this program links the Eigen
  * build of the core (okid_eigen) and compares its modal parameters with those the LAPACK build
  * wrote to BACKEND_VALUES_FILE (backend_values_lapacke, run first as a ctest fixture): to 1e-9
  * relative in double, in float to twice the tolerances the accuracy tests hold each backend to.
@@ -41,7 +42,7 @@ static void test_backends_agree(void **state)
     }
     fclose(in);
     assert_int_equal(compared, count);
-    printf("%d modal parameters of 3 cases: Eigen vs LAPACK within %.2g of tolerance (difference %.2g, tolerance %.1e)\n",
+    printf("%d values of 4 cases (singular values, modal parameters): Eigen vs LAPACK within %.2g of tolerance (difference %.2g, tolerance %.1e)\n",
            compared, worst / worst_tol, worst, worst_tol);
 }
 

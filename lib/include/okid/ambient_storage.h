@@ -26,6 +26,7 @@ struct okid_ambient {
     okid_ambient_config cfg_;
     int nref_, nmax_, k_;           /* references, the order the workspace holds, Hankel rank limit */
     unsigned char *workspace_;
+    unsigned char *scratch_;        /* identify's scratch: the workspace past the sums and result sets */
     okid_correlation_sums_ sums_;
     okid_ambient_result_set_ set_[2];
     int current_;                   /* the set holding the last good result */

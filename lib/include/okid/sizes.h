@@ -42,7 +42,13 @@
 #define OKID__LWORK_GELSY(n, nrhs) (OKID__Z(n) * 7u + OKID__Z(nrhs) * 0u + 1u)
 #define OKID__LWORK_GESVD(m, n) \
     (OKID__MIN(OKID__Z(m), OKID__Z(n)) * (OKID__MIN(OKID__Z(m), OKID__Z(n)) + 3u) + 1u)
+/* Rows of V' the SVD writes when nvec pairs of singular vectors are asked for (linalg.h): only
+   those when m >= n (the Eigen backend's leading-vector route), else min(m, n). */
+#define OKID__SVD_VT_ROWS(m, n, nvec) \
+    (OKID__Z(m) >= OKID__Z(n) ? OKID__Z(nvec) : OKID__MIN(OKID__Z(m), OKID__Z(n)))
 #else
+/* LAPACK's xGESVD / xGESDD write every right singular vector. */
+#define OKID__SVD_VT_ROWS(m, n, nvec) (OKID__MIN(OKID__Z(m), OKID__Z(n)) + 0u * OKID__Z(nvec))
 #define OKID__LWORK_GELSY(n, nrhs) (OKID__Z(n) * 37u + OKID__Z(nrhs) * 33u + 33u)
 /*
  * The thin SVD: xGESVD, or for a Hankel matrix with m >= n >= OKID__SVD_DC_MIN columns the
@@ -314,21 +320,25 @@
     ((segments) > 1 ? OKID__AMB_RESULT_BYTES(m, nref, L, n, mode_bytes) - 2u * OKID__RB(n)               \
                           + 2u * OKID__RB(OKID__Z(segments) * OKID__Z(n))                                  \
                     : 0u)
-/* Identify's scratch, one region each: scales, ERA (H, V', H(1) V_n, column scales, SVD work), the
-   indicators' blocks, the modal analysis and the indicators' solve. */
+/* Identify's scratch: scales, the indicators' blocks, then one region for the phases in turn:
+   ERA (H, V' of the n rows the SVD writes, H(1) V_n, column scales, SVD work), then the modal
+   analysis and the indicators' solve. */
+#define OKID__AMB_ERA_BYTES(m, nref, L, n)                                                                      \
+    (OKID__RB(OKID__HR(m, L) * OKID__HR(nref, L))                                                                \
+     + OKID__RB(OKID__SVD_VT_ROWS(OKID__HR(m, L), OKID__HR(nref, L), n) * OKID__HR(nref, L))                    \
+     + OKID__RB(OKID__HR(m, L) * OKID__Z(n)) + OKID__RB(nref)                                                   \
+     + OKID__RB(OKID__LWORK_GESVD(OKID__HR(m, L), OKID__HR(nref, L))))
 #define OKID__AMB_SCRATCH_BYTES(m, nref, L, n)                                                                  \
-    (OKID__RB(OKID__Z(nref) + OKID__Z(m)) + OKID__RB(OKID__HR(m, L) * OKID__HR(nref, L))                          \
-     + OKID__RB(OKID__AMB_K(m, nref, L) * OKID__HR(nref, L)) + OKID__RB(OKID__HR(m, L) * OKID__Z(n))               \
-     + OKID__RB(nref) + OKID__RB(OKID__LWORK_GESVD(OKID__HR(m, L), OKID__HR(nref, L)))                            \
-     + OKID__RB(OKID__Z(m) * OKID__Z(n)) + OKID__RB(OKID__Z(n) * OKID__Z(nref)) + OKID__PHASE_MODAL_BYTES(n)       \
-     + OKID__RB(OKID__Z(n) * 2u * OKID__Z(nref)) + OKID__RB(OKID__LWORK_GELSY(n, 2u * OKID__Z(nref)))              \
-     + OKID__ALIGN16(sizeof(int) * OKID__Z(n)))
+    (OKID__RB(OKID__Z(nref) + OKID__Z(m)) + OKID__RB(OKID__Z(m) * OKID__Z(n)) + OKID__RB(OKID__Z(n) * OKID__Z(nref)) \
+     + OKID__MAX(OKID__AMB_ERA_BYTES(m, nref, L, n), OKID__PHASE_MODAL_BYTES(n) + OKID__PHASE_INDICATOR_BYTES(n, nref)))
 /* okid_ambient_stabilization_compute()'s workspace before the saturation (nref resolved): R(0..2L),
-   the scales, the singular values, H(1) V_N, A, G and its last block column, C and its last block
-   row, D, the modal and indicator phases at N, and the table of OKID__STABILIZATION_WORKSPACE_BYTES64. */
+   the scales, the singular values, H(1) V_N, V' (the rows the SVD writes for N), A, G and its last
+   block column, C and its last block row, D, the modal and indicator phases at N, and the table of
+   OKID__STABILIZATION_WORKSPACE_BYTES64. */
 #define OKID__AMBIENT_STABILIZATION_BYTES64(m, nref, L, nmax, step)                                              \
     (OKID__RB(OKID__Z(m) * OKID__Z(nref) * OKID__AMB_BLOCKS(L)) + OKID__RB(OKID__Z(nref) + OKID__Z(m))            \
      + OKID__RB(OKID__AMB_K(m, nref, L)) + OKID__RB(OKID__HR(m, L) * OKID__Z(nmax))                                \
+     + OKID__RB(OKID__SVD_VT_ROWS(OKID__HR(m, L), OKID__HR(nref, L), nmax) * OKID__HR(nref, L))                    \
      + OKID__RB(OKID__Z(nmax) * OKID__Z(nmax)) + 2u * OKID__RB(OKID__Z(nmax) * OKID__Z(nref))                      \
      + 2u * OKID__RB(OKID__Z(m) * OKID__Z(nmax)) + OKID__RB(OKID__Z(m) * OKID__Z(nref)) + OKID__PHASE_MODAL_BYTES(nmax) \
      + OKID__PHASE_INDICATOR_BYTES(nmax, nref)                                                                     \

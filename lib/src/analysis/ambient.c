@@ -23,34 +23,50 @@
 /* Identify's scratch views. */
 typedef struct ambient_scratch {
     okid_real *scales; /* nref reference then m output RMS: ERA's channel scales */
-    okid_era_scratch era;
     okid_real *obs_last, *ctrl_last;
+    /* one region for the phases in turn: ERA, then the modal analysis and the indicators */
+    okid_era_scratch era;
     okid_modal_scratch modal;
     okid_indicator_scratch ind;
-    okid_ambient_result_set_ seg;  /* one segment's realization (segments > 1) */
-    okid_real *seg_f, *seg_z;      /* segments x n: each segment's matched frequency and damping, -1: none */
 } ambient_scratch;
 
+/* With segments > 1: one segment's realization and every segment's matched frequency and damping. */
+typedef struct ambient_segment_scratch {
+    okid_ambient_result_set_ seg;  /* one segment's realization */
+    okid_real *seg_f, *seg_z;      /* segments x n: each segment's matched frequency and damping, -1: none */
+} ambient_segment_scratch;
+
 /* The layout, in the order of OKID__AMBIENT_WORKSPACE_BYTES64 (sizes.h); NULL base: sizes only. */
-/* A result set's model views (the standard deviations apart). */
+/* A result set's model views (the standard deviations apart); set NULL: sizes only. */
 static void carve_set(okid_carver *c, uint64_t m, uint64_t nref, uint64_t L, uint64_t n, okid_ambient_result_set_ *set)
 {
     const uint64_t k = L * (m < nref ? m : nref);
-    set->correlations = okid_carve_reals(c, m * nref * (2u * L + 1u));
-    set->sv = okid_carve_reals(c, k);
-    set->a = okid_carve_reals(c, n * n);
-    set->g = okid_carve_reals(c, n * nref);
-    set->c = okid_carve_reals(c, m * n);
-    set->d = okid_carve_reals(c, m * nref);
-    set->modes = (okid_mode *)okid_carve_bytes(c, sizeof(okid_mode) * n);
-    set->shapes = (okid_complex *)okid_carve_bytes(c, sizeof(okid_complex) * n * 3u * m);
+    okid_real *correlations = okid_carve_reals(c, m * nref * (2u * L + 1u));
+    okid_real *sv = okid_carve_reals(c, k);
+    okid_real *a = okid_carve_reals(c, n * n);
+    okid_real *g = okid_carve_reals(c, n * nref);
+    okid_real *cm = okid_carve_reals(c, m * n);
+    okid_real *d = okid_carve_reals(c, m * nref);
+    okid_mode *modes = (okid_mode *)okid_carve_bytes(c, sizeof(okid_mode) * n);
+    okid_complex *shapes = (okid_complex *)okid_carve_bytes(c, sizeof(okid_complex) * n * 3u * m);
+    if (set != NULL) {
+        set->correlations = correlations;
+        set->sv = sv;
+        set->a = a;
+        set->g = g;
+        set->c = cm;
+        set->d = d;
+        set->modes = modes;
+        set->shapes = shapes;
+    }
 }
 
-static uint64_t ambient_carve(int m_, int nref_, int lags_, int n_, int segments, unsigned char *base,
-                              okid_correlation_sums_ *sums, okid_ambient_result_set_ sets[2], ambient_scratch *s)
+/* What outlives identify: the sums and the two result sets. */
+static uint64_t carve_persistent(int m_, int nref_, int lags_, int n_, int segments, unsigned char *base,
+                                 okid_correlation_sums_ *sums, okid_ambient_result_set_ sets[2])
 {
     const uint64_t m = (uint64_t)m_, nref = (uint64_t)nref_, L = (uint64_t)lags_, n = (uint64_t)n_;
-    const uint64_t blocks = 2u * L + 1u, hr = L * m, hc = L * nref, k = L * (m < nref ? m : nref);
+    const uint64_t blocks = 2u * L + 1u;
     const uint64_t segs = segments > 1 ? (uint64_t)segments : 1u;
     okid_carver c = {base, 0};
     sums->past.data = okid_carve_reals(&c, nref * 2u * L);
@@ -62,25 +78,65 @@ static uint64_t ambient_carve(int m_, int nref_, int lags_, int n_, int segments
         sets[i].frequency_std = okid_carve_reals(&c, n);
         sets[i].damping_std = okid_carve_reals(&c, n);
     }
+    return c.used;
+}
+
+/*
+ * Identify's scratch from base (the end of the persistent part): scales, the indicators' blocks,
+ * the segments' views (seg may be NULL: not carved), then one region that ERA uses first (H, V',
+ * H(1) V_n, column scales, SVD work) and the modal analysis and indicators after it, once ERA's
+ * results have been read out (OKID__AMB_SCRATCH_BYTES, the segments' OKID__AMB_SEGMENT_BYTES).
+ * NULL base: sizes only.
+ */
+static uint64_t carve_scratch(int m_, int nref_, int lags_, int n_, int segments, unsigned char *base,
+                              ambient_scratch *s, ambient_segment_scratch *seg)
+{
+    const uint64_t m = (uint64_t)m_, nref = (uint64_t)nref_, L = (uint64_t)lags_, n = (uint64_t)n_;
+    const uint64_t hr = L * m, hc = L * nref;
+    okid_carver c = {base, 0};
     s->scales = okid_carve_reals(&c, nref + m);
+    s->obs_last = okid_carve_reals(&c, m * n);
+    s->ctrl_last = okid_carve_reals(&c, n * nref);
+    if (segments > 1) {
+        if (seg != NULL) {
+            seg->seg = (okid_ambient_result_set_){0};
+        }
+        carve_set(&c, m, nref, L, n, seg != NULL ? &seg->seg : NULL);
+        okid_real *f = okid_carve_reals(&c, (uint64_t)segments * n), *z = okid_carve_reals(&c, (uint64_t)segments * n);
+        if (seg != NULL) {
+            seg->seg_f = f;
+            seg->seg_z = z;
+        }
+    }
+    const uint64_t phases = c.used;
     s->era.h = okid_carve_reals(&c, hr * hc);
     s->era.ldh = (int)hr;
-    s->era.vt = okid_carve_reals(&c, k * hc);
-    s->era.ldvt = (int)k;
+    const uint64_t vt_rows = OKID__SVD_VT_ROWS(hr, hc, n);
+    s->era.vt = okid_carve_reals(&c, vt_rows * hc);
+    s->era.ldvt = vt_rows > 0 ? (int)vt_rows : 1;
     s->era.t = okid_carve_reals(&c, hr * n);
     s->era.col_scale = okid_carve_reals(&c, nref);
     s->era.work = okid_carve_reals(&c, OKID__LWORK_GESVD(hr, hc));
-    s->obs_last = okid_carve_reals(&c, m * n);
-    s->ctrl_last = okid_carve_reals(&c, n * nref);
+    s->era.leading = 1;
+    const uint64_t era_end = c.used;
+    c.used = phases;
     okid_carve_modal_phase(&c, n, nref, &s->modal, &s->ind);
-    s->seg = (okid_ambient_result_set_){0};
-    s->seg_f = s->seg_z = NULL;
-    if (segs > 1) {
-        carve_set(&c, m, nref, L, n, &s->seg);
-        s->seg_f = okid_carve_reals(&c, segs * n);
-        s->seg_z = okid_carve_reals(&c, segs * n);
-    }
+    c.used = c.used > era_end ? c.used : era_end;
     return c.used;
+}
+
+static uint64_t ambient_carve(int m, int nref, int lags, int n, int segments, okid_correlation_sums_ *sums,
+                              okid_ambient_result_set_ sets[2], ambient_scratch *s)
+{
+    return carve_persistent(m, nref, lags, n, segments, NULL, sums, sets) +
+           carve_scratch(m, nref, lags, n, segments, NULL, s, NULL);
+}
+
+/* The scratch views of an initialised identifier (seg may be NULL). */
+static void scratch_views(const okid_ambient *amb, ambient_scratch *s, ambient_segment_scratch *seg)
+{
+    (void)carve_scratch(amb->sums_.m, amb->nref_, amb->cfg_.hankel_rows, amb->nmax_, amb->cfg_.segments,
+                        amb->scratch_, s, seg);
 }
 
 okid_status okid_ambient_config_default(okid_ambient_config *cfg, int num_outputs)
@@ -165,8 +221,8 @@ static okid_status ambient_size(const okid_ambient_config *cfg, okid_config_issu
     okid_correlation_sums_ sums;
     okid_ambient_result_set_ sets[2];
     ambient_scratch scratch;
-    const uint64_t total =
-        ambient_carve(cfg->num_outputs, *nref, cfg->hankel_rows, *nmax, cfg->segments, NULL, &sums, sets, &scratch);
+    const uint64_t total = ambient_carve(cfg->num_outputs, *nref, cfg->hankel_rows, *nmax, cfg->segments, &sums, sets,
+                                         &scratch);
     st = okid_carve_size(total, bytes);
     if (st != OKID_OK) {
         return refuse(issue, st, "workspace bytes", (double)total, 0, (double)SIZE_MAX);
@@ -232,9 +288,8 @@ okid_status okid_ambient_init(okid_ambient *amb, const okid_ambient_config *cfg,
     amb->k_ = k;
     amb->workspace_ = (unsigned char *)workspace;
     okid_correlation_sums_ *s = &amb->sums_;
-    ambient_scratch scratch;
-    (void)ambient_carve(cfg->num_outputs, nref, cfg->hankel_rows, nmax, cfg->segments, amb->workspace_, s, amb->set_,
-                        &scratch);
+    amb->scratch_ = amb->workspace_ + (size_t)carve_persistent(cfg->num_outputs, nref, cfg->hankel_rows, nmax,
+                                                               cfg->segments, amb->workspace_, s, amb->set_);
     s->m = cfg->num_outputs;
     s->nref = nref;
     s->lags = 2 * cfg->hankel_rows;
@@ -324,13 +379,11 @@ static okid_status channel_scales(const okid_correlation_sums_ *s, const okid_re
 
 void okid_ambient_era_scratch_(const okid_ambient *amb, okid_era_scratch *era)
 {
-    okid_correlation_sums_ dry_sums;
-    okid_ambient_result_set_ dry_sets[2];
     ambient_scratch s;
-    (void)ambient_carve(amb->sums_.m, amb->nref_, amb->cfg_.hankel_rows, amb->nmax_, amb->cfg_.segments,
-                        amb->workspace_, &dry_sums, dry_sets, &s);
+    scratch_views(amb, &s, NULL);
     *era = s.era;
     era->t = NULL;
+    era->vt = NULL;
 }
 
 okid_status okid_ambient_scales_(const okid_ambient *amb, okid_real *scales)
@@ -406,12 +459,15 @@ static int segment_spread(const okid_ambient *amb, okid_ambient_result_set_ *set
 {
     const okid_correlation_sums_ *sums = &amb->sums_;
     const int m = sums->m, nref = amb->nref_, L = amb->cfg_.hankel_rows, segs = sums->segments;
-    const okid_ambient_result_set_ *seg = &s->seg;
+    ambient_scratch dry;
+    ambient_segment_scratch views;
+    scratch_views(amb, &dry, &views);
+    const okid_ambient_result_set_ *seg = &views.seg;
     const okid_era_problem problem = {nref, m, nref, L, L, n, amb->nmax_, seg->correlations, NULL, s->scales};
     const okid_era_output out = {seg->sv, seg->a, seg->g, seg->c, seg->d, NULL};
     int used = 0;
     for (int j = 0; j < segs; ++j) {
-        okid_real *f = s->seg_f + (size_t)j * (size_t)n, *z = s->seg_z + (size_t)j * (size_t)n;
+        okid_real *f = views.seg_f + (size_t)j * (size_t)n, *z = views.seg_z + (size_t)j * (size_t)n;
         for (int i = 0; i < num_modes; ++i) {
             f[i] = z[i] = -1;
         }
@@ -437,8 +493,8 @@ static int segment_spread(const okid_ambient *amb, okid_ambient_result_set_ *set
         }
     }
     for (int i = 0; i < num_modes; ++i) {
-        set->frequency_std[i] = standard_error(s->seg_f + i, segs, n);
-        set->damping_std[i] = standard_error(s->seg_z + i, segs, n);
+        set->frequency_std[i] = standard_error(views.seg_f + i, segs, n);
+        set->damping_std[i] = standard_error(views.seg_z + i, segs, n);
     }
     return used;
 }
@@ -459,11 +515,8 @@ okid_status okid_ambient_identify(okid_ambient *amb, okid_ambient_result *result
     /* the set the last good result is not in: a failure leaves that one as it was */
     const int next = amb->has_result_ ? 1 - amb->current_ : amb->current_;
     okid_ambient_result_set_ *set = &amb->set_[next];
-    okid_correlation_sums_ dry_sums;
-    okid_ambient_result_set_ dry_sets[2];
     ambient_scratch s;
-    (void)ambient_carve(sums->m, amb->nref_, amb->cfg_.hankel_rows, amb->nmax_, amb->cfg_.segments, amb->workspace_,
-                        &dry_sums, dry_sets, &s);
+    scratch_views(amb, &s, NULL);
     okid_corr_estimate(sums, -1, set->correlations);
     okid_status st = okid_ambient_scales_(amb, s.scales);
     if (st != OKID_OK) {

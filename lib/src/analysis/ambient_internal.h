@@ -8,7 +8,8 @@
 
 #define OKID_AMBIENT_MAGIC_ 0x6f6b616du /* "okam": an initialised okid_ambient */
 
-/* The ERA scratch of amb's workspace (Hankel, V', column scales, SVD work); t is left NULL. */
+/* The ERA scratch of amb's workspace (Hankel, column scales, SVD work); t and vt are left NULL
+   (V' is sized for amb's order: a table of higher orders brings its own). */
 void okid_ambient_era_scratch_(const okid_ambient *amb, okid_era_scratch *era);
 
 /*

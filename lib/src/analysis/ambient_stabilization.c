@@ -2,7 +2,8 @@
 /*
  * The stabilization diagram of an output-only identifier (okid/ambient.h): the correlations of
  * everything pushed, one ERA of their block Hankel at the largest order into the caller's
- * workspace (the identifier's ERA scratch for H, V' and the SVD work), then the orders by nested
+ * workspace (the identifier's ERA scratch for H and the SVD work, V' of the table's orders in the
+ * caller's workspace), then the orders by nested
  * truncation exactly as okid_stabilization_compute() makes them (analysis/stabilization_internal.h).
  */
 #include "okid/ambient.h"
@@ -15,7 +16,8 @@
 
 /* The views, in the order of OKID__AMBIENT_STABILIZATION_BYTES64 (sizes.h); NULL base: sizes only. */
 typedef struct amb_stab_views {
-    okid_real *correlations, *scales, *sv, *era_t, *a, *g, *ctrl_last, *c, *obs_last, *d;
+    okid_real *correlations, *scales, *sv, *era_t, *era_vt, *a, *g, *ctrl_last, *c, *obs_last, *d;
+    int ldvt;
     okid_modal_scratch modal;
     okid_indicator_scratch ind;
     okid_stabilization_order *orders;
@@ -35,6 +37,9 @@ static uint64_t amb_stab_carve(const okid_ambient *amb, int max_order, int step,
     v->scales = okid_carve_reals(&c, nref + m);
     v->sv = okid_carve_reals(&c, (uint64_t)amb->k_);
     v->era_t = okid_carve_reals(&c, L * m * n);
+    const uint64_t vt_rows = OKID__SVD_VT_ROWS(L * m, L * nref, n);
+    v->era_vt = okid_carve_reals(&c, vt_rows * L * nref);
+    v->ldvt = (int)vt_rows;
     v->a = okid_carve_reals(&c, n * n);
     v->g = okid_carve_reals(&c, n * nref);
     v->ctrl_last = okid_carve_reals(&c, n * nref);
@@ -76,6 +81,8 @@ static okid_status realize_at(const okid_ambient *amb, int top, const amb_stab_v
     *problem = (okid_era_problem){nref, m, nref, L, L, top, top, v->correlations, NULL, v->scales};
     okid_ambient_era_scratch_(amb, era);
     era->t = v->era_t;
+    era->vt = v->era_vt;
+    era->ldvt = v->ldvt;
     const okid_era_output out = {v->sv, v->a, v->g, v->c, v->d, NULL};
     int order = 0;
     unsigned warnings = 0;

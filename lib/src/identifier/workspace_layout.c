@@ -309,6 +309,7 @@ void okid_layout_era(const okid_identifier *id, const okid_result_views_ *res, o
     s->t = id->at_.era_t;
     s->col_scale = id->at_.era_scale;
     s->work = id->at_.era_work;
+    s->leading = 0;
 }
 
 okid_status okid_layout_size(const okid_dims_ *dims, int combined, int scaled, size_t *bytes)

@@ -58,11 +58,14 @@ okid_status okid_la_lstsq_rank(int n, int nrhs, okid_real *a, int lda, okid_real
                                int *rank, int *jpvt, okid_real *work);
 
 /*
- * Thin SVD a = U S V': a (m x n) is overwritten by the first min(m, n) left singular vectors,
- * s gets min(m, n) singular values in decreasing order, vt (min(m, n) x n) the right ones.
- * work holds OKID__LWORK_GESVD(m, n) reals (LAPACK: divide and conquer when OKID__SVD_DC(m, n)).
+ * Thin SVD a = U S V': s gets all min(m, n) singular values in decreasing order; a's first nvec
+ * columns the leading nvec left singular vectors, vt's first nvec rows the right ones (nvec in
+ * 0..min(m, n)). vt has OKID__SVD_VT_ROWS(m, n, nvec) rows (okid/sizes.h): the LAPACK backend
+ * computes and writes every vector (min(m, n) rows); the Eigen backend only the nvec wanted when
+ * m >= n (a cheaper route, linalg_eigen.cpp), else all. work holds OKID__LWORK_GESVD(m, n) reals
+ * (LAPACK: divide and conquer when OKID__SVD_DC(m, n)).
  */
-okid_status okid_la_svd(int m, int n, okid_real *a, int lda, okid_real *s, okid_real *vt, int ldvt,
+okid_status okid_la_svd(int m, int n, int nvec, okid_real *a, int lda, okid_real *s, okid_real *vt, int ldvt,
                         okid_real *work);
 
 /*

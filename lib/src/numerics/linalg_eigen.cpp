@@ -40,6 +40,7 @@
 #include <limits>
 #include <memory>
 #include <new>
+#include <type_traits>
 
 extern "C" {
 #include "numerics/linalg.h"
@@ -321,12 +322,16 @@ namespace {
 
 /*
  * One-sided Jacobi (Hestenes): rotate pairs of columns of x until they are mutually orthogonal,
- * applying the same rotations to the columns of y. Then x = U S, and y accumulates V. norms holds
- * x's squared column norms (k reals): refreshed every sweep, updated by each rotation in between.
+ * applying the same rotations to the columns of y (none when Y is std::nullptr_t). Then x = U S,
+ * and y accumulates V. norms holds x's squared column norms (k reals): refreshed every sweep,
+ * updated by each rotation in between. With de_rijk, each sweep first brings the largest
+ * remaining column to position p before pairing it (de Rijk's pivoting: fewer sweeps, and the
+ * columns come out nearly sorted).
  */
 template <typename X, typename Y>
-bool orthogonalize_columns(X &&x, Y &&y, Real *norms)
+bool orthogonalize_columns(X &&x, Y &&y, Real *norms, bool de_rijk = false)
 {
+    constexpr bool accumulate = !std::is_same<std::decay_t<Y>, std::nullptr_t>::value;
     const Eigen::Index k = x.cols();
     const Real tol = std::numeric_limits<Real>::epsilon() * std::sqrt(static_cast<Real>(x.rows()));
     for (int sweep = 0; sweep < 60; ++sweep) {
@@ -335,6 +340,21 @@ bool orthogonalize_columns(X &&x, Y &&y, Real *norms)
         }
         bool rotated = false;
         for (Eigen::Index p = 0; p + 1 < k; ++p) {
+            if (de_rijk) {
+                Eigen::Index best = p;
+                for (Eigen::Index i = p + 1; i < k; ++i) {
+                    if (norms[i] > norms[best]) {
+                        best = i;
+                    }
+                }
+                if (best != p) {
+                    x.col(best).swap(x.col(p));
+                    if constexpr (accumulate) {
+                        y.col(best).swap(y.col(p));
+                    }
+                    std::swap(norms[best], norms[p]);
+                }
+            }
             for (Eigen::Index q = p + 1; q < k; ++q) {
                 const Real alpha = norms[p], beta = norms[q], gamma = x.col(p).dot(x.col(q));
                 if (alpha == 0 || beta == 0 || std::abs(gamma) <= tol * std::sqrt(alpha) * std::sqrt(beta)) {
@@ -343,7 +363,9 @@ bool orthogonalize_columns(X &&x, Y &&y, Real *norms)
                 Eigen::JacobiRotation<Real> rot;
                 rot.makeJacobi(alpha, gamma, beta);
                 x.applyOnTheRight(p, q, rot);
-                y.applyOnTheRight(p, q, rot);
+                if constexpr (accumulate) {
+                    y.applyOnTheRight(p, q, rot);
+                }
                 Eigen::Matrix<Real, 2, 2> gram; /* J' [alpha gamma; gamma beta] J: the new squared norms */
                 gram << alpha, gamma, gamma, beta;
                 gram.applyOnTheRight(0, 1, rot);
@@ -386,19 +408,159 @@ void sort_and_normalize(X &&x, Y &&y, Real *s)
     }
 }
 
+/*
+ * a (m x n, m >= n) = Q R P' by Householder QR with column pivoting (xGEQP2 with xLAQP2's norm
+ * downdating): R in the upper triangle, the reflectors below it, tau (n), perm the 0-based
+ * permutation (column j of a P is column perm[j] of a). vn1 and vn2 hold n reals each.
+ */
+void pivoted_qr(MatrixMap &a, Real *tau, int *perm, Real *vn1, Real *vn2)
+{
+    const int m = static_cast<int>(a.rows()), n = static_cast<int>(a.cols());
+    const Real tol3z = std::sqrt(kEps);
+    for (int j = 0; j < n; ++j) {
+        perm[j] = j;
+        vn1[j] = vn2[j] = a.col(j).norm();
+    }
+    for (int i = 0; i < n; ++i) {
+        int pvt = i;
+        for (int j = i + 1; j < n; ++j) {
+            if (vn1[j] > vn1[pvt]) {
+                pvt = j;
+            }
+        }
+        if (pvt != i) {
+            a.col(pvt).swap(a.col(i));
+            std::swap(perm[pvt], perm[i]);
+            vn1[pvt] = vn1[i];
+            vn2[pvt] = vn2[i];
+        }
+        auto v = a.col(i).tail(m - i - 1);
+        tau[i] = make_reflector(a(i, i), v);
+        for (int j = i + 1; j < n; ++j) {
+            apply_reflector(tau[i], v, a(i, j), a.col(j).tail(m - i - 1));
+            if (vn1[j] != 0) {
+                const Real ratio = std::abs(a(i, j)) / vn1[j];
+                const Real temp = std::max(Real(0), 1 - ratio * ratio);
+                const Real temp2 = temp * (vn1[j] / vn2[j]) * (vn1[j] / vn2[j]);
+                if (temp2 <= tol3z) {
+                    vn1[j] = vn2[j] = a.col(j).tail(m - i - 1).norm();
+                } else {
+                    vn1[j] *= std::sqrt(temp);
+                }
+            }
+        }
+    }
+}
+
+/* The first n columns of Q in place of a's reflectors (xORG2R); R is lost. */
+void form_q(MatrixMap &a, const Real *tau)
+{
+    const int m = static_cast<int>(a.rows()), n = static_cast<int>(a.cols());
+    for (int j = n - 1; j >= 0; --j) {
+        auto v = a.col(j).tail(m - j - 1);
+        for (int c = j + 1; c < n; ++c) {
+            apply_reflector(tau[j], v, a(j, c), a.col(c).tail(m - j - 1));
+        }
+        v *= -tau[j];
+        a(j, j) = 1 - tau[j];
+        a.col(j).head(j).setZero();
+    }
+}
+
+/*
+ * The leading nvec singular triplets of a (m >= n) and all n singular values, after xGEJSV's
+ * preconditioning: a P = Q R with column pivoting, then one-sided Jacobi with de Rijk's pivoting
+ * on the columns of X = R' (rows of R), which rotates nothing else: X W = V_R S gives V_R by
+ * normalising its columns, and U_R for the nvec wanted only, as R V_R orthonormalised in the
+ * order of decreasing s (S^-1 R V_R is its first guess). Then U = Q U_R (a's
+ * first nvec columns), V' = (P V_R)' (vt's first nvec rows). work: tau (n), X (n x n), the
+ * column norms (n), the permutation (n ints in n reals: sizeof(int) <= a real's).
+ */
+okid_status svd_leading(MatrixMap &am, int nvec, okid_real *s, okid_real *vt, int ldvt, okid_real *work)
+{
+    const int m = static_cast<int>(am.rows()), n = static_cast<int>(am.cols());
+    Real *tau = work, *norms = work + n + n * n;
+    int *perm = reinterpret_cast<int *>(norms + n);
+    MatrixMap x = map(work + n, n, n, n);
+    pivoted_qr(am, tau, perm, x.data(), x.data() + n); /* X's memory holds the pivoting norms meanwhile */
+    x = am.topRows(n).triangularView<Eigen::Upper>().transpose();
+    if (!orthogonalize_columns(x, nullptr, norms, true)) {
+        return OKID_E_DECOMPOSITION_FAILED;
+    }
+    for (int j = 0; j < n; ++j) {
+        s[j] = x.col(j).norm();
+    }
+    for (int j = 0; j < n; ++j) { /* decreasing (de Rijk leaves them nearly so) */
+        int best = j;
+        for (int i = j + 1; i < n; ++i) {
+            if (s[i] > s[best]) {
+                best = i;
+            }
+        }
+        if (best != j) {
+            std::swap(s[best], s[j]);
+            x.col(best).swap(x.col(j));
+        }
+    }
+    MatrixMap vtm = map(vt, nvec, n, ldvt);
+    for (int j = 0; j < nvec; ++j) {
+        auto v = x.col(j);
+        if (s[j] > 0) {
+            v /= s[j];
+        }
+        for (int i = 0; i < n; ++i) {
+            vtm(j, perm[i]) = v(i);
+        }
+        Real *u = norms; /* R v = s u, back over X's column j */
+        for (int i = 0; i < n; ++i) {
+            u[i] = am.row(i).tail(n - i).dot(v.tail(n - i));
+        }
+        v = VectorMap(u, n);
+        /* R v_j carries v_j's error times s_i / s_j along each u_i of a larger s_i: taking out its
+           components along u_0 .. u_j-1 (twice: Gram-Schmidt's second pass restores orthogonality
+           to round-off) leaves U_R as accurate as V_R, whatever s_j / s_0 */
+        for (int pass = 0; pass < 2; ++pass) {
+            for (int i = 0; i < j; ++i) {
+                v -= x.col(i).dot(v) * x.col(i);
+            }
+        }
+        const Real norm = v.norm();
+        if (norm > 0) {
+            v /= norm;
+        }
+    }
+    form_q(am, tau);
+    Real *row = norms;
+    for (int i = 0; i < m; ++i) { /* U = Q U_R, row by row */
+        for (int c = 0; c < nvec; ++c) {
+            row[c] = am.row(i).dot(x.col(c));
+        }
+        am.row(i).head(nvec) = VectorMap(row, nvec).transpose();
+    }
+    return OKID_OK;
+}
+
 } // namespace
 
-extern "C" okid_status okid_la_svd(int m, int n, okid_real *a, int lda, okid_real *s, okid_real *vt, int ldvt,
-                                   okid_real *work)
+extern "C" okid_status okid_la_svd(int m, int n, int nvec, okid_real *a, int lda, okid_real *s, okid_real *vt,
+                                   int ldvt, okid_real *work)
 {
     const int k = m < n ? m : n;
-    if (bad_matrix(m, n, lda) || bad_matrix(k, n, ldvt)) {
+    if (nvec < 0 || nvec > k) {
+        return OKID_E_BACKEND_ARGUMENT;
+    }
+    const bool leading = m >= n && nvec < k;
+    if (bad_matrix(m, n, lda) || bad_matrix(leading ? nvec : k, n, ldvt)) {
         return OKID_E_BACKEND_ARGUMENT;
     }
     if (k == 0) {
         return OKID_OK;
     }
-    MatrixMap am = map(a, m, n, lda), vtm = map(vt, k, n, ldvt);
+    MatrixMap am = map(a, m, n, lda);
+    if (leading) {
+        return svd_leading(am, nvec, s, vt, ldvt, work);
+    }
+    MatrixMap vtm = map(vt, k, n, ldvt);
     if (m >= n) {
         /* a = Q R first (as xGEJSV): Jacobi then rotates the n x n R instead of the m x n a, and
            U = Q U_R. work (OKID__LWORK_GESVD): tau, R (n x n), one row, the column norms. */
@@ -417,15 +579,7 @@ extern "C" okid_status okid_la_svd(int m, int n, okid_real *a, int lda, okid_rea
             return OKID_E_DECOMPOSITION_FAILED;
         }
         sort_and_normalize(r, vtm.transpose(), s);
-        for (int j = n - 1; j >= 0; --j) { /* the first n columns of Q, in place (xORG2R) */
-            auto v = am.col(j).tail(m - j - 1);
-            for (int c = j + 1; c < n; ++c) {
-                apply_reflector(tau[j], v, am(j, c), am.col(c).tail(m - j - 1));
-            }
-            v *= -tau[j];
-            am(j, j) = 1 - tau[j];
-            am.col(j).head(j).setZero();
-        }
+        form_q(am, tau);
         for (int i = 0; i < m; ++i) { /* U = Q U_R, row by row */
             for (int c = 0; c < n; ++c) {
                 row[c] = am.row(i).dot(r.col(c));

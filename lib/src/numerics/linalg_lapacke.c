@@ -174,9 +174,12 @@ okid_status okid_la_lstsq_rank(int n, int nrhs, okid_real *a, int lda, okid_real
     return from_info(info);
 }
 
-okid_status okid_la_svd(int m, int n, okid_real *a, int lda, okid_real *s, okid_real *vt, int ldvt,
+okid_status okid_la_svd(int m, int n, int nvec, okid_real *a, int lda, okid_real *s, okid_real *vt, int ldvt,
                         okid_real *work)
 {
+    if (nvec < 0 || nvec > (m < n ? m : n)) {
+        return OKID_E_BACKEND_ARGUMENT;
+    }
     if (OKID__SVD_DC(m, n)) { /* U over a, V' (n x n) in vt, as xGESVD's 'O', 'S' below */
         const lapack_int lwork = (lapack_int)OKID__LWORK_GESDD(m, n);
         lapack_int *iwork = (lapack_int *)(void *)(work + lwork);

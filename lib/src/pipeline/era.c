@@ -98,7 +98,11 @@ okid_status okid_era_realize(const okid_era_problem *pb, const okid_era_scratch 
             }
         }
     }
-    const okid_status st = okid_la_svd(hr, hc, v->h, ldh, out->sv, v->vt, ldvt, v->work);
+    /* with v->leading, the singular vectors of the realized order only: the given one, or the
+       automatic rule's largest (V' then holds OKID__SVD_VT_ROWS(hr, hc, that) rows) */
+    const int limit = (k - 1 < pb->order_limit) ? k - 1 : pb->order_limit;
+    const int nvec = !v->leading ? k : pb->order > 0 ? pb->order : (limit >= 1 ? limit : 1);
+    const okid_status st = okid_la_svd(hr, hc, nvec, v->h, ldh, out->sv, v->vt, ldvt, v->work);
     if (st != OKID_OK) {
         return st;
     }
@@ -106,7 +110,6 @@ okid_status okid_era_realize(const okid_era_problem *pb, const okid_era_scratch 
 
     int n = pb->order;
     if (n == 0) {
-        const int limit = (k - 1 < pb->order_limit) ? k - 1 : pb->order_limit;
         n = (limit >= 1) ? largest_gap(sv, limit) : 1;
         if (n == limit && limit < k - 1) {
             *warnings |= OKID_W_ORDER_AT_LIMIT;

@@ -23,10 +23,14 @@ typedef struct okid_era_problem {
 /* Scratch (OKID__PHASE_ERA_BYTES); hr = alpha m, hc = beta ncols, k = min(hr, hc). */
 typedef struct okid_era_scratch {
     okid_real *h; int ldh;         /* hr x hc: H(0), then U; the indicators read U afterwards */
-    okid_real *vt; int ldvt;       /* k x hc: V' */
+    okid_real *vt; int ldvt;       /* k x hc: V'; with leading, OKID__SVD_VT_ROWS(hr, hc, n) x hc */
     okid_real *t;                  /* hr x n: H(1) V_n */
     okid_real *col_scale;          /* ncols */
     okid_real *work;               /* OKID__LWORK_GESVD(hr, hc) */
+    /* 0: every singular vector (the input-output identifier's, whose float results keep their bits);
+       1: those of the order n only (the given order, or the automatic rule's limit): okid_la_svd's
+       leading-vector route on the Eigen backend (the output-only identifier's) */
+    int leading;
 } okid_era_scratch;
 
 /* The realization: leading dimensions n (a, b, g) and m (c, d), n the realized order. */
