@@ -199,7 +199,8 @@ void okid_corr_batch_begin(okid_correlation_sums_ *s)
 
 void okid_corr_batch_add(okid_correlation_sums_ *s, const okid_real *y)
 {
-    const int segment = (int)((s->added / (uint64_t)s->block) % (uint64_t)s->segments);
+    /* no 64-bit divisions per sample without segments */
+    const int segment = s->segments > 1 ? (int)((s->added / (uint64_t)s->block) % (uint64_t)s->segments) : 0;
     if (s->pending > 0 && segment != s->batch_segment) {
         batch_flush(s);
     }
