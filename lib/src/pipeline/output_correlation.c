@@ -301,11 +301,16 @@ void okid_corr_add(okid_correlation_sums_ *s, const okid_real *y)
 /* Pairs of the pending samples at lag k (none unless segment is theirs or -1). */
 static uint64_t pending_pairs(const okid_correlation_sums_ *s, int segment, int k)
 {
+#if OKID__AMB_BATCH > 1
     if (s->pending == 0 || (segment >= 0 && segment != s->batch_segment)) {
         return 0;
     }
     const int first = k > s->held ? k - s->held : 0;
     return s->pending > first ? (uint64_t)(s->pending - first) : 0u;
+#else
+    (void)s, (void)segment, (void)k; /* no batch: nothing pending (the firmware's code as before) */
+    return 0;
+#endif
 }
 
 uint64_t okid_corr_pairs(const okid_correlation_sums_ *s, int segment, int k)
