@@ -8,7 +8,8 @@
  *   R(k) = E[y(t+k) y_ref(t)'] = C A^(k-1) G,  k >= 1,  G = E[x(t+1) y_ref(t)'],
  * Markov parameters in all but name. Push accumulates, sample by sample, the sums
  *   S(k) = sum_t y(t+k) y_ref(t)',  k = 0 .. 2L,
- * over a ring of the last 2L reference samples, so any record length takes the same memory;
+ * over a ring of the last 2L reference samples (push_block: in batches of samples, one matrix
+ * product per lag; docs/ambient.md "Batched sums"), so any record length takes the same memory;
  * identify divides each S(k) by its number of pairs (N - k without gaps: the unbiased estimate),
  * builds the block Hankel of R(1 .. 2L) (L block rows and L block columns) and realizes it with
  * the same ERA as okid_identify() (the references play the inputs, G the input matrix B), then
