@@ -19,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "numerics/real_math.h" /* OKID_EPSILON */
 #include "reference/reference_data.h"
 #include "test_support.h"
 
@@ -280,6 +281,116 @@ static void test_correlations_and_gap(void **state)
     free(y);
 }
 
+/*
+ * okid_ambient_push_block() sums the products in batches (docs/ambient.md, "Batched sums"):
+ * against count okid_ambient_push() calls on the same samples (gaps, segments, references), the
+ * same samples and pairs exactly and the same correlations to round-off. Each estimate is a sum
+ * of at most N products rounded in some order, so each differs from the exact sum by at most
+ * gamma_N sum |products| (gamma_N = N u / (1 - N u), Higham's bound for any summation order):
+ * the two estimates by at most twice that, over the pairs. A wrong lag, a lost sample or a
+ * product across a gap moves an estimate by about sum |products| / N, 1e6 times more at N = 6000.
+ * The chunks of the calls change no bit, nor do identify and a push in between.
+ */
+static okid_real *mixed_record(int m, size_t count, uint64_t seed)
+{
+    okid_real *e = test_white_noise(m, count + 4u, seed);
+    okid_real *y = malloc(sizeof(okid_real) * (size_t)m * count);
+    assert_non_null(y);
+    for (size_t t = 0; t < count; ++t) { /* a moving average: correlated over a few lags and channels */
+        for (int a = 0; a < m; ++a) {
+            const size_t i = (t + 4u) * (size_t)m + (size_t)a;
+            y[t * (size_t)m + (size_t)a] = e[i] + (okid_real)0.5 * e[i - (size_t)m] - (okid_real)0.3 * e[i - 3u * (size_t)m] +
+                                           (okid_real)0.2 * e[(t + 4u) * (size_t)m + (size_t)((a + 1) % m)];
+        }
+    }
+    free(e);
+    return y;
+}
+
+static void batches_against_samples(int m, int nref, int segments)
+{
+    const size_t count = 6000, gaps[] = {3, 700, 701, 2049, 5990};
+    okid_real *y = mixed_record(m, count, 40u + (uint64_t)m);
+    for (size_t g = 0; g < sizeof gaps / sizeof gaps[0]; ++g) y[gaps[g] * (size_t)m + (size_t)(g % (size_t)m)] = NAN;
+    okid_ambient_config cfg;
+    assert_int_equal(okid_ambient_config_default(&cfg, m), OKID_OK);
+    cfg.dt = (okid_real)AMB_DT;
+    cfg.hankel_rows = AMB_L;
+    cfg.order = 2;
+    cfg.segments = segments;
+    cfg.segment_samples = segments > 1 ? 333 : 0;
+    if (nref < m) {
+        cfg.num_references = nref;
+        for (int l = 0; l < nref; ++l) cfg.reference_channels[l] = 2 * l; /* a proper subset: the batch keeps its outputs */
+    }
+    size_t bytes;
+    void *ws1 = ambient_workspace(&cfg, &bytes), *ws2 = ambient_workspace(&cfg, &bytes), *ws3 = ambient_workspace(&cfg, &bytes);
+    okid_ambient one, cut, sample;
+    assert_int_equal(okid_ambient_init(&one, &cfg, ws1, bytes, NULL), OKID_OK);
+    assert_int_equal(okid_ambient_init(&cut, &cfg, ws2, bytes, NULL), OKID_OK);
+    assert_int_equal(okid_ambient_init(&sample, &cfg, ws3, bytes, NULL), OKID_OK);
+    size_t accepted = 0;
+    assert_int_equal(okid_ambient_push_block(&one, count, y, (size_t)m, &accepted), OKID_E_NONFINITE_SAMPLE);
+    assert_int_equal(accepted, count - sizeof gaps / sizeof gaps[0]);
+    for (size_t t = 0; t < count; ++t) (void)okid_ambient_push(&sample, y + t * (size_t)m);
+    /* the same record in uneven calls, an identify between them */
+    const size_t cuts[] = {0, 1, 256, 513, 1000, 2048, 2049, 4000, count};
+    okid_ambient_result res_cut, res_one, res_sample;
+    for (size_t c = 0; c + 1 < sizeof cuts / sizeof cuts[0]; ++c) {
+        (void)okid_ambient_push_block(&cut, cuts[c + 1] - cuts[c], y + cuts[c] * (size_t)m, (size_t)m, NULL);
+        if (c == 3) assert_int_equal(okid_ambient_identify(&cut, &res_cut), OKID_OK);
+    }
+    assert_int_equal(okid_ambient_identify(&one, &res_one), OKID_OK);
+    assert_int_equal(okid_ambient_identify(&cut, &res_cut), OKID_OK);
+    assert_int_equal(okid_ambient_identify(&sample, &res_sample), OKID_OK);
+    const int blocks = cfg.hankel_rows * 2 + 1, cols = nref * blocks;
+    assert_memory_equal(res_one.correlations.data, res_cut.correlations.data, sizeof(okid_real) * (size_t)m * (size_t)cols);
+    assert_int_equal(res_one.samples, res_sample.samples);
+    assert_int_equal(res_one.pairs, res_sample.pairs);
+    assert_int_equal(res_one.segments_used, res_sample.segments_used);
+    const double gamma = (double)count * (double)OKID_EPSILON / 2 / (1 - (double)count * (double)OKID_EPSILON / 2);
+    for (int k = 0; k < blocks; ++k) {
+        for (int l = 0; l < nref; ++l) {
+            const int ref = nref < m ? 2 * l : l;
+            for (int a = 0; a < m; ++a) {
+                double magnitude = 0; /* sum |y_a(t) y_ref(t - k)| over the pairs, none across a gap */
+                size_t pairs = 0;
+                for (size_t t = (size_t)k; t < count; ++t) {
+                    int spans = 0;
+                    for (size_t g = 0; g < sizeof gaps / sizeof gaps[0]; ++g) spans |= gaps[g] <= t && gaps[g] >= t - (size_t)k;
+                    if (spans) continue;
+                    magnitude += fabs((double)y[t * (size_t)m + (size_t)a] * (double)y[(t - (size_t)k) * (size_t)m + (size_t)ref]);
+                    ++pairs;
+                }
+                const double bound = 2 * gamma * magnitude / (double)pairs;
+                const double got = (double)okid_matrix_at(res_one.correlations, a, nref * k + l);
+                const double want = (double)okid_matrix_at(res_sample.correlations, a, nref * k + l);
+                if (!(fabs(got - want) <= bound)) fail_msg("R(%d)[%d, %d]: %.17g vs %.17g, bound %.3g", k, a, l, got, want, bound);
+            }
+        }
+    }
+    /* push after push_block: its pending samples summed first, then the sample itself as before */
+    assert_int_equal(okid_ambient_push(&one, y + 10 * (size_t)m), OKID_OK);
+    assert_int_equal(okid_ambient_push(&sample, y + 10 * (size_t)m), OKID_OK);
+    assert_int_equal(okid_ambient_identify(&one, &res_one), OKID_OK);
+    assert_int_equal(okid_ambient_identify(&sample, &res_sample), OKID_OK);
+    assert_int_equal(res_one.pairs, res_sample.pairs);
+    free(ws1);
+    free(ws2);
+    free(ws3);
+    free(y);
+}
+
+static void test_batches_match_samples(void **state)
+{
+    (void)state;
+    batches_against_samples(2, 2, 0); /* the register-tiled loop */
+    batches_against_samples(2, 2, 3); /* segments: a batch stops where the segment changes */
+    batches_against_samples(3, 2, 3); /* references a proper subset */
+    batches_against_samples(6, 6, 0); /* m r_ref = 36: xGEMM with the LAPACK backend */
+    batches_against_samples(7, 4, 4);
+}
+
 /* Identify is a transaction: a failure leaves the last result's views as they were. */
 static void test_failed_identify_keeps_result(void **state)
 {
@@ -410,6 +521,7 @@ int main(void)
         cmocka_unit_test(test_one_reference),
         cmocka_unit_test(test_segments_give_the_modes_uncertainty),
         cmocka_unit_test(test_correlations_and_gap),
+        cmocka_unit_test(test_batches_match_samples),
         cmocka_unit_test(test_failed_identify_keeps_result),
         cmocka_unit_test(test_macro_equals_function),
         cmocka_unit_test(test_config_check),

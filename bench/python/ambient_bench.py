@@ -4,7 +4,7 @@
 per identification of okid.identify_ambient, of an independent SSI-COV written here in NumPy
 (correlations by matrix products, block Hankel of R(1..2L), SVD, shift of the observability
 matrix), and of koma-python's covssi when it is installed (pip install koma-python); every method
-at the same Hankel size L and order n.
+at the same Hankel size L and order n, one BLAS thread (OPENBLAS_NUM_THREADS=1 unless set).
 
   .venv/bin/python bench/python/ambient_bench.py [--seeds 20] [--cases paper,chain10]
 
@@ -14,7 +14,13 @@ unit white forces on every mass, every acceleration with 5 % white sensor noise 
 """
 import argparse
 import math
+import os
 import time
+
+# one BLAS thread for every method: time.process_time counts every thread's CPU, and OpenBLAS's
+# idle threads spin (okid's chain10 call took 363 ms of CPU with the default threads, 61 ms with one)
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import numpy as np
 import scipy.signal

@@ -11,6 +11,10 @@
 
 #include "okid/okid.h"
 
+/* Each of the m channels' (1..OKID_MAX_DIMENSION) mean of its finite values, summed in double in
+   sample order, into mean: what ambient_remove_mean() subtracts. */
+void ambient_channel_means(const okid_real *y, size_t n, int m, okid_real *mean);
+
 /* Subtract from each of the m channels of y (n samples, m values each) the mean of its finite values. */
 void ambient_remove_mean(okid_real *y, size_t n, int m);
 

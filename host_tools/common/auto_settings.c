@@ -29,9 +29,9 @@ static void fft(double *re, double *im, int len)
     }
     for (int size = 2; size <= len; size <<= 1) {
         const double angle = -2.0 * PI / size;
-        for (int start = 0; start < len; start += size) {
-            for (int k = 0; k < size / 2; ++k) {
-                const double wr = cos(angle * k), wi = sin(angle * k);
+        for (int k = 0; k < size / 2; ++k) { /* each twiddle once a stage: the same butterflies */
+            const double wr = cos(angle * k), wi = sin(angle * k);
+            for (int start = 0; start < len; start += size) {
                 const int a = start + k, b = a + size / 2;
                 const double xr = re[b] * wr - im[b] * wi, xi = re[b] * wi + im[b] * wr;
                 re[b] = re[a] - xr, im[b] = im[a] - xi;
@@ -61,7 +61,9 @@ int auto_channel_band(const okid_real *y, size_t n, int m, double dt, auto_band 
     const int bins = len / 2 + 1;
     double *re = malloc(sizeof(double) * (size_t)len), *im = malloc(sizeof(double) * (size_t)len);
     double *sum = calloc((size_t)bins, sizeof(double)), *power = malloc(sizeof(double) * (size_t)bins);
-    int rc = re && im && sum && power ? 0 : -1;
+    double *hann = malloc(sizeof(double) * (size_t)len);
+    int rc = re && im && sum && power && hann ? 0 : -1;
+    for (int k = 0; rc == 0 && k < len; ++k) hann[k] = 0.5 - 0.5 * cos(2.0 * PI * k / len);
     for (int c = 0; rc == 0 && c < m; ++c) {
         double mean = 0;
         for (size_t k = 0; k < n; ++k) mean += (double)y[k * (size_t)m + (size_t)c];
@@ -69,8 +71,7 @@ int auto_channel_band(const okid_real *y, size_t n, int m, double dt, auto_band 
         memset(power, 0, sizeof(double) * (size_t)bins);
         for (size_t start = 0; start + (size_t)len <= n; start += (size_t)len / 2) {
             for (int k = 0; k < len; ++k) {
-                const double hann = 0.5 - 0.5 * cos(2.0 * PI * k / len);
-                re[k] = hann * ((double)y[(start + (size_t)k) * (size_t)m + (size_t)c] - mean);
+                re[k] = hann[k] * ((double)y[(start + (size_t)k) * (size_t)m + (size_t)c] - mean);
                 im[k] = 0;
             }
             fft(re, im, len);
@@ -99,7 +100,7 @@ int auto_channel_band(const okid_real *y, size_t n, int m, double dt, auto_band 
         }
         band->segment = len;
     }
-    free(re), free(im), free(sum), free(power);
+    free(re), free(im), free(sum), free(power), free(hann);
     return rc;
 }
 

@@ -74,7 +74,7 @@ def identify_ambient(y: Any, dt: float, *, hankel_rows: int = 0, order: int = 0,
     """Identify modes from the outputs alone: no measured force (operational modal analysis).
 
     y is (N, m), time along axis 0, in any unit; dt the sample interval [s]. Each channel's mean is
-    removed (on a copy: y is never written), the correlations R(k) = sum y(t+k) y_ref(t)' / (N - k)
+    removed (y is never written), the correlations R(k) = sum y(t+k) y_ref(t)' / (N - k)
     of lags 0..2L are summed in fixed memory, and their L x L block Hankel matrix is realized by the
     same ERA as okid.identify(). Samples with a NaN or Inf are skipped (a gap: no product spans
     them) with a NonFiniteSampleWarning.

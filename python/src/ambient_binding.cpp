@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // okid._core.ambient_identify: output-only identification (okid/ambient.h) of a whole record, as
 // okid identify --inputs 0 runs it (host_tools/common/ambient_settings.h: the mean removed, L
-// chosen from the band when not given). The record is copied (the caller's array is never
-// written) and fed in chunks with the GIL released; okid/_ambient.py turns the status into an
+// chosen from the band when not given). The record is copied and its mean removed (the caller's
+// array is never written), or with L and the order given streamed through a small buffer minus the
+// means (the same values), and fed in chunks with the GIL released; okid/_ambient.py turns the status into an
 // exception and the dict into an okid.AmbientResult.
 #include <cstdio>  // before nanobind (binding.h says why)
 #include <cstdlib>
@@ -111,7 +112,15 @@ void bind_ambient(nb::module_ &m)
             }
             std::vector<okid_real> data;
             double band_hz = 0;
-            if (status == OKID_OK) {
+            /* with L and the order given nothing needs the whole mean-removed record: the means, then
+               the record streamed through a small buffer (the same values as the copy, no copy) */
+            const bool stream = hankel_rows > 0 && order > 0;
+            okid_real mean[OKID_MAX_DIMENSION] = {0};
+            if (status == OKID_OK && stream) {
+                ambient_channel_means(y.data(), n, mo, mean);
+                cfg.hankel_rows = hankel_rows;
+                status = okid_ambient_config_check(&cfg, &issue);
+            } else if (status == OKID_OK) {
                 data.assign(y.data(), y.data() + n * (size_t)mo);
                 ambient_remove_mean(data.data(), n, mo);
                 const int refs = cfg.num_references > 0 ? cfg.num_references : mo;
@@ -147,7 +156,23 @@ void bind_ambient(nb::module_ &m)
             status = okid_ambient_init(&amb, &cfg, ws.get(), bytes, nullptr);
             const int nref = cfg.num_references > 0 ? cfg.num_references : mo;
             const double work = (double)mo * (double)nref * (2.0 * cfg.hankel_rows + 1.0); /* per sample */
-            if (status == OKID_OK) {
+            if (status == OKID_OK && stream) {
+                const size_t rows = n < 4096 ? (n > 0 ? n : 1) : 4096; /* 16 batches of push_block */
+                std::vector<okid_real> buffer(rows * (size_t)mo);
+                status = feed_in_chunks(n, chunk_rows(work), progress, 0, n, [&](size_t first, size_t count) {
+                    int st = OKID_OK;
+                    for (size_t done = 0; done < count; done += rows) {
+                        const size_t take = std::min(rows, count - done);
+                        const double *src = y.data() + (first + done) * (size_t)mo;
+                        for (size_t t = 0; t < take; ++t)
+                            for (int a = 0; a < mo; ++a)
+                                buffer[t * (size_t)mo + (size_t)a] = src[t * (size_t)mo + (size_t)a] - mean[a];
+                        const int s = (int)okid_ambient_push_block(&amb, take, buffer.data(), (size_t)mo, nullptr);
+                        if (s != OKID_OK) st = s;
+                    }
+                    return st;
+                });
+            } else if (status == OKID_OK) {
                 status = feed_in_chunks(n, chunk_rows(work), progress, 0, n, [&](size_t first, size_t count) {
                     return (int)okid_ambient_push_block(&amb, count, data.data() + first * (size_t)mo, (size_t)mo,
                                                         nullptr);

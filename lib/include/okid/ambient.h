@@ -8,7 +8,8 @@
  *   R(k) = E[y(t+k) y_ref(t)'] = C A^(k-1) G,  k >= 1,  G = E[x(t+1) y_ref(t)'],
  * Markov parameters in all but name. Push accumulates, sample by sample, the sums
  *   S(k) = sum_t y(t+k) y_ref(t)',  k = 0 .. 2L,
- * over a ring of the last 2L reference samples, so any record length takes the same memory;
+ * over a ring of the last 2L reference samples (push_block: in batches of samples, one matrix
+ * product per lag; docs/ambient.md "Batched sums"), so any record length takes the same memory;
  * identify divides each S(k) by its number of pairs (N - k without gaps: the unbiased estimate),
  * builds the block Hankel of R(1 .. 2L) (L block rows and L block columns) and realizes it with
  * the same ERA as okid_identify() (the references play the inputs, G the input matrix B), then
@@ -141,7 +142,8 @@ okid_status okid_ambient_init(okid_ambient *amb, const okid_ambient_config *cfg,
 okid_status okid_ambient_reset(okid_ambient *amb);
 
 /**
- * Push one sample y(t) (m values): O(m r_ref L) operations. A sample with a NaN or Inf is
+ * Push one sample y(t) (m values): O(m r_ref L) operations, summed at once (after the samples a
+ * push_block left pending, if any). A sample with a NaN or Inf is
  * rejected (OKID_E_NONFINITE_SAMPLE): no product with it is summed, the lags restart after it
  * (a gap), and everything summed before is kept.
  * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_NONFINITE_SAMPLE
@@ -149,8 +151,13 @@ okid_status okid_ambient_reset(okid_ambient *amb);
 okid_status okid_ambient_push(okid_ambient *amb, const okid_real *y);
 
 /**
- * Push count samples, sample k at y[k * ldy .. k * ldy + m - 1]: exactly count calls of
- * okid_ambient_push() (a rejected sample does not stop the others).
+ * Push count samples, sample k at y[k * ldy .. k * ldy + m - 1]: the samples, gaps, segments and
+ * pair counts of count calls of okid_ambient_push() (a rejected sample does not stop the others).
+ * With the LAPACK backend the products are summed in batches of OKID__AMB_BATCH (256) samples,
+ * one matrix product per lag, kept across calls (how the record is cut changes no bit); the sums
+ * then equal the sample-by-sample ones to round-off, not bit for bit (docs/ambient.md, "Batched
+ * sums"). The workspace holds the batch: r_ref (2L + 256) reals, and m 256 more when some output
+ * is no reference. With the Eigen backend (the firmware's) it is count pushes, bit for bit.
  * \param[out] accepted samples accepted (may be NULL)
  * \return OKID_OK when all were accepted, OKID_E_NONFINITE_SAMPLE when some were rejected,
  *         OKID_E_NULL_POINTER, OKID_E_BAD_SIZE (ldy < m), OKID_E_NOT_INITIALIZED

@@ -23,6 +23,16 @@ typedef struct okid_correlation_sums_ {
     okid_real *sums;             /* S(0..2L) of each segment: m x nref (2L + 1) each, leading dimension m */
     okid_real *squares;          /* m: sum of y_a(t)^2 */
     uint64_t *pairs;             /* 2L + 1 per segment: products summed at each lag */
+    /* okid_ambient_push_block()'s batches (OKID__AMB_BATCH samples; NULL with a batch of 1): */
+    int batch;                   /* samples summed per matrix product */
+    int batching;                /* 1 while hist, not the ring, holds the last references */
+    int pending, held;           /* samples of the batch in hist; valid lags before it (0..2L) */
+    int batch_segment;           /* the segment the pending samples add to */
+    int ldh;                     /* 2L + batch: the history's leading dimension */
+    okid_real *hist;             /* nref rows of ldh: the 2L reference samples before the batch
+                                    (zeros where none is held), then the batch's, oldest first */
+    okid_real *yblock;           /* m rows of batch: the batch's outputs (NULL when every output is a
+                                    reference: they are hist's rows then) */
 } okid_correlation_sums_;
 
 #endif

@@ -301,12 +301,29 @@
     ((order) > 0 ? OKID__Z(order) : OKID__MIN(OKID__AMB_K(m, nref, L), (unsigned long long)OKID_MAX_ORDER))
 /* Segments kept apart (okid_ambient_config::segments: 0 and 1 are one). */
 #define OKID__AMB_SEGS(segments) ((segments) > 1 ? OKID__Z(segments) : 1u)
+/*
+ * Samples whose correlation products okid_ambient_push_block() sums as one matrix product per lag
+ * (docs/ambient.md, "Batched sums"). LAPACK backend: 256 (the kernels' rate was flat from 64 to
+ * 1024 samples: docs/design.md); Eigen backend (the firmware's): 1, push_block is then push
+ * sample by sample and its workspace holds no batch.
+ */
+#if OKID_LINALG_EIGEN
+#define OKID__AMB_BATCH 1u
+#else
+#define OKID__AMB_BATCH 256u
+#endif
+/* The batch's history (nref x (2L + batch)) and, when some output is no reference, its outputs
+   (m x batch); nothing with a batch of 1. */
+#define OKID__AMB_BATCH_BYTES(m, nref, L)                                                                  \
+    (OKID__AMB_BATCH > 1u ? OKID__RB(OKID__Z(nref) * (2u * OKID__Z(L) + OKID__AMB_BATCH))                   \
+                                + (OKID__Z(nref) < OKID__Z(m) ? OKID__RB(OKID__Z(m) * OKID__AMB_BATCH) : 0u) \
+                          : 0u)
 /* The sums: ring of the last 2L references, S(0..2L) and the pairs per lag of each segment, each
-   output's sum of squares. */
+   output's sum of squares, the batch. */
 #define OKID__AMB_PERSISTENT_BYTES(m, nref, L, segments)                                                \
     (OKID__RB(OKID__Z(nref) * 2u * OKID__Z(L))                                                          \
      + OKID__RB(OKID__AMB_SEGS(segments) * OKID__Z(m) * OKID__Z(nref) * OKID__AMB_BLOCKS(L)) + OKID__RB(m) \
-     + OKID__ALIGN16(8u * OKID__AMB_SEGS(segments) * OKID__AMB_BLOCKS(L)))
+     + OKID__ALIGN16(8u * OKID__AMB_SEGS(segments) * OKID__AMB_BLOCKS(L)) + OKID__AMB_BATCH_BYTES(m, nref, L))
 /* One result set: R(0..2L), singular values, A, G, C, D = R(0), modes and their shapes, the modes'
    two standard deviations. */
 #define OKID__AMB_RESULT_BYTES(m, nref, L, n, mode_bytes)                                                 \

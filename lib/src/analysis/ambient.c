@@ -73,6 +73,13 @@ static uint64_t carve_persistent(int m_, int nref_, int lags_, int n_, int segme
     sums->sums = okid_carve_reals(&c, segs * m * nref * blocks);
     sums->squares = okid_carve_reals(&c, m);
     sums->pairs = (uint64_t *)okid_carve_bytes(&c, 8u * segs * blocks);
+    sums->hist = sums->yblock = NULL;
+    if (OKID__AMB_BATCH > 1u) {
+        sums->hist = okid_carve_reals(&c, nref * (2u * L + OKID__AMB_BATCH));
+        if (nref < m) {
+            sums->yblock = okid_carve_reals(&c, m * OKID__AMB_BATCH);
+        }
+    }
     for (int i = 0; i < 2; ++i) {
         carve_set(&c, m, nref, L, n, &sets[i]);
         sets[i].frequency_std = okid_carve_reals(&c, n);
@@ -300,6 +307,8 @@ okid_status okid_ambient_init(okid_ambient *amb, const okid_ambient_config *cfg,
     }
     s->past.width = nref;
     s->past.depth = s->lags;
+    s->batch = (int)OKID__AMB_BATCH;
+    s->ldh = s->lags + s->batch;
     amb->magic_ = OKID_AMBIENT_MAGIC;
     return okid_ambient_reset(amb);
 }
@@ -327,6 +336,9 @@ okid_status okid_ambient_push(okid_ambient *amb, const okid_real *y)
     if (!ambient_ready(amb)) {
         return OKID_E_NOT_INITIALIZED;
     }
+#if OKID__AMB_BATCH > 1
+    okid_corr_batch_end(&amb->sums_); /* after push_block: its pending samples summed, the ring refilled */
+#endif
     for (int a = 0; a < amb->sums_.m; ++a) {
         if (!okid_is_finite(y[a])) {
             okid_corr_gap(&amb->sums_);
@@ -351,9 +363,32 @@ okid_status okid_ambient_push_block(okid_ambient *amb, size_t count, const okid_
         return OKID_E_BAD_SIZE;
     }
     size_t good = 0;
+    okid_correlation_sums_ *s = &amb->sums_;
+#if OKID__AMB_BATCH == 1
+    (void)s; /* the Eigen backend (the firmware's): count pushes */
     for (size_t t = 0; t < count; ++t) {
         good += okid_ambient_push(amb, y + t * ldy) == OKID_OK;
     }
+#else
+    {
+        /* the same samples, gaps and segments as count pushes; the products summed in batches */
+        okid_corr_batch_begin(s);
+        for (size_t t = 0; t < count; ++t) {
+            const okid_real *yt = y + t * ldy;
+            int finite = 1;
+            for (int a = 0; a < s->m && finite; ++a) {
+                finite = okid_is_finite(yt[a]);
+            }
+            if (finite) {
+                okid_corr_batch_add(s, yt);
+                ++good;
+            } else {
+                okid_corr_batch_gap(s);
+            }
+        }
+        amb->samples_ += good;
+    }
+#endif
     if (accepted != NULL) {
         *accepted = good;
     }

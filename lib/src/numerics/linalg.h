@@ -30,6 +30,14 @@ okid_status okid_la_fold_rows(int n, okid_real *r, int ldr, int nrows, okid_real
 okid_status okid_la_accumulate_rows(int n, okid_real *c, int ldc, int nrows, const okid_real *rows, int ldb);
 
 /*
+ * c (m x n, leading dimension ldc) += a' b for a (k x m, leading dimension lda) and b (k x n,
+ * leading dimension ldb): xGEMM ('T', 'N'). LAPACK backend only (the output correlations' batches;
+ * the Eigen backend sums them sample by sample).
+ */
+okid_status okid_la_add_product_tn(int m, int n, int k, const okid_real *a, int lda, const okid_real *b, int ldb,
+                                   okid_real *c, int ldc);
+
+/*
  * Cholesky factor of the leading q x q block of the symmetric c (n >= q columns, upper triangle,
  * leading dimension ldc), and the block beside it: on return c(0:q, 0:q) is R11 (upper, R11' R11
  * = C11) and c(0:q, q:n) is R12 = R11^-T C12, so that R11' R12 = C12: the [R11 R12] a QR fold of

@@ -135,6 +135,20 @@ okid_status okid_la_accumulate_rows(int n, okid_real *c, int ldc, int nrows, con
     return OKID_OK;
 }
 
+okid_status okid_la_add_product_tn(int m, int n, int k, const okid_real *a, int lda, const okid_real *b, int ldb,
+                                   okid_real *c, int ldc)
+{
+    if (m < 0 || n < 0 || k < 0 || lda < (k > 1 ? k : 1) || ldb < (k > 1 ? k : 1) || ldc < (m > 1 ? m : 1)) {
+        return OKID_E_BACKEND_ARGUMENT;
+    }
+    if (m == 0 || n == 0 || k == 0) {
+        return OKID_OK;
+    }
+    const okid_real one = 1;
+    BLAS(gemm)("T", "N", &m, &n, &k, &one, a, &lda, b, &ldb, &one, c, &ldc, 1, 1);
+    return OKID_OK;
+}
+
 okid_status okid_la_cholesky_rows(int q, int n, okid_real *c, int ldc)
 {
     okid_status st = from_info(LA(potrf)(LAPACK_COL_MAJOR, 'U', q, c, ldc));

@@ -2,9 +2,16 @@
 /* Streaming output correlations: see output_correlation.h. */
 #include "pipeline/output_correlation.h"
 
+#include "okid/sizes.h" /* OKID__AMB_BATCH */
+
 #include "numerics/dense.h"
+#include "numerics/linalg.h"
 #include "numerics/real_math.h"
 #include "pipeline/sample_buffer.h"
+
+/* From this many products per lag (m r_ref) a batch goes to xGEMM (LAPACK backend); below, the
+   register-tiled loop was as fast or faster (docs/design.md, "Batched correlation sums"). */
+#define OKID__CORR_GEMM_MIN 16
 
 /* Reals of one segment's S(0..lags). */
 static size_t segment_reals(const okid_correlation_sums_ *s)
@@ -24,6 +31,8 @@ void okid_corr_clear(okid_correlation_sums_ *s)
         s->pairs[k] = 0;
     }
     s->added = 0;
+    s->batching = s->pending = s->held = 0;
+    s->batch_segment = 0;
     okid_ring_restart(&s->past, 0);
 }
 
@@ -31,6 +40,219 @@ void okid_corr_gap(okid_correlation_sums_ *s)
 {
     okid_ring_restart(&s->past, 0);
 }
+
+/* ---- Batches (okid_corr_batch_*; compiled with the LAPACK backend only: OKID__AMB_BATCH) ---- */
+#if OKID__AMB_BATCH > 1
+
+/* The batch's output a: its own row, or the history's when every output is a reference. */
+static const okid_real *batch_output(const okid_correlation_sums_ *s, int a)
+{
+    return s->yblock != NULL ? s->yblock + (size_t)a * (size_t)s->batch
+                             : s->hist + (size_t)a * (size_t)s->ldh + (size_t)s->lags;
+}
+
+enum { LAG_TILE = 8 }; /* tiled_products() spells its eight sums out */
+
+/*
+ * On x86-64 with GCC or Clang (ELF: the loader's ifunc picks the clone) the loop is also compiled
+ * for AVX2, which holds the eight sums of a lag tile in two registers: 0.74 ms instead of 1.48 ms
+ * for the paper's 40 000 samples (docs/design.md). Each sum still adds its products one by one in
+ * sample order (no FMA: ISO C contracts nothing), so both clones give the same bits.
+ */
+#if defined(__x86_64__) && defined(__GNUC__) && defined(__ELF__)
+#define OKID__CORR_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define OKID__CORR_CLONES
+#endif
+
+/*
+ * out(a, k nref + l) += sum_{i < p} y_a(i) r_l(i - k), k = 0 .. lags, for two outputs y0, y1 (y1
+ * NULL: one) against the reference row rl (rl[i - k], i.e. the history's row at the batch): the
+ * lags in tiles of LAG_TILE held in registers, each a dot product over the batch.
+ */
+OKID__CORR_CLONES static void tiled_products(int m, int nref, int lags, int p, const okid_real *y0, const okid_real *y1,
+                           const okid_real *rl, okid_real *out)
+{
+    const size_t block = (size_t)m * (size_t)nref;
+    int k0 = 0;
+    for (; k0 + LAG_TILE <= lags + 1; k0 += LAG_TILE) {
+        /* c[j] sums lag k0 + LAG_TILE - 1 - j: its factor rl[i - k0 - LAG_TILE + 1 + j] */
+        const okid_real *q = rl - k0 - (LAG_TILE - 1);
+        okid_real c0[LAG_TILE] = {0}, c1[LAG_TILE] = {0};
+        if (y1 != NULL) { /* sixteen scalars: the compilers keep them in registers (an array they did not) */
+            okid_real a0 = 0, a1 = 0, a2 = 0, a3 = 0, a4 = 0, a5 = 0, a6 = 0, a7 = 0;
+            okid_real b0 = 0, b1 = 0, b2 = 0, b3 = 0, b4 = 0, b5 = 0, b6 = 0, b7 = 0;
+            for (int i = 0; i < p; ++i) {
+                const okid_real v0 = y0[i], v1 = y1[i], *qi = q + i;
+                a0 += v0 * qi[0], a1 += v0 * qi[1], a2 += v0 * qi[2], a3 += v0 * qi[3];
+                a4 += v0 * qi[4], a5 += v0 * qi[5], a6 += v0 * qi[6], a7 += v0 * qi[7];
+                b0 += v1 * qi[0], b1 += v1 * qi[1], b2 += v1 * qi[2], b3 += v1 * qi[3];
+                b4 += v1 * qi[4], b5 += v1 * qi[5], b6 += v1 * qi[6], b7 += v1 * qi[7];
+            }
+            c0[0] = a0, c0[1] = a1, c0[2] = a2, c0[3] = a3, c0[4] = a4, c0[5] = a5, c0[6] = a6, c0[7] = a7;
+            c1[0] = b0, c1[1] = b1, c1[2] = b2, c1[3] = b3, c1[4] = b4, c1[5] = b5, c1[6] = b6, c1[7] = b7;
+        } else {
+            for (int i = 0; i < p; ++i) {
+                const okid_real v0 = y0[i], *qi = q + i;
+                for (int j = 0; j < LAG_TILE; ++j) {
+                    c0[j] += v0 * qi[j];
+                }
+            }
+        }
+        for (int j = 0; j < LAG_TILE; ++j) {
+            okid_real *o = out + (size_t)(k0 + LAG_TILE - 1 - j) * block;
+            o[0] += c0[j];
+            if (y1 != NULL) {
+                o[1] += c1[j];
+            }
+        }
+    }
+    for (; k0 <= lags; ++k0) {
+        const okid_real *q = rl - k0;
+        okid_real c0 = 0, c1 = 0;
+        for (int i = 0; i < p; ++i) {
+            c0 += y0[i] * q[i];
+            if (y1 != NULL) {
+                c1 += y1[i] * q[i];
+            }
+        }
+        okid_real *o = out + (size_t)k0 * block;
+        o[0] += c0;
+        if (y1 != NULL) {
+            o[1] += c1;
+        }
+    }
+}
+
+/* out(:, k nref .. k nref + nref - 1) += Y R_k' for the p pending samples, k = 0 .. lags (out: m x
+   nref (lags + 1), leading dimension m). The history's zeros stand for lags held by no sample. */
+static void batch_products(const okid_correlation_sums_ *s, int p, okid_real *out)
+{
+    const int m = s->m, nref = s->nref, lags = s->lags;
+#if !OKID_LINALG_EIGEN
+    if (m * nref > OKID__CORR_GEMM_MIN) {
+        const int ldy = s->yblock != NULL ? s->batch : s->ldh;
+        for (int k = 0; k <= lags; ++k) {
+            (void)okid_la_add_product_tn(m, nref, p, batch_output(s, 0), ldy, s->hist + lags - k, s->ldh,
+                                         out + (size_t)k * (size_t)m * (size_t)nref, m);
+        }
+        return;
+    }
+#endif
+    for (int l = 0; l < nref; ++l) {
+        const okid_real *rl = s->hist + (size_t)l * (size_t)s->ldh + (size_t)lags;
+        int a = 0;
+        for (; a + 2 <= m; a += 2) {
+            tiled_products(m, nref, lags, p, batch_output(s, a), batch_output(s, a + 1), rl, out + (size_t)l * (size_t)m + (size_t)a);
+        }
+        if (a < m) {
+            tiled_products(m, nref, lags, p, batch_output(s, a), NULL, rl, out + (size_t)l * (size_t)m + (size_t)a);
+        }
+    }
+}
+
+/* Sum the pending samples into their segment, count their pairs, move the history on. */
+static void batch_flush(okid_correlation_sums_ *s)
+{
+    const int p = s->pending, lags = s->lags;
+    if (p == 0) {
+        return;
+    }
+    batch_products(s, p, s->sums + (size_t)s->batch_segment * segment_reals(s));
+    uint64_t *pairs = s->pairs + (size_t)s->batch_segment * (size_t)(lags + 1);
+    for (int k = 0; k <= lags; ++k) { /* sample i of the batch pairs at lag k when k <= held + i */
+        const int first = k > s->held ? k - s->held : 0;
+        pairs[k] += p > first ? (uint64_t)(p - first) : 0u;
+    }
+    for (int l = 0; l < s->nref; ++l) { /* the last lags samples become the history */
+        okid_real *row = s->hist + (size_t)l * (size_t)s->ldh;
+        for (int j = 0; j < lags; ++j) {
+            row[j] = row[j + p];
+        }
+    }
+    s->held = s->held + p < lags ? s->held + p : lags;
+    s->pending = 0;
+}
+
+void okid_corr_batch_begin(okid_correlation_sums_ *s)
+{
+    const okid_ring_ *ring = &s->past;
+    if (s->batching) {
+        return; /* the pending samples stay: the batches do not depend on how the record was cut */
+    }
+    s->batching = 1;
+    s->pending = 0;
+    s->held = ring->fill;
+    for (int l = 0; l < s->nref; ++l) {
+        okid_real *row = s->hist + (size_t)l * (size_t)s->ldh;
+        for (int j = 0; j < s->lags; ++j) {
+            row[j] = 0;
+        }
+    }
+    for (int k = 1; k <= ring->fill; ++k) { /* v(t - k) into column lags - k */
+        const okid_real *v = okid_ring_past(ring, k);
+        for (int l = 0; l < s->nref; ++l) {
+            s->hist[(size_t)l * (size_t)s->ldh + (size_t)(s->lags - k)] = v[l];
+        }
+    }
+}
+
+void okid_corr_batch_add(okid_correlation_sums_ *s, const okid_real *y)
+{
+    /* no 64-bit divisions per sample without segments */
+    const int segment = s->segments > 1 ? (int)((s->added / (uint64_t)s->block) % (uint64_t)s->segments) : 0;
+    if (s->pending > 0 && segment != s->batch_segment) {
+        batch_flush(s);
+    }
+    s->batch_segment = segment;
+    const size_t i = (size_t)s->pending;
+    for (int l = 0; l < s->nref; ++l) {
+        s->hist[(size_t)l * (size_t)s->ldh + (size_t)s->lags + i] = y[s->refs[l]];
+    }
+    if (s->yblock != NULL) {
+        for (int a = 0; a < s->m; ++a) {
+            s->yblock[(size_t)a * (size_t)s->batch + i] = y[a];
+        }
+    }
+    for (int a = 0; a < s->m; ++a) {
+        s->squares[a] += y[a] * y[a];
+    }
+    ++s->added;
+    if (++s->pending == s->batch) {
+        batch_flush(s);
+    }
+}
+
+void okid_corr_batch_gap(okid_correlation_sums_ *s)
+{
+    batch_flush(s);
+    for (int l = 0; l < s->nref; ++l) {
+        okid_real *row = s->hist + (size_t)l * (size_t)s->ldh;
+        for (int j = 0; j < s->lags; ++j) {
+            row[j] = 0;
+        }
+    }
+    s->held = 0;
+}
+
+void okid_corr_batch_end(okid_correlation_sums_ *s)
+{
+    if (!s->batching) {
+        return;
+    }
+    s->batching = 0;
+    batch_flush(s);
+    okid_ring_restart(&s->past, 0);
+    okid_real ref[OKID_MAX_DIMENSION];
+    for (int j = s->lags - s->held; j < s->lags; ++j) { /* oldest first, as okid_corr_add() appended them */
+        for (int l = 0; l < s->nref; ++l) {
+            ref[l] = s->hist[(size_t)l * (size_t)s->ldh + (size_t)j];
+        }
+        okid_ring_append(&s->past, ref, s->nref, NULL, 0);
+    }
+}
+
+#endif /* OKID__AMB_BATCH > 1 */
 
 /* S(k) += y ref' for one block k (m x nref at column k nref) of the sums at base. */
 static void add_outer(const okid_correlation_sums_ *s, okid_real *base, int k, const okid_real *y, const okid_real *ref)
@@ -76,12 +298,27 @@ void okid_corr_add(okid_correlation_sums_ *s, const okid_real *y)
     okid_ring_append(&s->past, ref, s->nref, NULL, 0);
 }
 
+/* Pairs of the pending samples at lag k (none unless segment is theirs or -1). */
+static uint64_t pending_pairs(const okid_correlation_sums_ *s, int segment, int k)
+{
+#if OKID__AMB_BATCH > 1
+    if (s->pending == 0 || (segment >= 0 && segment != s->batch_segment)) {
+        return 0;
+    }
+    const int first = k > s->held ? k - s->held : 0;
+    return s->pending > first ? (uint64_t)(s->pending - first) : 0u;
+#else
+    (void)s, (void)segment, (void)k; /* no batch: nothing pending (the firmware's code as before) */
+    return 0;
+#endif
+}
+
 uint64_t okid_corr_pairs(const okid_correlation_sums_ *s, int segment, int k)
 {
     if (segment >= 0) {
-        return s->pairs[(size_t)segment * (size_t)(s->lags + 1) + (size_t)k];
+        return s->pairs[(size_t)segment * (size_t)(s->lags + 1) + (size_t)k] + pending_pairs(s, segment, k);
     }
-    uint64_t total = 0;
+    uint64_t total = pending_pairs(s, -1, k);
     for (int j = 0; j < s->segments; ++j) {
         total += s->pairs[(size_t)j * (size_t)(s->lags + 1) + (size_t)k];
     }
@@ -92,11 +329,19 @@ void okid_corr_estimate(const okid_correlation_sums_ *s, int segment, okid_real 
 {
     const size_t block = (size_t)s->nref * (size_t)s->m, reals = segment_reals(s);
     const int first = segment >= 0 ? segment : 0, last = segment >= 0 ? segment : s->segments - 1;
+    /* the pending samples' products first, into r (the sums are not changed) */
+    const int pending = pending_pairs(s, segment, 0) > 0;
+#if OKID__AMB_BATCH > 1
+    if (pending) {
+        okid_zero_matrix(s->m, s->nref * (s->lags + 1), r, s->m);
+        batch_products(s, s->pending, r);
+    }
+#endif
     for (int k = 0; k <= s->lags; ++k) {
         const uint64_t pairs = okid_corr_pairs(s, segment, k);
         const okid_real inv = pairs > 0 ? 1 / (okid_real)pairs : 0;
         for (size_t i = (size_t)k * block; i < (size_t)(k + 1) * block; ++i) {
-            okid_real sum = s->sums[(size_t)first * reals + i];
+            okid_real sum = pending ? r[i] + s->sums[(size_t)first * reals + i] : s->sums[(size_t)first * reals + i];
             for (int j = first + 1; j <= last; ++j) {
                 sum += s->sums[(size_t)j * reals + i];
             }

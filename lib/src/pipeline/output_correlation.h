@@ -21,6 +21,22 @@ void okid_corr_gap(okid_correlation_sums_ *s);
 /* Add the products of y(t) (m finite values) with itself and the ring's references, then ring it. */
 void okid_corr_add(okid_correlation_sums_ *s, const okid_real *y);
 
+/*
+ * Batches (okid_ambient_push_block(), s->batch > 1): begin copies the ring into the history (once:
+ * while batching, pending samples wait for the next call); add takes one finite sample (its square,
+ * its count and its segment as okid_corr_add()) and sums the products of a full batch, or of the
+ * pending samples before the segment changes, as one matrix product per lag (xGEMM with the LAPACK
+ * backend when m r_ref > OKID__CORR_GEMM_MIN, else a register-tiled loop); gap sums the pending
+ * samples and empties the history; end (okid_ambient_push(), before its sample) sums them and
+ * leaves the ring as okid_corr_add() would have. okid_corr_pairs() and okid_corr_estimate() count
+ * the pending samples without summing them into the state. The same pairs as okid_corr_add()
+ * sample by sample; the sums equal theirs to round-off (docs/ambient.md, "Batched sums").
+ */
+void okid_corr_batch_begin(okid_correlation_sums_ *s);
+void okid_corr_batch_add(okid_correlation_sums_ *s, const okid_real *y);
+void okid_corr_batch_gap(okid_correlation_sums_ *s);
+void okid_corr_batch_end(okid_correlation_sums_ *s);
+
 /* R(k) = S(k) / pairs(k), k = 0 .. lags, of one segment (0 .. segments - 1) or, with segment -1, of
    the whole record, into r (m x nref (lags + 1), leading dimension m); 0 where a lag has no pair. */
 void okid_corr_estimate(const okid_correlation_sums_ *s, int segment, okid_real *r);
