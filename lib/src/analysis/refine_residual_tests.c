@@ -69,19 +69,28 @@ void okid_refine_tests_sample(okid_refiner *rf, const okid_real *e, const okid_r
     }
     /* the input ring: u(k) at u_pos_ once stored, u(k-1) before it, ...; lag 0 is this sample.
        Like the residual's, its lags count used samples (a gap in the outputs is skipped). */
-    rf->u_pos_ = rf->u_pos_ + 1 == lags ? 0 : rf->u_pos_ + 1;
+    const int pos = rf->u_pos_ = rf->u_pos_ + 1 == lags ? 0 : rf->u_pos_ + 1;
     for (int j = 0; j < r; ++j) {
-        const okid_real *ring = rf->u_ring_ + (size_t)j * (size_t)lags;
-        rf->u_ring_[(size_t)j * (size_t)lags + (size_t)rf->u_pos_] = u[j];
+        okid_real *ring = rf->u_ring_ + (size_t)j * (size_t)lags;
+        ring[pos] = u[j];
+        /* lag l is ring[pos - l] for l <= pos, ring[lags + pos - l] after the wrap: two plain loops */
+        const okid_real *wrap = ring + lags + pos;
         okid_real *uacf = rf->uacf_ + (size_t)j * (size_t)lags;
-        int pos = rf->u_pos_;
-        for (int l = 0; l < lags; ++l) {
-            const okid_real past = ring[pos];
-            uacf[l] += u[j] * past;
-            for (int i = 0; i < m; ++i) {
-                rf->ccf_[((size_t)i + (size_t)m * (size_t)j) * (size_t)lags + (size_t)l] += e[i] * past;
+        for (int l = 0; l <= pos; ++l) {
+            uacf[l] += u[j] * ring[pos - l];
+        }
+        for (int l = pos + 1; l < lags; ++l) {
+            uacf[l] += u[j] * wrap[-l];
+        }
+        okid_real *ccf = rf->ccf_ + (size_t)m * (size_t)j * (size_t)lags;
+        for (int i = 0; i < m; ++i, ccf += lags) {
+            const okid_real ei = e[i];
+            for (int l = 0; l <= pos; ++l) {
+                ccf[l] += ei * ring[pos - l];
             }
-            pos = pos == 0 ? lags - 1 : pos - 1;
+            for (int l = pos + 1; l < lags; ++l) {
+                ccf[l] += ei * wrap[-l];
+            }
         }
         rf->usum_[j] += u[j];
     }
