@@ -11,6 +11,7 @@ exact modes (`okid crlb` prints them), and how often the residual warnings fired
 
     .venv/bin/python scripts/refine_coverage.py --case unmeasured --records 50
     .venv/bin/python scripts/refine_coverage.py --case white --records 200      # false alarms
+    .venv/bin/python scripts/refine_coverage.py --case white --records 50 --order 2  # a mode missed
     .venv/bin/python scripts/refine_coverage.py --case unmeasured --records 50 --refine-model innovation --max-passes 100
 """
 from __future__ import annotations
@@ -69,6 +70,7 @@ def parse(argv=None):
     ap.add_argument("--unmeasured", type=float, default=0.3)
     ap.add_argument("--refine-model", choices=["output_error", "innovation", "auto"], default="output_error")
     ap.add_argument("--max-passes", type=int, default=100)  # okid_refine_config_default()
+    ap.add_argument("--order", type=int, default=4, help="model order refined (2: too low, one mode missed)")
     return ap.parse_args(argv)
 
 
@@ -77,14 +79,15 @@ def study(args):
     arrays of f1, f2, zeta1, zeta2, the warning counts and the outputs flagged not white."""
     truth = exact_modes(args)
     err, sig, flags = [], [], {"not_white": 0, "not_explained": 0, "sandwich": 0, "converged": 0,
-                                "passes": [], "records": 0, "chose_innovation": 0}
+                                "passes": [], "records": 0, "chose_innovation": 0, "input_correlated": 0,
+                                "input_correlated_outputs": np.zeros(2, dtype=int), "reasons": {}}
     outputs_flagged = np.zeros(2, dtype=int)
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "record.csv")
         for k in range(args.records):
             header, data = record(args, k)
             np.savetxt(path, data, delimiter=",", header=",".join(header), comments="", fmt="%.17g")
-            run = subprocess.run([OKID, "identify", "--order", "4", "--refine", "--refine-model", args.refine_model,
+            run = subprocess.run([OKID, "identify", "--order", str(args.order), "--refine", "--refine-model", args.refine_model,
                                   "--max-passes", str(args.max_passes), "--json", path], capture_output=True, text=True)
             if run.returncode != 0:
                 print(f"record {k}: exit {run.returncode}: {run.stderr.strip()}", file=sys.stderr)
@@ -93,14 +96,24 @@ def study(args):
             flags["records"] += 1
             flags["passes"].append(d["refinement"]["passes"])
             flags["chose_innovation"] += d.get("refine_model_choice", {}).get("chosen") == "innovation"
+            reason = d.get("refine_model_choice", {}).get("reason")
+            if reason:
+                flags["reasons"][reason] = flags["reasons"].get(reason, 0) + 1
+            tests = d["refinement"]["residual_tests"]["outputs"]
+            # OKID_W_RESIDUAL_INPUT_CORRELATED (1 << 13): counted before the modes, which order 2 lacks
+            flags["input_correlated"] += bool(d["warning_bits"] & (1 << 13))
+            flags["input_correlated_outputs"] += [bool(o["warning_bits"] & (1 << 13)) for o in tests]
             pairs = [m for m in d["modes"] if m["is_pair"]][:2]
             if len(pairs) < 2:
+                flags["not_white"] += bool(d["warning_bits"] & (1 << 9))
+                flags["not_explained"] += bool(d["warning_bits"] & (1 << 10))
+                flags["converged"] += d["refinement"]["state"] == "converged"
+                outputs_flagged += [not o["white"] for o in tests]
                 continue
             got = np.array([[m["frequency_hz"] for m in pairs], [m["damping_ratio"] for m in pairs]])
             sd = np.array([[m["frequency_std"] for m in pairs], [m["damping_std"] for m in pairs]])
             err.append((got - truth).ravel())
             sig.append(sd.ravel())
-            tests = d["refinement"]["residual_tests"]["outputs"]
             outputs_flagged += [not o["white"] for o in tests]
             flags["not_white"] += bool(d["warning_bits"] & (1 << 9))
             flags["not_explained"] += bool(d["warning_bits"] & (1 << 10))
@@ -118,9 +131,14 @@ def main():
           + (f", unmeasured force {args.unmeasured:g}" if args.case == "unmeasured" else ""))
     print(f"  converged {flags['converged']}, residual not white {flags['not_white']} (per output "
           f"{outputs_flagged.tolist()}), output not explained {flags['not_explained']}, sandwich stds {flags['sandwich']}")
+    print(f"  residual correlated with the input {flags['input_correlated']} (per output "
+          f"{flags['input_correlated_outputs'].tolist()})")
     if args.refine_model == "auto":
-        print(f"  refine_model auto chose the innovation form in {flags['chose_innovation']} of {flags['records']}")
+        print(f"  refine_model auto chose the innovation form in {flags['chose_innovation']} of {flags['records']}"
+              f" (reasons {flags['reasons']})")
     print(f"  passes: median {np.median(flags['passes']):g}, largest {max(flags['passes'])} (max_passes {args.max_passes})")
+    if n == 0:
+        return
     print("  quantity  rms error   rms sigma   error/sigma  +-2 sigma coverage")
     for q, name in enumerate(["f1", "f2", "zeta1", "zeta2"]):
         rms_e, rms_s = np.sqrt(np.mean(err[:, q] ** 2)), np.sqrt(np.mean(sig[:, q] ** 2))

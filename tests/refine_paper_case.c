@@ -41,11 +41,18 @@ void paper_record(double dt, size_t count, uint64_t seed, double unmeasured, dou
 okid_refine_state paper_identify_and_refine(refine_run *rn, double dt, size_t count, const okid_real *u,
                                             const okid_real *y, okid_refine_model model, int combined)
 {
+    return paper_identify_and_refine_with(rn, dt, count, u, y, model, combined, PAPER_STATES, 0, 1);
+}
+
+okid_refine_state paper_identify_and_refine_with(refine_run *rn, double dt, size_t count, const okid_real *u,
+                                                 const okid_real *y, okid_refine_model model, int combined, int order,
+                                                 int max_passes, double d_scale)
+{
     okid_config cfg;
     okid_config_default(&cfg, 1, PAPER_OUTPUTS);
     cfg.dt = (okid_real)dt;
     cfg.observer_order = 20;
-    cfg.order = PAPER_STATES;
+    cfg.order = order;
     cfg.hankel_rows = cfg.hankel_cols = 20;
     if (combined) {
         cfg.realization = OKID_REALIZATION_COMBINED;
@@ -58,10 +65,18 @@ okid_refine_state paper_identify_and_refine(refine_run *rn, double dt, size_t co
     okid_refine_config rc;
     okid_refine_config_default(&rc);
     rc.refine_model = model;
+    if (max_passes > 0) {
+        rc.max_passes = max_passes;
+    }
+    for (int j = 0; j < PAPER_OUTPUTS; ++j) { /* the start's D scaled: a wrong D when d_scale != 1 */
+        rn->d_start[j] = rn->start.D.data[j] * (okid_real)d_scale;
+    }
+    rn->start.D.data = rn->d_start;
+    rn->start.D.ld = PAPER_OUTPUTS;
     /* the innovation form took 18-30 passes on these records (a non-convex start, then the tail
        of one-pass-late weights): the default max_passes (100) leaves room for round-off to add a few */
-    assert_int_equal(okid_refine_model_workspace_size(model, PAPER_STATES, 1, PAPER_OUTPUTS, &bytes), OKID_OK);
-    assert_int_equal(bytes, OKID_REFINE_MODEL_WORKSPACE_BYTES(model, PAPER_STATES, 1, PAPER_OUTPUTS));
+    assert_int_equal(okid_refine_model_workspace_size(model, order, 1, PAPER_OUTPUTS, &bytes), OKID_OK);
+    assert_int_equal(bytes, OKID_REFINE_MODEL_WORKSPACE_BYTES(model, order, 1, PAPER_OUTPUTS));
     rn->rf_ws = aligned_alloc(OKID_WORKSPACE_ALIGN, bytes);
     assert_non_null(rn->rf_ws);
     assert_int_equal(okid_refine_init(&rn->rf, &rc, &rn->start, OKID_SENSING_ACCELERATION, rn->rf_ws, bytes, NULL),

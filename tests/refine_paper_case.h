@@ -18,6 +18,7 @@ typedef struct refine_run {
     okid_refiner rf;
     okid_refine_result out;
     okid_status init_status; /* test_refine's okid_refine_init() */
+    okid_real d_start[PAPER_OUTPUTS]; /* the start's D as refined (paper_identify_and_refine_with) */
 } refine_run;
 
 /*
@@ -34,6 +35,14 @@ void paper_record(double dt, size_t count, uint64_t seed, double unmeasured, dou
  */
 okid_refine_state paper_identify_and_refine(refine_run *rn, double dt, size_t count, const okid_real *u,
                                             const okid_real *y, okid_refine_model model, int combined);
+
+/*
+ * The same at another order, with max_passes (0: the default) and the start model's D multiplied
+ * by d_scale before the refinement starts (1: as identified).
+ */
+okid_refine_state paper_identify_and_refine_with(refine_run *rn, double dt, size_t count, const okid_real *u,
+                                                 const okid_real *y, okid_refine_model model, int combined, int order,
+                                                 int max_passes, double d_scale);
 
 void refine_run_free(refine_run *rn);
 

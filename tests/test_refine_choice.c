@@ -2,7 +2,8 @@
 /*
  * refine_model = auto's choice (host_tools/common/refine_choice.h) on hand-made refinement results:
  * every branch, and the 3-sigma agreement rule at differences of 2.83 and 3.54 combined standard
- * deviations (0.4 and 0.5 Hz against two stds of 0.1 Hz: sqrt(0.1^2 + 0.1^2) = 0.1414).
+ * deviations (0.4 and 0.5 Hz against two stds of 0.1 Hz: sqrt(0.1^2 + 0.1^2) = 0.1414), and an
+ * innovation form whose white residual is correlated with the input (output error stays).
  */
 #include <math.h>
 #include <setjmp.h>
@@ -23,6 +24,7 @@ typedef struct fake {
     okid_mode_std std[2];
     unsigned out_warn[M];
     okid_real whiteness[M];
+    okid_real input_correlation[M]; /* one input: [i + M * 0] */
 } fake;
 
 /* A converged result with two pairs at f Hz (std sf) and 1.0 + f Hz, damping 0.02 (std 0.001). */
@@ -45,6 +47,10 @@ static void make(fake *f, okid_real freq, okid_real sf, unsigned warn_output2)
     f->r.mode_std = f->std;
     f->r.output_warnings = f->out_warn;
     f->r.whiteness = f->whiteness;
+    f->input_correlation[0] = 1;
+    f->input_correlation[1] = (warn_output2 & OKID_W_RESIDUAL_INPUT_CORRELATED) ? 9 : 2;
+    f->r.input_correlation = f->input_correlation;
+    f->r.B.cols = 1;
     f->r.warnings = warn_output2;
 }
 
@@ -86,6 +92,21 @@ static void test_branches(void **state)
     assert_int_equal(c.chosen, OKID_REFINE_INNOVATION);
     assert_int_equal(c.reason, REFINE_CHOICE_INNOVATION);
     assert_non_null(strstr(c.detail, "2.83"));
+    /* white, agrees, but output 2's residual correlated with the input (statistic 9 above 4.06):
+       the innovation form misses dynamics that output error's would too; output error stays */
+    make(&inn, (okid_real)1.4, (okid_real)0.1, OKID_W_RESIDUAL_INPUT_CORRELATED);
+    refine_choose(&oe.r, &inn.r, M, &c);
+    assert_int_equal(c.chosen, OKID_REFINE_OUTPUT_ERROR);
+    assert_int_equal(c.reason, REFINE_CHOICE_INPUT_CORRELATED);
+    assert_non_null(strstr(c.detail, "output 2, input 1, statistic 9"));
+    assert_string_equal(refine_choice_reason_name(REFINE_CHOICE_INPUT_CORRELATED), "innovation_input_correlated");
+    /* output error white but correlated with the input: it stays (the innovation form has the same
+       deterministic part), not run */
+    make(&oe, 1, (okid_real)0.1, OKID_W_RESIDUAL_INPUT_CORRELATED);
+    assert_false(refine_choice_needs_innovation(&oe.r));
+    refine_choose(&oe.r, NULL, M, &c);
+    assert_int_equal(c.reason, REFINE_CHOICE_WHITE);
+    make(&oe, 1, (okid_real)0.1, OKID_W_RESIDUAL_NOT_WHITE);
     /* 3.54 combined sigma apart: output error stays */
     make(&inn, (okid_real)1.5, (okid_real)0.1, 0);
     refine_choose(&oe.r, &inn.r, M, &c);

@@ -202,7 +202,7 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
             return cli_error(EXIT_DATA, "stabilization failed: %s", okid_status_str(s));
         }
     }
-    if (refined != NULL) warn_residual_tests(refined, cfg->num_outputs, cc->output_names);
+    if (refined != NULL) warn_residual_tests(refined, cfg->num_outputs, cc->output_names, cc->input_names);
     if (o->json) {
         if (refined != NULL) { /* the refined model is the result; OKID/ERA's is its "start" */
             json_result_header(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
@@ -245,7 +245,7 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
         }
         if (stab_ws != NULL && st.num_orders > 0) print_stabilization(&st);
         if (refined != NULL && search->count > 0) print_start_search(search);
-        if (refined != NULL) print_refinement(refined, cfg->num_outputs, cc->output_names);
+        if (refined != NULL) print_refinement(refined, cfg->num_outputs, cc->output_names, cc->input_names);
         if (o->refine_choice != NULL) {
             printf("refine_model auto: %s (%s)\n", okid_refine_model_str(o->refine_choice->chosen),
                    o->refine_choice->detail);

@@ -111,8 +111,10 @@ void print_start_search(const start_search *search)
     }
 }
 
-void warn_residual_tests(const okid_refine_result *rr, int m, const char *const *output_names)
+void warn_residual_tests(const okid_refine_result *rr, int m, const char *const *output_names,
+                         const char *const *input_names)
 {
+    const int r = rr->B.cols;
     for (int i = 0; i < m; ++i) {
         const unsigned w = rr->output_warnings[i];
         char name[64];
@@ -124,6 +126,18 @@ void warn_residual_tests(const okid_refine_result *rr, int m, const char *const 
                     "an order; the stds are the sandwich ones\n", label, (double)rr->whiteness[i],
                     OKID_REFINE_WHITENESS_BOUND, (double)rr->max_autocorrelation[i], (double)rr->autocorrelation_band);
         }
+        for (int j = 0; (w & OKID_W_RESIDUAL_INPUT_CORRELATED) && j < r; ++j) {
+            const size_t at = (size_t)i + (size_t)m * (size_t)j;
+            if (!(rr->input_correlation[at] > (okid_real)OKID_REFINE_INPUT_CORRELATION_BOUND)) continue;
+            char iname[64];
+            snprintf(iname, sizeof iname, "%d", j + 1);
+            fprintf(stderr, "okid: warning: output %s: the refined residual is correlated with input %s (cross-correlation "
+                    "up to %.3g against the band %.3g over lags 0..%d, statistic %.3g above %.4g): the model misses "
+                    "some of the input's dynamics (too low an order, a wrong D)\n", label,
+                    input_names != NULL ? input_names[j] : iname, (double)rr->max_input_correlation[at],
+                    (double)rr->input_correlation_band[at], OKID_REFINE_LAGS - 1, (double)rr->input_correlation[at],
+                    OKID_REFINE_INPUT_CORRELATION_BOUND);
+        }
         if (w & OKID_W_OUTPUT_NOT_EXPLAINED) {
             fprintf(stderr, "okid: warning: output %s: the refined model explains %.3g %% of it (below %.3g %%): a drift, "
                     "an offset, a force nobody measured or a sensor the model does not describe\n", label,
@@ -132,8 +146,10 @@ void warn_residual_tests(const okid_refine_result *rr, int m, const char *const 
     }
 }
 
-void print_refinement(const okid_refine_result *rr, int m, const char *const *output_names)
+void print_refinement(const okid_refine_result *rr, int m, const char *const *output_names,
+                      const char *const *input_names)
 {
+    const int r = rr->B.cols;
     printf("\nrefinement (prediction error, %s, %d parameters): %s after %d passes, %d steps\n",
            rr->refine_model == OKID_REFINE_INNOVATION ? "innovation form" : "output error", rr->num_parameters,
            okid_refine_state_str(rr->state), rr->passes, rr->iterations);
@@ -151,6 +167,18 @@ void print_refinement(const okid_refine_result *rr, int m, const char *const *ou
                output_names != NULL ? output_names[i] : "", (double)rr->whiteness[i],
                (double)rr->max_autocorrelation[i], (double)rr->fit_percent[i],
                rr->output_warnings[i] & OKID_W_RESIDUAL_NOT_WHITE ? "NOT white" : "white");
+    }
+    printf("input-residual cross-correlation (lags 0..%d; statistic max |rho| sqrt(N/v), uncorrelated below %.4g):\n",
+           OKID_REFINE_LAGS - 1, OKID_REFINE_INPUT_CORRELATION_BOUND);
+    for (int i = 0; i < m; ++i) {
+        for (int j = 0; j < r; ++j) {
+            const size_t at = (size_t)i + (size_t)m * (size_t)j;
+            printf("  output %-12s  input %-12s  statistic %-8.3g  max |rho| %-8.3g  band %-8.3g  %s\n",
+                   output_names != NULL ? output_names[i] : "", input_names != NULL ? input_names[j] : "",
+                   (double)rr->input_correlation[at], (double)rr->max_input_correlation[at],
+                   (double)rr->input_correlation_band[at],
+                   rr->input_correlation[at] > (okid_real)OKID_REFINE_INPUT_CORRELATION_BOUND ? "CORRELATED" : "uncorrelated");
+        }
     }
     printf("standard deviations from the %s covariance\n",
            rr->covariance == OKID_REFINE_COVARIANCE_SANDWICH ? "sandwich (residual not white)" : "Fisher");

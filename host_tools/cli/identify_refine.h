@@ -27,8 +27,11 @@ void identify_choose_start(const identify_options *o, okid_config *cfg, size_t n
 
 /* The table's parts: the starts tried (their JSON: json_start_search), and the refined modes with their std. */
 void print_start_search(const start_search *search);
-void print_refinement(const okid_refine_result *rr, int m, const char *const *output_names);
-/* One line on stderr per failed residual test, naming the output (output_names may be NULL). */
-void warn_residual_tests(const okid_refine_result *rr, int m, const char *const *output_names);
+void print_refinement(const okid_refine_result *rr, int m, const char *const *output_names,
+                      const char *const *input_names);
+/* One line on stderr per failed residual test, naming the output (and the input of a failed
+   cross-correlation test; the names may be NULL). */
+void warn_residual_tests(const okid_refine_result *rr, int m, const char *const *output_names,
+                         const char *const *input_names);
 
 #endif

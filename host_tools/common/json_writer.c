@@ -430,7 +430,10 @@ static void json_residual_tests(FILE *out, const okid_refine_result *res, int m)
     json_number(out, OKID_REFINE_WHITENESS_BOUND);
     fputs(", \"autocorrelation_band\": ", out);
     json_number(out, (double)res->autocorrelation_band);
+    fputs(", \"input_correlation_bound\": ", out);
+    json_number(out, OKID_REFINE_INPUT_CORRELATION_BOUND);
     fputs(", \"outputs\": [", out);
+    const int r = res->B.cols;
     for (int i = 0; i < m; ++i) {
         fprintf(out, "%s{\"whiteness\": ", i ? ", " : "");
         json_number(out, (double)res->whiteness[i]);
@@ -438,6 +441,16 @@ static void json_residual_tests(FILE *out, const okid_refine_result *res, int m)
         json_number(out, (double)res->max_autocorrelation[i]);
         fputs(", \"fit_percent\": ", out);
         json_number(out, (double)res->fit_percent[i]);
+        const char *keys[3] = {"input_correlation", "max_input_correlation", "input_correlation_band"};
+        const okid_real *vals[3] = {res->input_correlation, res->max_input_correlation, res->input_correlation_band};
+        for (int k = 0; k < 3; ++k) { /* one value per input */
+            fprintf(out, ", \"%s\": [", keys[k]);
+            for (int j = 0; j < r; ++j) {
+                if (j) fputs(", ", out);
+                json_number(out, (double)vals[k][(size_t)i + (size_t)m * (size_t)j]);
+            }
+            fputc(']', out);
+        }
         fprintf(out, ", \"white\": %s, \"warning_bits\": %u, \"warnings\": ",
                 res->output_warnings[i] & OKID_W_RESIDUAL_NOT_WHITE ? "false" : "true", res->output_warnings[i]);
         json_warnings(out, res->output_warnings[i]);

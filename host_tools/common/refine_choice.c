@@ -13,6 +13,24 @@ static int first_not_white(const okid_refine_result *rr, int m)
     return -1;
 }
 
+/* The first output whose residual is correlated with an input (its first such input in *input), -1 if none. */
+static int first_input_correlated(const okid_refine_result *rr, int m, int *input)
+{
+    const int r = rr->B.cols;
+    for (int i = 0; i < m; ++i) {
+        if (!(rr->output_warnings[i] & OKID_W_RESIDUAL_INPUT_CORRELATED)) continue;
+        *input = 0;
+        for (int j = 0; j < r; ++j) {
+            if (rr->input_correlation[(size_t)i + (size_t)m * (size_t)j] > (okid_real)OKID_REFINE_INPUT_CORRELATION_BOUND) {
+                *input = j;
+                break;
+            }
+        }
+        return i;
+    }
+    return -1;
+}
+
 int refine_choice_needs_innovation(const okid_refine_result *oe)
 {
     return oe->state != OKID_REFINE_DIVERGED && (oe->warnings & OKID_W_RESIDUAL_NOT_WHITE) != 0;
@@ -75,6 +93,17 @@ void refine_choose(const okid_refine_result *oe, const okid_refine_result *inn, 
                  (double)inn->whiteness[inn_bad]);
         return;
     }
+    int inn_input = 0;
+    const int inn_corr = first_input_correlated(inn, m, &inn_input);
+    if (inn_corr >= 0) {
+        c->reason = REFINE_CHOICE_INPUT_CORRELATED;
+        snprintf(c->detail, sizeof c->detail, "output error's residual is not white (output %d); the innovation "
+                 "form's is white but correlated with an input (output %d, input %d, statistic %.3g): it misses some "
+                 "of the input's dynamics; output error kept, with its sandwich stds", oe_bad + 1, inn_corr + 1,
+                 inn_input + 1,
+                 (double)inn->input_correlation[(size_t)inn_corr + (size_t)m * (size_t)inn_input]);
+        return;
+    }
     int worst = 0;
     const double apart = modes_apart(oe, inn, &worst);
     if (!(apart <= REFINE_CHOICE_SIGMAS)) {
@@ -95,7 +124,7 @@ void refine_choose(const okid_refine_result *oe, const okid_refine_result *inn, 
     c->chosen = OKID_REFINE_INNOVATION;
     c->reason = REFINE_CHOICE_INNOVATION;
     snprintf(c->detail, sizeof c->detail, "output error's residual is not white (output %d); the innovation form "
-             "converged, its residuals are white and its modes agree with output error's within %.3g combined "
+             "converged, its residuals are white and uncorrelated with the inputs and its modes agree with output error's within %.3g combined "
              "standard deviations: a force nobody measured", oe_bad + 1, apart);
 }
 
@@ -108,6 +137,7 @@ const char *refine_choice_reason_name(refine_choice_reason reason)
     case REFINE_CHOICE_NOT_CONVERGED: return "innovation_not_converged";
     case REFINE_CHOICE_STILL_NOT_WHITE: return "innovation_not_white";
     case REFINE_CHOICE_MODES_DIFFER: return "modes_differ";
+    case REFINE_CHOICE_INPUT_CORRELATED: return "innovation_input_correlated";
     }
     return "unknown";
 }

@@ -2,7 +2,9 @@
 /*
  * refine_model = auto (docs/refinement.md, "Choosing the model from the residual test"): output
  * error first; only when its residual is not white the innovation form, which is kept only when
- * it converged, its residual is white on every output and its modes agree with output error's
+ * it converged, its residual is white on every output and uncorrelated with every input
+ * (OKID_W_RESIDUAL_INPUT_CORRELATED: the same deterministic part cannot whiten what it misses of
+ * the input's dynamics) and its modes agree with output error's
  * within REFINE_CHOICE_SIGMAS combined standard deviations. Otherwise output error stays, with its
  * residual warning (a drift, too low an order): never a success that hides a failed test.
  */
@@ -25,7 +27,8 @@ typedef enum refine_choice_reason {
     REFINE_CHOICE_OE_DIVERGED,        /* output error diverged: nothing to compare (output error) */
     REFINE_CHOICE_NOT_CONVERGED,      /* the innovation form did not converge (output error) */
     REFINE_CHOICE_STILL_NOT_WHITE,    /* the innovation form's residual is not white either (output error) */
-    REFINE_CHOICE_MODES_DIFFER        /* the two models' modes disagree (output error) */
+    REFINE_CHOICE_MODES_DIFFER,       /* the two models' modes disagree (output error) */
+    REFINE_CHOICE_INPUT_CORRELATED    /* the innovation form's residual is correlated with an input (output error) */
 } refine_choice_reason;
 
 typedef struct refine_choice {

@@ -39,6 +39,7 @@ const char *okid_warning_str(unsigned warning_bit)
     case OKID_W_RESIDUAL_NOT_WHITE: return "a refined output's residual is not white (an unmeasured force, a drift or too low an order): its stds are the sandwich ones";
     case OKID_W_OUTPUT_NOT_EXPLAINED: return "the refined model explains less than half of an output (fit below 50 %: a drift, an offset, an unmodelled sensor)";
     case OKID_W_CORRELATION_FALLBACK: return "the correlation estimator's Cholesky guard refused: identified again with the QR fold";
+    case OKID_W_RESIDUAL_INPUT_CORRELATED: return "a refined output's residual is correlated with an input (the model misses some of the input's dynamics: too low an order, a wrong D)";
     case OKID_W_NO_OUTPUT_EXPLAINED: return "the model explains less than half of every output (fit below 50 %: pure noise, or an input that does not drive the outputs)";
     default: return "unknown warning";
     }

@@ -28,6 +28,7 @@ class WarningFlag(enum.IntFlag):
     OUTPUT_NOT_EXPLAINED = 1 << 10
     CORRELATION_FALLBACK = 1 << 11  #: set by okid.identify() and the CLI only (estimator="correlation")
     NO_OUTPUT_EXPLAINED = 1 << 12  #: set by okid.identify() and the CLI only: every output's fit_percent below 50
+    RESIDUAL_INPUT_CORRELATED = 1 << 13  #: a refined output's residual is correlated with an input
 
     def describe(self) -> Tuple[str, ...]:
         """The library's sentence for each bit set."""

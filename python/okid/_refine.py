@@ -80,7 +80,13 @@ class Refinement(_ModeArrays, StateSpaceModel, Travelling):
     whiteness: np.ndarray           #: (m,) Ljung-Box Q of each output's residual over 20 lags (white below 45.3)
     max_autocorrelation: np.ndarray #: (m,) largest |normalised autocorrelation| of each residual, lags 1..20
     fit_percent: np.ndarray         #: (m,) 100 (1 - |e| / |y - mean y|) of each output [%]
-    output_warnings: Tuple[WarningFlag, ...]  #: (m,) RESIDUAL_NOT_WHITE / OUTPUT_NOT_EXPLAINED of each output
+    #: (m, r) the input-residual cross-correlation statistic of each (output, input) pair:
+    #: max |rho(l)| sqrt(N / v) over lags 0..19 (uncorrelated below 4.0556; -1: not computable)
+    input_correlation: np.ndarray
+    max_input_correlation: np.ndarray   #: (m, r) largest |normalised cross-correlation|, lags 0..19
+    input_correlation_band: np.ndarray  #: (m, r) the band of each |rho(l)|: 4.0556 sqrt(v / N)
+    #: (m,) RESIDUAL_NOT_WHITE / RESIDUAL_INPUT_CORRELATED / OUTPUT_NOT_EXPLAINED of each output
+    output_warnings: Tuple[WarningFlag, ...]
     autocorrelation_band: float     #: 1.96 / sqrt(N), the 95 % band of each autocorrelation of a white residual
     std_covariance: str             #: "fisher", or "sandwich" when a residual is not white
     modes: Tuple[Mode, ...]         #: okid.Mode with frequency_std, damping_std, ... set; sorted by frequency
@@ -182,6 +188,16 @@ class ResidualWarning(OkidWarning, RuntimeWarning):
     half of the output explained."""
 
 
+class ResidualInputCorrelatedWarning(ResidualWarning):
+    """A refined output's residual is correlated with an input (WarningFlag.RESIDUAL_INPUT_CORRELATED,
+    Refinement.input_correlation above 4.0556): the model misses some of the input's dynamics (too
+    low an order, a wrong D)."""
+
+
+#: OKID_REFINE_INPUT_CORRELATION_BOUND (okid/refine.h)
+INPUT_CORRELATION_BOUND = 4.0556
+
+
 def iteration_limit_advice(decrement: float, step_tolerance: float, iterations: int) -> str:
     """What to do about a refinement stopped at max_passes (the CLI's stderr line)."""
     if decrement < 0 and iterations == 0:
@@ -207,6 +223,14 @@ def warn_if_stopped(refined: Refinement, stacklevel: int) -> None:
                           f"above 45.31, autocorrelation up to {refined.max_autocorrelation[i]:.3g} against the band "
                           f"{refined.autocorrelation_band:.3g}): a force nobody measured, a drift or too low an order; "
                           f"the stds are the sandwich ones", ResidualWarning, stacklevel=stacklevel + 1)
+        if w & WarningFlag.RESIDUAL_INPUT_CORRELATED:
+            for j in np.flatnonzero(np.asarray(refined.input_correlation)[i] > INPUT_CORRELATION_BOUND):
+                warnings.warn(f"output {i + 1}: the refined residual is correlated with input {j + 1} (cross-correlation "
+                              f"up to {refined.max_input_correlation[i][j]:.3g} against the band "
+                              f"{refined.input_correlation_band[i][j]:.3g} over lags 0..19, statistic "
+                              f"{refined.input_correlation[i][j]:.3g} above {INPUT_CORRELATION_BOUND:.4g}): the model "
+                              f"misses some of the input's dynamics (too low an order, a wrong D)",
+                              ResidualInputCorrelatedWarning, stacklevel=stacklevel + 1)
         if w & WarningFlag.OUTPUT_NOT_EXPLAINED:
             warnings.warn(f"output {i + 1}: the refined model explains {refined.fit_percent[i]:.3g} % of it (below "
                           f"50 %): a drift, an offset, a force nobody measured or a sensor the model does not "

@@ -162,6 +162,10 @@ struct RefineCore {
         f["whiteness"] = vector_array(out.whiteness, m);
         f["max_autocorrelation"] = vector_array(out.max_autocorrelation, m);
         f["fit_percent"] = vector_array(out.fit_percent, m);
+        const int r = out.B.cols; /* output i, input j at [i + m j]: an m x r matrix */
+        f["input_correlation"] = matrix_array(okid_matrix{const_cast<okid_real *>(out.input_correlation), m, r, m});
+        f["max_input_correlation"] = matrix_array(okid_matrix{const_cast<okid_real *>(out.max_input_correlation), m, r, m});
+        f["input_correlation_band"] = matrix_array(okid_matrix{const_cast<okid_real *>(out.input_correlation_band), m, r, m});
         nb::list output_warnings;
         for (int i = 0; i < m; ++i) output_warnings.append(out.output_warnings[i]);
         f["output_warnings"] = output_warnings;

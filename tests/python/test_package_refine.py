@@ -309,6 +309,62 @@ def ljung_box(ref, u, y, lags=20):
     return np.array(q), np.array(big), np.array(fit)
 
 
+def cross_correlation(ref, u, y, lags=20):
+    """The input-residual cross-correlation test of each (output, input) pair from the refined model
+    run here in numpy, as refine.h defines it: rho(l) = (sum_{k>=l} e(k) u(k-l) - N mean(e) mean(u))
+    / sqrt(centred sums of squares), l = 0..19; v = 1 + 2 sum_{l=1..19} r_e(l) r_u(l) (centred, at
+    least 1); the statistic max |rho| sqrt(N / v). Returns (statistic, max |rho|) as (m, r)."""
+    x = ref.initial_state.copy()
+    e = np.empty_like(y)
+    for k in range(len(y)):
+        e[k] = y[k] - ref.C @ x - ref.D @ u[k]
+        x = ref.A @ x + ref.B @ u[k]
+    n = len(y)
+
+    def lagged(a, b, l):  # sum_{k >= l} a(k) b(k - l) - N mean(a) mean(b)
+        return (a[l:] @ b[:n - l]) - n * a.mean() * b.mean()
+
+    stat, big = np.empty((y.shape[1], u.shape[1])), np.empty((y.shape[1], u.shape[1]))
+    for i in range(y.shape[1]):
+        for j in range(u.shape[1]):
+            ei, uj = e[:, i], u[:, j]
+            see, suu = lagged(ei, ei, 0), lagged(uj, uj, 0)
+            v = max(1.0, 1 + 2 * sum(lagged(ei, ei, l) / see * lagged(uj, uj, l) / suu for l in range(1, lags)))
+            rho = np.array([abs(lagged(ei, uj, l)) / np.sqrt(see * suu) for l in range(lags)])
+            big[i, j], stat[i, j] = rho.max(), rho.max() * np.sqrt(n / v)
+    return stat, big
+
+
+def test_input_correlation_fires_where_the_model_misses_dynamics(tmp_path):
+    """The input-residual cross-correlation test (docs/refinement.md): equal to numpy's from the
+    refined model, quiet at the true order 4 on white noise, and at order 2 (one mode missed) the
+    ResidualInputCorrelatedWarning names the output and the input; the CLI's JSON and stderr agree."""
+    path, u, y = paper_two_forces(tmp_path, 0.05, 2001, 31, 0, 0.05)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", okid.ResidualWarning)
+        good = okid.identify(u, y, 0.05, order=4, refine=True, **HORIZONS).refinement
+    stat, big = cross_correlation(good, u, y)
+    # the same sums in another order: round-off of 2001-term sums (~1e-13 relative), far below 1e-8
+    np.testing.assert_allclose(good.input_correlation, stat, rtol=1e-8)
+    np.testing.assert_allclose(good.max_input_correlation, big, rtol=1e-8)
+    assert good.input_correlation.shape == (2, 1) and np.all(good.input_correlation < 4.0556)
+    with pytest.warns(okid.ResidualInputCorrelatedWarning, match=r"output \d: the refined residual is correlated "
+                                                                  r"with input 1"):
+        low = okid.identify(u, y, 0.05, order=2, refine=True, **HORIZONS)
+    stat, big = cross_correlation(low.refinement, u, y)
+    np.testing.assert_allclose(low.refinement.input_correlation, stat, rtol=1e-8)
+    flagged = [okid.WarningFlag.RESIDUAL_INPUT_CORRELATED in w for w in low.refinement.output_warnings]
+    assert flagged == list(stat[:, 0] > 4.0556) and any(flagged)
+    assert okid.WarningFlag.RESIDUAL_INPUT_CORRELATED in low.warnings
+    assert issubclass(okid.ResidualInputCorrelatedWarning, okid.ResidualWarning)
+    proc = cli("identify", "--order", 2, "--refine", "--json", "--observer-order", 20, "--hankel-rows", 50,
+               "--hankel-cols", 50, path)
+    assert proc.returncode == 0 and "the refined residual is correlated with input force" in proc.stderr
+    tests = json.loads(proc.stdout)["refinement"]["residual_tests"]
+    assert tests["input_correlation_bound"] == 4.0556
+    np.testing.assert_allclose([o["input_correlation"] for o in tests["outputs"]], stat, rtol=1e-8)
+
+
 def test_refined_result_is_the_result_in_cli_json_and_python(tmp_path):
     """The JSON trap: with --refine the top-level modes and warnings are the refined ones, OKID/ERA's
     under "start" with its own warnings (a Hankel span of 0.8 s against a 2 s period: the start's

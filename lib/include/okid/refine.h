@@ -139,6 +139,22 @@ typedef struct okid_refine_config {
  */
 #define OKID_REFINE_LAGS ((int)OKID__REFINE_LAGS)
 #define OKID_REFINE_WHITENESS_BOUND 45.3147
+/**
+ * The input-residual cross-correlation test (docs/refinement.md, Ljung 1999, section 16.6): per
+ * (output i, input j) pair the centred, normalised cross-correlation
+ * rho(l) = sum_k e_i(k) u_j(k - l) / sqrt(sum_k e_i(k)^2 sum_k u_j(k)^2), l = 0..OKID_REFINE_LAGS-1
+ * (the input leading: a model that misses some of the input's dynamics, too low an order, a wrong
+ * D, leaves residuals that the past input predicts; negative lags would test feedback from the
+ * output into the input, not the model, so they are not tested). When the residual is independent
+ * of the input each rho(l) is asymptotically normal with variance v / N, v = 1 + 2 sum_k r_e(k)
+ * r_u(k) (Bartlett's formula over the lags held, at least 1), whatever the colour of either. The
+ * statistic (okid_refine_result::input_correlation) is max_l |rho(l)| sqrt(N / v), compared with
+ * the two-sided normal quantile for 0.1 % split over the OKID_REFINE_LAGS lags (Bonferroni:
+ * NormalDist().inv_cdf(1 - 0.001 / 40) = 4.0556): a false alarm on at most 0.1 % of independent
+ * (input, output) pairs, m r x 0.1 % of records at most. Above it the output gets
+ * OKID_W_RESIDUAL_INPUT_CORRELATED.
+ */
+#define OKID_REFINE_INPUT_CORRELATION_BOUND 4.0556
 /** Below this fit [%] (100 (1 - |e| / |y - mean y|)) an output is OKID_W_OUTPUT_NOT_EXPLAINED. */
 #define OKID_REFINE_FIT_LOW 50.0
 /**
@@ -206,7 +222,10 @@ typedef struct okid_refine_result {
     uint64_t samples;           /**< samples per pass */
     /** okid_warning bits of the refined modes and of the residual tests (not the start model's) */
     unsigned warnings;
-    /** m values: the residual tests' okid_warning bits of each output (OKID_W_RESIDUAL_NOT_WHITE, ...) */
+    /**
+     * m values: the residual tests' okid_warning bits of each output (OKID_W_RESIDUAL_NOT_WHITE,
+     * OKID_W_RESIDUAL_INPUT_CORRELATED: input_correlation says which inputs, OKID_W_OUTPUT_NOT_EXPLAINED)
+     */
     const unsigned *output_warnings;
     /** m values: each output's Ljung-Box statistic Q (-1 when diverged) */
     const okid_real *whiteness;
@@ -216,6 +235,16 @@ typedef struct okid_refine_result {
     okid_real autocorrelation_band;
     /** m values: each output's fit in percent, 100 (1 - |e| / |y - mean y|) (-1 when diverged) */
     const okid_real *fit_percent;
+    /**
+     * m x r values, output i and input j at [i + m j]: the cross-correlation statistic
+     * max_l |rho_ij(l)| sqrt(N / v_ij), l = 0..OKID_REFINE_LAGS-1 (OKID_REFINE_INPUT_CORRELATION_BOUND;
+     * -1 when diverged or the input or residual is constant)
+     */
+    const okid_real *input_correlation;
+    /** m x r values ([i + m j]): the largest |rho_ij(l)|, l = 0..OKID_REFINE_LAGS-1 (-1 as above) */
+    const okid_real *max_input_correlation;
+    /** m x r values ([i + m j]): the band of |rho_ij(l)|, OKID_REFINE_INPUT_CORRELATION_BOUND sqrt(v_ij / N) */
+    const okid_real *input_correlation_band;
     /** the covariance mode_std comes from */
     okid_refine_covariance covariance;
     /**

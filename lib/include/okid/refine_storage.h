@@ -45,6 +45,13 @@ struct okid_refiner {
     okid_real *lag_ring_, *acf_, *acf_best_, *ysum_, *whiteness_, *max_acf_, *fit_;
     unsigned *out_warn_, test_warnings_;
     int lag_pos_;
+    /* the input-residual cross-correlation test: ring of the last OKID_REFINE_LAGS inputs (u_pos_ the
+       newest, u(k) once the sample is in), sum_k e_i(k) u_j(k - l) of this pass and of the accepted
+       one (m x r x lags, [(i + m j) lags + l]), sum_k u_j(k) u_j(k - l) (r x lags, lag 0 first),
+       sum u, sum e (this pass, accepted), and the test's figures (m x r each, [i + m j]) */
+    okid_real *u_ring_, *ccf_, *ccf_best_, *uacf_, *usum_, *esum_, *esum_best_;
+    okid_real *xcorr_, *max_xcorr_, *xcorr_band_;
+    int u_pos_;
     okid_refine_covariance covariance_;
     /* sandwich: the score's block sums (grad_ at the block's start) and their outer products of
        this pass and of the accepted one (score_[best_]); score_ok_[b]: that buffer was summed */

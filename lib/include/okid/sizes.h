@@ -261,6 +261,8 @@
      + OKID__RB(OKID__Z(m) * OKID__REFINE_NP64(inn, n, r, m))                                               \
      + 2u * OKID__RB(OKID__REFINE_NP64(inn, n, r, m) * OKID__REFINE_NP64(inn, n, r, m))                  \
      + OKID__RB(OKID__REFINE_NP64(inn, n, r, m))                                                                        \
+     + 2u * OKID__RB(OKID__Z(r) * OKID__REFINE_LAGS) + 2u * OKID__RB(OKID__Z(m) * OKID__Z(r) * OKID__REFINE_LAGS)        \
+     + OKID__RB(r) + 2u * OKID__RB(m) + 3u * OKID__RB(OKID__Z(m) * OKID__Z(r))                                          \
      + (OKID__Z(inn) ? OKID__RB(OKID__Z(n) * OKID__Z(m)) : 0u))
 
 /* OKID_REFINE_WORKSPACE_BYTES before the saturation: the output-error one. */

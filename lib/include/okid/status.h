@@ -121,7 +121,15 @@ enum okid_warning {
      * output (MATLAB's compare fit; host_tools/common/output_fit.h): pure noise, or an input that
      * does not drive the outputs. OKID_W_OUTPUT_NOT_EXPLAINED is the refinement's bit for one output.
      */
-    OKID_W_NO_OUTPUT_EXPLAINED = 1u << 12
+    OKID_W_NO_OUTPUT_EXPLAINED = 1u << 12,
+    /**
+     * Refinement (okid_refine_result): an output's residual is correlated with an input (the
+     * cross-correlation statistic over lags 0..OKID_REFINE_LAGS-1 exceeds
+     * OKID_REFINE_INPUT_CORRELATION_BOUND): the model misses some of the input's dynamics (too low
+     * an order, a wrong D, a mode the start did not have). okid_refine_result::output_warnings says
+     * which output, okid_refine_result::input_correlation which input.
+     */
+    OKID_W_RESIDUAL_INPUT_CORRELATED = 1u << 13
 };
 
 /** A short, static, human-readable description of a status (never NULL, also for unknown codes). */

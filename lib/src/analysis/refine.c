@@ -105,6 +105,16 @@ static size_t layout(okid_refiner *rf, void *base, int inn, int n, int r, int m)
     rf->score_[0] = okid_carve_reals(&c, np * np);
     rf->score_[1] = okid_carve_reals(&c, np * np);
     rf->score_sum_ = okid_carve_reals(&c, np);
+    rf->u_ring_ = okid_carve_reals(&c, rr * lags);
+    rf->ccf_ = okid_carve_reals(&c, mm * rr * lags);
+    rf->ccf_best_ = okid_carve_reals(&c, mm * rr * lags);
+    rf->uacf_ = okid_carve_reals(&c, rr * lags);
+    rf->usum_ = okid_carve_reals(&c, rr);
+    rf->esum_ = okid_carve_reals(&c, mm);
+    rf->esum_best_ = okid_carve_reals(&c, mm);
+    rf->xcorr_ = okid_carve_reals(&c, mm * rr);
+    rf->max_xcorr_ = okid_carve_reals(&c, mm * rr);
+    rf->xcorr_band_ = okid_carve_reals(&c, mm * rr);
     rf->k_ = inn ? okid_carve_reals(&c, nn * mm) : NULL;
     return c.used;
 }
@@ -219,6 +229,9 @@ okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, co
         rf->rms_start_[i] = rf->rms_[i] = 0;
         rf->whiteness_[i] = rf->max_acf_[i] = rf->fit_[i] = -1;
         rf->out_warn_[i] = 0;
+    }
+    for (int k = 0; k < m * r; ++k) {
+        rf->xcorr_[k] = rf->max_xcorr_[k] = rf->xcorr_band_[k] = -1;
     }
     rf->magic_ = OKID_REFINE_MAGIC;
     return OKID_OK;
@@ -564,7 +577,7 @@ okid_status okid_refine_push_block(okid_refiner *rf, size_t count, const okid_re
                 rf->ss_[i] += e[i] * e[i];
                 rf->yy_[i] += yk[i] * yk[i];
             }
-            okid_refine_tests_sample(rf, e, yk);
+            okid_refine_tests_sample(rf, e, yk, uk);
             if (jacobian_pass(rf)) {
                 output_jacobian(rf, uk);
                 accumulate(rf, e);
@@ -777,6 +790,9 @@ okid_status okid_refine_get_result(const okid_refiner *rf, okid_refine_result *r
     result->whiteness = rf->whiteness_;
     result->max_autocorrelation = rf->max_acf_;
     result->fit_percent = rf->fit_;
+    result->input_correlation = rf->xcorr_;
+    result->max_input_correlation = rf->max_xcorr_;
+    result->input_correlation_band = rf->xcorr_band_;
     result->autocorrelation_band = rf->samples_used_ > 0 ? OKID_R(1.96) / okid_sqrt((okid_real)rf->samples_used_) : -1;
     result->covariance = rf->covariance_;
     return OKID_OK;

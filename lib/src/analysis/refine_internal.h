@@ -59,11 +59,11 @@ int okid_refine_damped_solve(int np, const okid_real *nrm, okid_real mu, const o
                              okid_real *d, okid_real *x);
 
 /* The residual tests (refine_residual_tests.c): zero this pass's sums (begin_pass); add one used
-   sample's residual e and output y; close a block of the score (every block_len_ used samples and
+   sample's residual e, output y and input u; close a block of the score (every block_len_ used samples and
    at the pass's end); keep this pass's sums as the accepted ones; the figures, the output warnings
    and the covariance choice at the end (diverged: no figures, -1). */
 void okid_refine_tests_begin_pass(okid_refiner *rf);
-void okid_refine_tests_sample(okid_refiner *rf, const okid_real *e, const okid_real *y);
+void okid_refine_tests_sample(okid_refiner *rf, const okid_real *e, const okid_real *y, const okid_real *u);
 void okid_refine_tests_close_block(okid_refiner *rf);
 void okid_refine_tests_accept(okid_refiner *rf);
 void okid_refine_tests_finish(okid_refiner *rf, int diverged);
