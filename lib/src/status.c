@@ -40,6 +40,7 @@ const char *okid_warning_str(unsigned warning_bit)
     case OKID_W_OUTPUT_NOT_EXPLAINED: return "the refined model explains less than half of an output (fit below 50 %: a drift, an offset, an unmodelled sensor)";
     case OKID_W_CORRELATION_FALLBACK: return "the correlation estimator's Cholesky guard refused: identified again with the QR fold";
     case OKID_W_NO_OUTPUT_EXPLAINED: return "the model explains less than half of every output (fit below 50 %: pure noise, or an input that does not drive the outputs)";
+    case OKID_W_NO_PHYSICAL_MODE: return "the automatic selection found no physical mode (no pole stays put across the orders): no mode reported";
     default: return "unknown warning";
     }
 }

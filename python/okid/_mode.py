@@ -28,6 +28,7 @@ class WarningFlag(enum.IntFlag):
     OUTPUT_NOT_EXPLAINED = 1 << 10
     CORRELATION_FALLBACK = 1 << 11  #: set by okid.identify() and the CLI only (estimator="correlation")
     NO_OUTPUT_EXPLAINED = 1 << 12  #: set by okid.identify() and the CLI only: every output's fit_percent below 50
+    NO_PHYSICAL_MODE = 1 << 13  #: set by the identifier FMU only (all_poles false, order 0): its selection found no physical mode
 
     def describe(self) -> Tuple[str, ...]:
         """The library's sentence for each bit set."""

@@ -121,7 +121,14 @@ enum okid_warning {
      * output (MATLAB's compare fit; host_tools/common/output_fit.h): pure noise, or an input that
      * does not drive the outputs. OKID_W_OUTPUT_NOT_EXPLAINED is the refinement's bit for one output.
      */
-    OKID_W_NO_OUTPUT_EXPLAINED = 1u << 12
+    OKID_W_NO_OUTPUT_EXPLAINED = 1u << 12,
+    /**
+     * Set by the identifier FMU (all_poles false, order 0), never by okid_identify(): the automatic
+     * selection (okid/mode_selection.h) found no physical mode, so no mode is published (num_modes 0).
+     * The CLI and okid.identify() say the same with their "no physical mode found" line and an
+     * empty modes list.
+     */
+    OKID_W_NO_PHYSICAL_MODE = 1u << 13
 };
 
 /** A short, static, human-readable description of a status (never NULL, also for unknown codes). */
