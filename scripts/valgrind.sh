@@ -35,6 +35,7 @@ vg_run build/host_tools/cli/okid identify --json --order 4 "$csv"
 vg_run build/host_tools/cli/okid identify --json --order 4 --refine --observer-order 20 "$csv"
 vg_run build/host_tools/cli/okid crlb --noise 0.02
 vg_run build/tests/fmu_cosim build/fmu/fmi2/okid_plant_2dof build/fmu/fmi2/okid_identifier
+vg_run build/tests/fmu_cosim build/fmu/fmi2/okid_plant_2dof build/fmu/fmi2/okid_identifier linux64 select
 vg_run build/tests/fmu3_chain build/fmu/fmi3/okid_identifier
 vg_run build/tests/fmu_cosim build/fmu/fmi2/okid_plant_2dof build/fmu-generated/paper
 wait

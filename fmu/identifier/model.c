@@ -12,6 +12,13 @@
  * okid_config_default()'s defaults; a refusal names the setting, its value and its valid range in
  * the host library's words (host_tools/common/config_explain.c, shipped in sources/).
  *
+ * The mode outputs are the physical modes (all_poles false, order 0: the default): after each
+ * identification the stabilization table of the even orders 2..N from its one SVD and the
+ * automatic selection (okid/mode_selection.h) with the CLI's one-window rule (host_tools/common/
+ * mode_windows_rule.c, shipped in sources/ too), in memory sized at the end of initialization;
+ * with all_poles true or an order given, every pole of the identified model (okid_result::modes).
+ * No physical mode: num_modes 0 and OKID_W_NO_PHYSICAL_MODE in warnings.
+ *
  * Every output is current or visibly not (docs/fmu.md): mode outputs are NaN until the first
  * identification and beyond num_modes; after a failed identification they keep the last
  * successful one, status says "failed" and identification_time when that one was; y_hat and
@@ -27,6 +34,7 @@
 #include "config_explain.h"
 #include "fmu_config.h"
 #include "fmu_model.h"
+#include "mode_windows.h"
 #include "okid/okid.h"
 
 /* This build's limits on the structural parameters and on the workspace. */
@@ -46,6 +54,7 @@ typedef struct identifier_data {
     int observer_order, order, hankel_rows, hankel_cols, block_rows;
     double dt, forgetting_factor, rank_tolerance;
     int sensing, realization, zero_initial_state, decimation, scaling, estimator, instrument_lags, identify_every;
+    int all_poles;
     /* inputs */
     double *u, *y;
     /* outputs */
@@ -60,6 +69,14 @@ typedef struct identifier_data {
     size_t arrays_bytes, workspace_block_bytes;
     int since_identify;
     okid_identifier id;
+    /* the selection of the physical modes (all_poles false, order 0): its own block, scratch
+       between identifications (not part of the FMU state) */
+    void *selection_block;           /* NULL: the mode outputs are the model's poles */
+    void *table_workspace, *selection_workspace; /* aligned, inside selection_block */
+    size_t table_bytes, selection_bytes;
+    int table_order;                 /* N: the table's largest order (even) */
+    okid_mode_selection_criteria criteria;
+    auto_mode selected[OKID_MAX_ORDER];
 } identifier_data;
 
 /* Table indices of the structural parameters: dimensions refer to them as index + 1. */
@@ -129,6 +146,10 @@ static const fmu_variable_group GROUPS[] = {
     PARAM("instrument_lags", FMU_INTEGER, instrument_lags, 0, OKID_MAX_INSTRUMENT_LAGS, NULL, NULL,
           "L of the instrumental estimator; 0 = automatic"),
     PARAM("identify_every", FMU_INTEGER, identify_every, 1, INT_MAX, NULL, NULL, "re-identify every N samples"),
+    PARAM("all_poles", FMU_BOOLEAN, all_poles, 0, 1, NULL, NULL,
+          "false (default): with order 0 the mode outputs are the physical modes, stable across the orders 2..N of "
+          "the stabilization table (the CLI's modes, docs/fmu.md); true, or an order given: every pole of the "
+          "identified model"),
     {"u", "u%d", FMU_REAL, FMU_INPUT, FMU_CONTINUOUS, OFF(u), BY_INPUTS, 0, NO_RANGE, NULL, NULL, "input (force)", NULL},
     {"y", "y%d", FMU_REAL, FMU_INPUT, FMU_CONTINUOUS, OFF(y), BY_OUTPUTS, 0, NO_RANGE, NULL, NULL, "output (sensor)", NULL},
     OUT("status", FMU_ENUM, status, &STATUS, NULL,
@@ -142,9 +163,13 @@ static const fmu_variable_group GROUPS[] = {
     OUT("samples", FMU_INTEGER, samples, NULL, NULL, "samples accepted"),
     OUT("rejected", FMU_INTEGER, rejected, NULL, NULL, "samples rejected as non-finite"),
     OUT("regressor_rank", FMU_INTEGER, rank, NULL, NULL, "numerical rank of the regressor"),
-    OUT("num_modes", FMU_INTEGER, num_modes, NULL, NULL, "modes identified (at most max_modes are published)"),
+    OUT("num_modes", FMU_INTEGER, num_modes, NULL, NULL,
+        "physical modes selected, or with all_poles true (or an order given) poles identified; at most max_modes "
+        "are published"),
     OUT("identifications", FMU_INTEGER, identifications, NULL, NULL, "successful identifications so far"),
-    OUT("warnings", FMU_INTEGER, warnings, NULL, NULL, "okid_warning bits of the last identification (okid/status.h)"),
+    OUT("warnings", FMU_INTEGER, warnings, NULL, NULL,
+        "okid_warning bits of the last identification (okid/status.h); OKID_W_NO_PHYSICAL_MODE (16384): the "
+        "selection found no physical mode"),
     OUTS("y_hat", "y_hat%d", BY_OUTPUTS, y_hat, NULL, "one-step prediction of y with the identified observer (NaN: none)"),
     OUTS("y_error", "y_error%d", BY_OUTPUTS, y_error, NULL, "y - y_hat (innovation; NaN: no prediction)"),
     OUTS("singular_values", "singular_value%d", BY_SINGULAR_VALUES, singular_values, NULL,
@@ -188,6 +213,7 @@ static void set_defaults(void *data)
     d->estimator = (int)cfg.estimator;
     d->instrument_lags = cfg.instrument_lags;
     d->identify_every = 100;
+    d->all_poles = 0;
     d->identification_time = (double)NAN;
 }
 
@@ -210,7 +236,9 @@ static void release(void *data, const fmu_allocator *memory)
     identifier_data *d = data;
     if (d->arrays) memory->release(d->arrays);
     if (d->workspace_block) memory->release(d->workspace_block);
-    d->arrays = d->workspace_block = NULL;
+    if (d->selection_block) memory->release(d->selection_block);
+    d->arrays = d->workspace_block = d->selection_block = NULL;
+    d->table_workspace = d->selection_workspace = NULL;
     d->u = d->y = d->y_hat = d->y_error = d->singular_values = NULL;
     d->frequency = d->damping = d->eig_re = d->eig_im = d->emac = d->mpc = d->cmi = d->shape_re = d->shape_im = NULL;
 }
@@ -277,6 +305,65 @@ static fmu_status configure(void *data, const fmu_allocator *memory, fmu_logger 
     return FMU_OK;
 }
 
+static size_t aligned_up(size_t bytes)
+{
+    return (bytes + OKID_WORKSPACE_ALIGN - 1) / OKID_WORKSPACE_ALIGN * OKID_WORKSPACE_ALIGN;
+}
+
+/*
+ * The selection's memory, sized once from the parameters (all_poles false, order 0): the table of
+ * the even orders 2..N, N = min(MODE_WINDOWS_MAX_ORDER, alpha m, beta columns, m p) as okid identify
+ * takes it for one Hankel window (host_tools/common/auto_settings.c), and the selection of it. The
+ * criteria are the CLI's: the library's defaults with the damping limit 1/sqrt(2) and the band up to
+ * 0.8 times the model's Nyquist frequency; its lower edge is 0 (the CLI's f5/3 comes from the
+ * record's spectrum, which a streaming FMU does not hold).
+ */
+static fmu_status prepare_selection(identifier_data *d, const fmu_allocator *memory, fmu_logger *logger,
+                                    const char *values)
+{
+    if (d->selection_block) memory->release(d->selection_block);
+    d->selection_block = d->table_workspace = d->selection_workspace = NULL;
+    if (d->all_poles || d->order > 0) return FMU_OK;
+    const int m = d->num_outputs, columns = d->realization == OKID_REALIZATION_COMBINED ? d->num_inputs + m : d->num_inputs;
+    int top = MODE_WINDOWS_MAX_ORDER;
+    if (top > d->hankel_rows * m) top = d->hankel_rows * m;
+    if (top > d->hankel_cols * columns) top = d->hankel_cols * columns;
+    if (top > d->observer_order * m) top = d->observer_order * m;
+    top -= top % 2;
+    okid_status st = top >= 2 ? okid_stabilization_workspace_size(&d->id, top, 2, &d->table_bytes) : OKID_E_BAD_ORDER;
+    if (st == OKID_OK) st = okid_mode_selection_workspace_size(top, 2, &d->selection_bytes);
+    if (st != OKID_OK) {
+        fmu_log(logger, FMU_ERROR, "logStatusError", "all_poles = false (the default) refused: the stabilization table of the even "
+                "orders 2..%d (min(%d, hankel_rows num_outputs, hankel_cols columns, observer_order num_outputs)) "
+                "cannot be sized: %s (okid_status %d); set all_poles = true for the model's poles (%s)", top,
+                MODE_WINDOWS_MAX_ORDER, okid_status_str(st), (int)st, values);
+        return FMU_ERROR;
+    }
+    const size_t table = aligned_up(d->table_bytes), total = table + aligned_up(d->selection_bytes);
+    if ((double)total + (double)d->workspace_block_bytes > OKID_FMU_MAX_WORKSPACE_BYTES) {
+        fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused: the workspace and the mode "
+                "selection's %zu bytes exceed this build's limit of %.0f bytes (%s)", total,
+                (double)OKID_FMU_MAX_WORKSPACE_BYTES, values);
+        return FMU_ERROR;
+    }
+    d->selection_block = memory->allocate(total + OKID_WORKSPACE_ALIGN, 1);
+    if (d->selection_block == NULL) {
+        fmu_log(logger, FMU_ERROR, "logStatusError", "out of memory for the mode selection's %zu bytes", total);
+        return FMU_ERROR;
+    }
+    const uintptr_t raw = (uintptr_t)d->selection_block;
+    d->table_workspace = (void *)((raw + OKID_WORKSPACE_ALIGN - 1) / OKID_WORKSPACE_ALIGN * OKID_WORKSPACE_ALIGN);
+    d->selection_workspace = (char *)d->table_workspace + table;
+    d->table_order = top;
+    okid_mode_selection_criteria_default(&d->criteria);
+    d->criteria.damping_max = (okid_real)0.70710678118654752; /* AUTO_DAMPING_MAX: a resonance peak up to 1/sqrt(2) */
+    d->criteria.frequency_max_hz = (okid_real)(0.8 * 0.5 / (d->decimation * d->dt));
+    fmu_log(logger, FMU_OK, "logEvents", "mode selection: the stabilization table of the even orders 2..%d (%zu "
+            "bytes) and its selection (%zu bytes), beside the identifier's workspace of %zu bytes", top,
+            d->table_bytes, d->selection_bytes, d->workspace_block_bytes - OKID_WORKSPACE_ALIGN);
+    return FMU_OK;
+}
+
 static fmu_status exit_initialization(void *data, const fmu_allocator *memory, fmu_logger *logger)
 {
     identifier_data *d = data;
@@ -302,14 +389,14 @@ static fmu_status exit_initialization(void *data, const fmu_allocator *memory, f
     cfg.scaling = (okid_scaling)d->scaling;
     cfg.estimator = (okid_estimator)d->estimator;
     cfg.instrument_lags = d->instrument_lags;
-    char values[400];
+    char values[440];
     snprintf(values, sizeof values,
              "num_inputs %d, num_outputs %d, observer_order %d, order %d, hankel_rows %d, hankel_cols %d, block_rows %d, "
              "dt %.17g, forgetting_factor %.17g, rank_tolerance %.17g, sensing %d, realization %d, zero_initial_state %d, "
-             "decimation %d, scaling %d, estimator %d, instrument_lags %d",
+             "decimation %d, scaling %d, estimator %d, instrument_lags %d, all_poles %d",
              d->num_inputs, d->num_outputs, d->observer_order, d->order, d->hankel_rows, d->hankel_cols, d->block_rows,
              d->dt, d->forgetting_factor, d->rank_tolerance, d->sensing, d->realization, d->zero_initial_state,
-             d->decimation, d->scaling, d->estimator, d->instrument_lags);
+             d->decimation, d->scaling, d->estimator, d->instrument_lags, d->all_poles);
     size_t bytes = 0;
     okid_status st = okid_workspace_size(&cfg, &bytes);
     if (st != OKID_OK) { /* the setting, its value and its valid range: the CLI's and Python's words */
@@ -339,22 +426,46 @@ static fmu_status exit_initialization(void *data, const fmu_allocator *memory, f
                 "for %s", okid_status_str(st), (int)st, values);
         return FMU_ERROR;
     }
-    return FMU_OK;
+    return prepare_selection(d, memory, logger, values);
 }
 
-static void publish(identifier_data *d, const okid_result *res, double t)
+/*
+ * The physical modes of the last identification into d->selected (the CLI's one-window rule:
+ * mode_windows_add, then mode_windows_keep): their count, or a negative okid_status.
+ */
+static int select_modes(identifier_data *d, const okid_result *res)
+{
+    int top = d->table_order < res->num_singular_values ? d->table_order : res->num_singular_values;
+    top -= top % 2;
+    if (top < 2) return (int)OKID_E_BAD_ORDER;
+    okid_stabilization table;
+    okid_status st = okid_stabilization_compute(&d->id, top, 2, NULL, d->table_workspace, d->table_bytes, &table);
+    okid_mode_selection selection;
+    if (st == OKID_OK) {
+        st = okid_select_modes(&table, d->num_outputs, &d->criteria, d->selection_workspace, d->selection_bytes,
+                               &selection, NULL);
+    }
+    if (st != OKID_OK) return (int)st;
+    int count = 0, support[OKID_MAX_ORDER] = {0};
+    mode_windows_add(&d->criteria, &selection, 0, d->num_outputs, d->selected, &count, support);
+    mode_windows_keep(d->selected, &count, 1);
+    return count;
+}
+
+/* selected < 0: the model's poles; else the first `selected` of d->selected. */
+static void publish(identifier_data *d, const okid_result *res, int selected, double t)
 {
     const int m2 = 2 * d->num_outputs;
     publish_nothing(d);
-    d->num_modes = res->num_modes;
+    d->num_modes = selected < 0 ? res->num_modes : selected;
     d->rank = res->regressor_rank;
-    d->warnings = (int)res->warnings;
+    d->warnings = (int)(res->warnings | (selected == 0 ? (unsigned)OKID_W_NO_PHYSICAL_MODE : 0u));
     d->identification_time = t;
     for (int i = 0; i < d->num_singular_values && i < res->num_singular_values; ++i) {
         d->singular_values[i] = (double)res->singular_values[i];
     }
-    for (int k = 0; k < d->max_modes && k < res->num_modes; ++k) {
-        const okid_mode *md = &res->modes[k];
+    for (int k = 0; k < d->max_modes && k < d->num_modes; ++k) {
+        const okid_mode *md = selected < 0 ? &res->modes[k] : &d->selected[k].selected->mode;
         d->frequency[k] = (double)md->frequency_hz;
         d->damping[k] = (double)md->damping_ratio;
         d->eig_re[k] = (double)md->eigenvalue.re;
@@ -409,7 +520,11 @@ static fmu_status do_step(void *data, double t, double h, fmu_logger *logger)
     }
     d->since_identify = 0;
     okid_result res;
-    const okid_status st = okid_identify(&d->id, &res);
+    okid_status st = okid_identify(&d->id, &res);
+    int selected = -1;
+    if (st == OKID_OK && d->selection_block != NULL && (selected = select_modes(d, &res)) < 0) {
+        st = (okid_status)selected; /* the table or the selection failed: the outputs keep the last ones */
+    }
     if (st != OKID_OK) {
         d->last_error = (int)st;
         d->status = STATUS_FAILED;
@@ -418,7 +533,7 @@ static fmu_status do_step(void *data, double t, double h, fmu_logger *logger)
                 "t = %.17g (NaN: none)", t, okid_status_str(st), (int)st, d->identification_time);
         return FMU_OK; /* data-dependent: keep collecting */
     }
-    publish(d, &res, t);
+    publish(d, &res, selected, t);
     d->status = STATUS_IDENTIFIED;
     d->last_error = 0;
     ++d->identifications;
@@ -431,7 +546,10 @@ static int state_blocks(void *data, fmu_block blocks[FMU_MAX_BLOCKS])
     identifier_data *d = data;
     blocks[0] = (fmu_block){d->arrays, d->arrays ? d->arrays_bytes : 0};
     blocks[1] = (fmu_block){d->workspace_block, d->workspace_block ? d->workspace_block_bytes : 0};
-    return 2;
+    /* the selection's memory is scratch between identifications: no bytes saved, but its address is
+       checked, so that a state restores only where d->selection_block is this instance's allocation */
+    blocks[2] = (fmu_block){d->selection_block, 0};
+    return 3;
 }
 
 const fmu_model FMU_MODEL = {

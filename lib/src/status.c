@@ -41,6 +41,7 @@ const char *okid_warning_str(unsigned warning_bit)
     case OKID_W_CORRELATION_FALLBACK: return "the correlation estimator's Cholesky guard refused: identified again with the QR fold";
     case OKID_W_RESIDUAL_INPUT_CORRELATED: return "a refined output's residual is correlated with an input (the model misses some of the input's dynamics: too low an order, a wrong D)";
     case OKID_W_NO_OUTPUT_EXPLAINED: return "the model explains less than half of every output (fit below 50 %: pure noise, or an input that does not drive the outputs)";
+    case OKID_W_NO_PHYSICAL_MODE: return "the automatic selection found no physical mode (no pole stays put across the orders): no mode reported";
     default: return "unknown warning";
     }
 }

@@ -129,7 +129,14 @@ enum okid_warning {
      * an order, a wrong D, a mode the start did not have). okid_refine_result::output_warnings says
      * which output, okid_refine_result::input_correlation which input.
      */
-    OKID_W_RESIDUAL_INPUT_CORRELATED = 1u << 13
+    OKID_W_RESIDUAL_INPUT_CORRELATED = 1u << 13,
+    /**
+     * Set by the identifier FMU (all_poles false, order 0), never by okid_identify(): the automatic
+     * selection (okid/mode_selection.h) found no physical mode, so no mode is published (num_modes 0).
+     * The CLI and okid.identify() say the same with their "no physical mode found" line and an
+     * empty modes list.
+     */
+    OKID_W_NO_PHYSICAL_MODE = 1u << 14
 };
 
 /** A short, static, human-readable description of a status (never NULL, also for unknown codes). */
