@@ -385,7 +385,8 @@ _CLI_FALLBACKS: _document.Fallbacks = {
     "Refinement.output_warnings": lambda obj, outer: [o["warning_bits"] for o in obj["residual_tests"]["outputs"]],
     "Refinement.autocorrelation_band": lambda obj, outer: obj["residual_tests"]["autocorrelation_band"],
     # the cross-correlation test: one list per output (one value per input); -1 in documents written before it
-    **{f"Refinement.{key}": (lambda key: lambda obj, outer: [o.get(key, [-1.0] * len(outer["inputs"]))
+    # (one -1 per input: the columns of the refined B)
+    **{f"Refinement.{key}": (lambda key: lambda obj, outer: [o[key] if key in o else [-1.0] * len(obj["B"][0])
                                                             for o in obj["residual_tests"]["outputs"]])(key)
        for key in ("input_correlation", "max_input_correlation", "input_correlation_band")},
     # documents written before the innovation form: output error
