@@ -290,14 +290,20 @@ def paper_two_forces(tmp_path, dt, samples, seed, unmeasured, noise):
     return path, np.ascontiguousarray(a[:, 1:2]), np.ascontiguousarray(y)
 
 
-def ljung_box(ref, u, y, lags=20):
-    """Ljung-Box Q, largest |autocorrelation| and fit [%] of each output's residual, from the refined
-    model (A, B, C, D, x0) run over the record here in numpy (refine.h's definitions)."""
+def residual(ref, u, y):
+    """The refined model (A, B, C, D, x0) run over the record in numpy: y - y_hat, (N, m)."""
     x = ref.initial_state.copy()
     e = np.empty_like(y)
     for k in range(len(y)):
         e[k] = y[k] - ref.C @ x - ref.D @ u[k]
         x = ref.A @ x + ref.B @ u[k]
+    return e
+
+
+def ljung_box(ref, u, y, lags=20):
+    """Ljung-Box Q, largest |autocorrelation| and fit [%] of each output's residual, from the refined
+    model (A, B, C, D, x0) run over the record here in numpy (refine.h's definitions)."""
+    e = residual(ref, u, y)
     n = len(y)
     q, big, fit = [], [], []
     for i in range(y.shape[1]):
@@ -314,11 +320,7 @@ def cross_correlation(ref, u, y, lags=20):
     run here in numpy, as refine.h defines it: rho(l) = (sum_{k>=l} e(k) u(k-l) - N mean(e) mean(u))
     / sqrt(centred sums of squares), l = 0..19; v = 1 + 2 sum_{l=1..19} r_e(l) r_u(l) (centred, at
     least 1); the statistic max |rho| sqrt(N / v). Returns (statistic, max |rho|) as (m, r)."""
-    x = ref.initial_state.copy()
-    e = np.empty_like(y)
-    for k in range(len(y)):
-        e[k] = y[k] - ref.C @ x - ref.D @ u[k]
-        x = ref.A @ x + ref.B @ u[k]
+    e = residual(ref, u, y)
     n = len(y)
 
     def lagged(a, b, l):  # sum_{k >= l} a(k) b(k - l) - N mean(a) mean(b)
