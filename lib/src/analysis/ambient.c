@@ -12,6 +12,7 @@
 
 #include "analysis/ambient_internal.h"
 #include "numerics/carve.h"
+#include "numerics/dense.h"
 #include "numerics/real_math.h"
 #include "pipeline/era.h"
 #include "pipeline/modal_internal.h"
@@ -375,11 +376,7 @@ okid_status okid_ambient_push_block(okid_ambient *amb, size_t count, const okid_
         okid_corr_batch_begin(s);
         for (size_t t = 0; t < count; ++t) {
             const okid_real *yt = y + t * ldy;
-            int finite = 1;
-            for (int a = 0; a < s->m && finite; ++a) {
-                finite = okid_is_finite(yt[a]);
-            }
-            if (finite) {
+            if (okid_all_finite(s->m, 1, yt, s->m)) {
                 okid_corr_batch_add(s, yt);
                 ++good;
             } else {
