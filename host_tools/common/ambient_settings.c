@@ -6,42 +6,40 @@
 
 #include "auto_settings.h"
 
-void ambient_channel_means(const okid_real *y, size_t n, int m, okid_real *mean)
+/* The means of channels 0..k-1 (k <= OKID_MAX_DIMENSION) of rows ld apart, each summed in double
+   in sample order. */
+static void channel_means(const okid_real *y, size_t n, size_t ld, int k, okid_real *mean)
 {
     double sum[OKID_MAX_DIMENSION] = {0};
     size_t count[OKID_MAX_DIMENSION] = {0};
     for (size_t t = 0; t < n; ++t) {
-        const okid_real *row = y + t * (size_t)m;
-        for (int a = 0; a < m; ++a) {
+        const okid_real *row = y + t * ld;
+        for (int a = 0; a < k; ++a) {
             const double v = (double)row[a];
             if (isfinite(v)) sum[a] += v, ++count[a];
         }
     }
-    for (int a = 0; a < m; ++a) mean[a] = (okid_real)(count[a] > 0 ? sum[a] / (double)count[a] : 0.0);
+    for (int a = 0; a < k; ++a) mean[a] = (okid_real)(count[a] > 0 ? sum[a] / (double)count[a] : 0.0);
+}
+
+void ambient_channel_means(const okid_real *y, size_t n, int m, okid_real *mean)
+{
+    channel_means(y, n, (size_t)m, m, mean);
 }
 
 void ambient_remove_mean(okid_real *y, size_t n, int m)
 {
-    /* two passes along the record, every channel at once (each channel's sum in sample order, as
-       one pass per channel gave: the same bits, m times fewer strided sweeps) */
-    if (m > OKID_MAX_DIMENSION) { /* more channels than the library takes (refused later): one a pass */
-        for (int a = 0; a < m; ++a) {
-            double total = 0;
-            size_t finite = 0;
-            for (size_t t = 0; t < n; ++t) {
-                const double v = (double)y[t * (size_t)m + (size_t)a];
-                if (isfinite(v)) total += v, ++finite;
-            }
-            const okid_real mu = (okid_real)(finite > 0 ? total / (double)finite : 0.0);
-            for (size_t t = 0; t < n; ++t) y[t * (size_t)m + (size_t)a] -= mu;
-        }
-        return;
-    }
+    /* two passes along the record, up to OKID_MAX_DIMENSION channels at once (each channel's sum in
+       sample order, as one pass per channel gave: the same bits, fewer strided sweeps); a record
+       of more channels than the library takes (refused later) goes in groups */
     okid_real mean[OKID_MAX_DIMENSION];
-    ambient_channel_means(y, n, m, mean);
-    for (size_t t = 0; t < n; ++t) {
-        okid_real *row = y + t * (size_t)m;
-        for (int a = 0; a < m; ++a) row[a] -= mean[a];
+    for (int a0 = 0; a0 < m; a0 += OKID_MAX_DIMENSION) {
+        const int k = m - a0 < OKID_MAX_DIMENSION ? m - a0 : OKID_MAX_DIMENSION;
+        channel_means(y + a0, n, (size_t)m, k, mean);
+        for (size_t t = 0; t < n; ++t) {
+            okid_real *row = y + t * (size_t)m + a0;
+            for (int a = 0; a < k; ++a) row[a] -= mean[a];
+        }
     }
 }
 
