@@ -207,6 +207,7 @@ int refine_selection_start(const auto_identification *ai, refine_selection *out)
             left[(2 * k) + (size_t)k2 * i] = 2 * creal(z[i]), left[(2 * k + 1) + (size_t)k2 * i] = -2 * cimag(z[i]);
         }
         out->modes[k] = *pole;
+        out->poles[k] = kept[k];
     }
     if (ok) {
         okid_real *p = out->storage;

@@ -28,6 +28,7 @@ typedef struct refine_selection {
                              selection's result: valid while both live) */
     okid_real *storage;   /* A, B, C, D, G of the start (heap) */
     okid_mode *modes;
+    int poles[OKID_MAX_ORDER]; /* the kept pairs: their indices in the selection model's modes */
     char reason[256];     /* why this order, for "chosen"."order"."reason" and the table */
 } refine_selection;
 
