@@ -56,6 +56,18 @@ okid_status push_with_progress(void *context, okid_identifier *id, size_t n, con
 }
 
 
+// The record and the settings given, as auto_identify() takes them (no push callback: one okid_push_block).
+auto_request request_of(const nb::dict &config, unsigned given, CBlock u, CBlock y)
+{
+    auto_request rq{};
+    rq.cfg = config_from_dict(config);
+    rq.given = given;
+    rq.n = u.shape(0);
+    rq.u = u.data();
+    rq.y = y.data();
+    return rq;
+}
+
 // A selected mode: the okid_mode fields, then its cluster's statistics and its support.
 nb::dict selected_dict(const auto_modes &am, int k, int m)
 {
@@ -74,12 +86,7 @@ void bind_auto(nb::module_ &m)
     m.def(
         "auto_identify",
         [](const nb::dict &config, unsigned given, CBlock u, CBlock y, nb::object progress) {
-            auto_request rq{};
-            rq.cfg = config_from_dict(config);
-            rq.given = given;
-            rq.n = u.shape(0);
-            rq.u = u.data();
-            rq.y = y.data();
+            auto_request rq = request_of(config, given, u, y);
             PushContext push{progress, nullptr, {}};
             rq.push = push_with_progress;
             rq.push_context = &push;
@@ -131,12 +138,7 @@ void bind_auto(nb::module_ &m)
     m.def(
         "refine_selection",
         [](const nb::dict &config, unsigned given, CBlock u, CBlock y) {
-            auto_request rq{};
-            rq.cfg = config_from_dict(config);
-            rq.given = given;
-            rq.n = u.shape(0);
-            rq.u = u.data();
-            rq.y = y.data();
+            auto_request rq = request_of(config, given, u, y);
             auto_identification ai{};
             refine_selection sel{};
             okid_status status;
