@@ -13,6 +13,11 @@ exact modes (`okid crlb` prints them), and how often the residual warnings fired
     .venv/bin/python scripts/refine_coverage.py --case white --records 200      # false alarms
     .venv/bin/python scripts/refine_coverage.py --case white --records 50 --order 2  # a mode missed
     .venv/bin/python scripts/refine_coverage.py --case unmeasured --records 50 --refine-model innovation --max-passes 100
+    .venv/bin/python scripts/refine_coverage.py --case unmeasured --records 50 --method "SIPPY PARSIM-K"
+
+--method "SIPPY N4SID" | "SIPPY PARSIM-K" identifies the same records with SIPPY instead (order 4,
+D estimated, horizons f = p = --sippy-horizon, bench/python/bench_compare.py's call): RMS errors
+only, since SIPPY states no standard deviations.
 """
 from __future__ import annotations
 
@@ -29,6 +34,7 @@ import numpy as np
 
 # OKID_CLI: another build of the CLI (a copy, so that a rebuild does not change a long run midway)
 OKID = os.environ.get("OKID_CLI") or os.path.join(os.path.dirname(__file__), "..", "build", "host_tools", "cli", "okid")
+SIPPY_METHODS = ("SIPPY N4SID", "SIPPY PARSIM-K")
 
 
 def simulate(args, seed, force_dof):
@@ -71,7 +77,47 @@ def parse(argv=None):
     ap.add_argument("--refine-model", choices=["output_error", "innovation", "auto"], default="output_error")
     ap.add_argument("--max-passes", type=int, default=100)  # okid_refine_config_default()
     ap.add_argument("--order", type=int, default=4, help="model order refined (2: too low, one mode missed)")
+    ap.add_argument("--method", choices=("okid",) + SIPPY_METHODS, default="okid")
+    ap.add_argument("--sippy-horizon", type=int, default=20, help="SIPPY's f = p (bench_compare.py's tuned 20 at dt 0.05 s)")
     return ap.parse_args(argv)
+
+
+def sippy_errors(args, data, truth):
+    """SIPPY's f1, f2, zeta1, zeta2 minus the truth on one record (None: fewer than two pairs)."""
+    import warnings
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "bench", "python"))
+    from bench_compare import sippy_subspace
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        freq, zeta = sippy_subspace(data[:, 1:2], data[:, 2:], args.dt, args.method.split()[1], args.sippy_horizon,
+                                    n=args.order)
+    if len(freq) != 2:
+        return None
+    return (np.array([freq, zeta]) - truth).ravel()
+
+
+def study_sippy(args):
+    """The records of args through SIPPY: errors as (records, 4), and the records without two pairs."""
+    truth = exact_modes(args)
+    err, missed = [], 0
+    for k in range(args.records):
+        e = sippy_errors(args, record(args, k)[1], truth)
+        if e is None:
+            missed += 1
+        else:
+            err.append(e)
+    return np.array(err), missed
+
+
+def main_sippy(args):
+    err, missed = study_sippy(args)
+    print(f"case {args.case}, {args.method} (f = p = {args.sippy_horizon}, order {args.order}): {len(err)} records "
+          f"of {args.samples} samples at dt {args.dt} s, noise {args.noise:g}"
+          + (f", unmeasured force {args.unmeasured:g}" if args.case == "unmeasured" else "")
+          + f"; {missed} without two pairs; no sigma stated")
+    if len(err):
+        rms = np.sqrt(np.mean(err ** 2, axis=0))
+        print("  rms error f1, f2 [Hz], zeta1, zeta2: " + ", ".join(f"{v:.3e}" for v in rms))
 
 
 def study(args):
@@ -124,6 +170,8 @@ def study(args):
 
 def main():
     args = parse()
+    if args.method != "okid":
+        return main_sippy(args)
     err, sig, flags, outputs_flagged = study(args)
     n = len(err)
     print(f"case {args.case}, refine_model {args.refine_model}: {n} records of {args.samples} samples at dt "

@@ -15,6 +15,11 @@ the statistical sigma (the refinement's frequency_std: its median over the order
 across model orders (the sample std of the nearest refined frequency over the orders), named so.
 
     .venv/bin/python bench/python/refine_real.py [--horizons fixed|search] [--records a,b] [--models ...]
+                                                 [--orders auto] [--decimation-method lift|none]
+
+--orders auto gives no --order: the refinement's order and start come from the physical-mode
+selection (host_tools/common/refine_selection.c; the "order" column then shows the chosen one).
+--decimation-method none runs the record at its own dt (no --decimation).
 
 With --horizons search the CLI's start search chooses p and the Hankel size (minutes per run on
 these records: every start is refined).
@@ -40,10 +45,12 @@ def cpu_children():
     return r.ru_utime + r.ru_stime
 
 
-def run(stem, rec, order, model, horizons):
+def run(stem, rec, order, model, horizons, decimation_method):
     k = (rec["selection_settings"] or {}).get("decimation", 4)
-    cmd = [OKID, "identify", "--inputs", str(rec["inputs"]), "--outputs", str(rec["outputs"]), "--order", str(order),
-           "--decimation", str(k), "--decimation-method", "lift", "--refine", "--refine-model", model, "--json", *(FIXED if horizons == "fixed" else []),
+    cmd = [OKID, "identify", "--inputs", str(rec["inputs"]), "--outputs", str(rec["outputs"]),
+           *(["--order", str(order)] if order else []),
+           *(["--decimation", str(k), "--decimation-method", "lift"] if decimation_method == "lift" else []),
+           "--refine", "--refine-model", model, "--json", *(FIXED if horizons == "fixed" else []),
            str(ROOT / "tests" / "data" / "real" / (stem + ".csv"))]
     t0 = cpu_children()
     proc = subprocess.run(cmd, capture_output=True, text=True)
@@ -58,7 +65,9 @@ def main():
     ap.add_argument("--horizons", choices=["fixed", "search"], default="fixed")
     ap.add_argument("--records", default=",".join(sorted(CONSENSUS)))
     ap.add_argument("--models", default="output_error,innovation")
-    ap.add_argument("--orders", default="", help="orders to run instead of 2c, 2c + 2, 2c + 4 (comma-separated)")
+    ap.add_argument("--orders", default="", help="orders to run instead of 2c, 2c + 2, 2c + 4 (comma-separated), or "
+                    "'auto': no --order, the order chosen from the mode selection")
+    ap.add_argument("--decimation-method", choices=["lift", "none"], default="lift")
     args = ap.parse_args()
     print(f"horizons: {'p 20, alpha = beta = 50' if args.horizons == 'fixed' else 'the start search'}")
     print("| record | refine_model | order | state | passes | decrement | fit % (outputs) | largest Q | CPU s "
@@ -71,9 +80,10 @@ def main():
         c = len(want)
         for model in args.models.split(","):
             near = {w: [] for w in want}
-            orders = [int(v) for v in args.orders.split(",")] if args.orders else [2 * c, 2 * c + 2, 2 * c + 4]
+            orders = ([0] if args.orders == "auto" else [int(v) for v in args.orders.split(",")] if args.orders
+                      else [2 * c, 2 * c + 2, 2 * c + 4])
             for order in orders:
-                d, seconds, err = run(stem, rec, order, model, args.horizons)
+                d, seconds, err = run(stem, rec, order, model, args.horizons, args.decimation_method)
                 if d is None:
                     print(f"| {stem} | {model} | {order} | refused: {err} | | | | | {seconds:.1f} | |", flush=True)
                     continue
@@ -89,7 +99,8 @@ def main():
                     if hits:
                         best = min(hits, key=lambda m: abs(m["frequency_hz"] - w))
                         near[w].append((best["frequency_hz"], best["frequency_std"]))
-                print(f"| {stem} | {model} | {order} (K {d['lift_factor']}) | {r['state']} | {r['passes']} | {r['decrement']:.3g} | "
+                shown = order or f"{d.get('chosen', {}).get('order', {}).get('value')} (chosen)"
+                print(f"| {stem} | {model} | {shown} (K {d.get('lift_factor', 1)}) | {r['state']} | {r['passes']} | {r['decrement']:.3g} | "
                       f"{min(fits):.0f}–{max(fits):.0f} | {max(o['whiteness'] for o in tests):.3g} | {seconds:.1f} | "
                       f"{'; '.join(cells)} |", flush=True)
             for w, found in near.items():

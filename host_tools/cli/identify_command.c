@@ -23,6 +23,7 @@
 #include "record_channels.h"
 #include "record_reader.h"
 #include "refine_choice.h"
+#include "refine_selection.h"
 #include "warning_poles.h"
 #include "identify_lift.h"
 
@@ -208,6 +209,8 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
             json_result_header(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);
             json_start(stdout, cfg, res);
             json_refined_result(stdout, &o->refine_cfg, refined, cfg->num_outputs);
+            /* no order given: the settings and the refinement's order chosen from the data */
+            if (choice != NULL) auto_json_chosen(stdout, choice, (double)cfg->dt, refined->order, o->refine_order_reason);
             if (o->refine_choice != NULL) {
                 const refine_choice *rc = o->refine_choice;
                 fprintf(stdout, ",\n  \"refine_model_choice\": {\"requested\": \"auto\", \"chosen\": \"%s\", \"reason\": \"%s\", "
@@ -238,6 +241,7 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
             printf("fit of each output: %s\n", missing);
         }
         if (choice != NULL) auto_print_choice(choice, (double)cfg->dt);
+        if (refined != NULL && choice != NULL) printf("order %d (chosen): %s\n", refined->order, o->refine_order_reason);
         if (am != NULL) {
             auto_print_modes(am, res, cc->output_names, cfg->num_outputs, o->all_poles);
         } else {
@@ -376,6 +380,7 @@ typedef struct model_run {
     okid_refine_result refined;
     okid_status st; /* okid_identify()'s */
     int rc;         /* identify_refine()'s */
+    okid_identifier *start_id; /* the given start's identifier (the mode selection's), else &id */
 } model_run;
 
 static void model_run_free(model_run *run)
@@ -384,13 +389,23 @@ static void model_run_free(model_run *run)
     free(run->grown);
 }
 
+/* start non-NULL (the mode selection's, refine_selection.h): refined as it is, without a search. */
 static void run_model(const identify_options *o, const okid_config *cfg, size_t n, const okid_real *u,
-                      const okid_real *y, const record_columns *cols, void *ws, size_t bytes, model_run *run)
+                      const okid_real *y, const record_columns *cols, void *ws, size_t bytes,
+                      const okid_result *start, okid_identifier *start_id, model_run *run)
 {
     run->cfg = *cfg;
     run->search = (start_search){.count = 0, .best = -1};
     run->grown = run->rf_ws = NULL;
     run->rc = 0;
+    run->start_id = &run->id;
+    if (start != NULL) {
+        run->res = *start;
+        run->start_id = start_id;
+        run->st = OKID_OK;
+        run->rc = identify_refine(o, &run->res, n, u, y, 0, &run->rf, &run->rf_ws, &run->refined);
+        return;
+    }
     if (!o->horizons_given && cfg->decimation <= 1) {
         identify_choose_start(o, &run->cfg, n, u, y, &run->search);
         if (okid_workspace_size(&run->cfg, &bytes) != OKID_OK ||
@@ -405,6 +420,29 @@ static void run_model(const identify_options *o, const okid_config *cfg, size_t 
     if (run->st == OKID_OK) run->st = okid_push_block(&run->id, n, u, (size_t)cols->r, y, (size_t)cols->m, NULL);
     if (run->st == OKID_OK) run->st = okid_identify(&run->id, &run->res);
     if (run->st == OKID_OK) run->rc = identify_refine(o, &run->res, n, u, y, 0, &run->rf, &run->rf_ws, &run->refined);
+}
+
+/* okid_config_horizons refused --observer-seconds/--hankel-seconds: the line and the exit code. */
+static int horizons_error(okid_status st, const okid_config *cfg)
+{
+    const double step = (double)cfg->dt * (cfg->decimation > 1 ? cfg->decimation : 1);
+    return cli_error(EXIT_USAGE, "--observer-seconds/--hankel-seconds: %s (at most %d blocks of K dt = %g s)",
+                     okid_status_str(st), OKID_MAX_HORIZON, step);
+}
+
+/* auto_identify() failed (ai->failure, status st): the line on stderr and the exit code. */
+static int auto_failure_exit(auto_identification *ai, okid_status st, const column_choice *cc, const record_scan *scan)
+{
+    switch (ai->failure) {
+    case AUTO_OK: return 0;
+    case AUTO_FAILED_HORIZONS: return horizons_error(st, &ai->cfg);
+    case AUTO_FAILED_SETTINGS: return settings_error(&ai->cfg, st);
+    case AUTO_FAILED_DATA: return cli_error(EXIT_DATA, "%s", ai->shortfall);
+    case AUTO_FAILED_MEMORY: return cli_error(EXIT_DATA, "out of memory");
+    case AUTO_FAILED_MODES:
+    case AUTO_FAILED_MODEL: return identify_failure(&ai->cfg, auto_failed_identifier(ai), st, cc, scan);
+    }
+    return cli_error(EXIT_DATA, "identification failed: %s", okid_status_str(st));
 }
 
 /*
@@ -424,15 +462,38 @@ static int identify_and_refine(const identify_options *o, okid_config *cfg, reco
     if (loaded != 0) {
         return loaded;
     }
-    struct timespec t0, t1; /* --timing: the start search, OKID/ERA and the refinement */
+    struct timespec t0, t1; /* --timing: the mode selection, the start search, OKID/ERA and the refinement */
     timespec_get(&t0, TIME_UTC);
+    /* no order given: the order and the start from the physical modes (refine_selection.h), selected on
+       the record the refinement sees (its decimation kept: 1, or the lifted record's) */
+    auto_identification ai = {0};
+    refine_selection sel = {0};
+    const okid_result *start = NULL;
+    if (cfg->order == 0) {
+        const auto_request rq = {.cfg = *cfg, .given = o->given | AUTO_GIVEN_DECIMATION,
+                                 .observer_seconds = o->observer_seconds, .hankel_seconds = o->hankel_seconds,
+                                 .n = n, .u = u, .y = y};
+        const okid_status st = auto_identify(&rq, &ai);
+        int rc = st == OKID_OK ? 0 : auto_failure_exit(&ai, st, cc, scan);
+        if (rc == 0 && refine_selection_start(&ai, &sel) != 0) rc = cli_error(EXIT_DATA, "out of memory");
+        if (rc != 0) {
+            auto_identification_free(&ai);
+            free(u), free(y);
+            return rc;
+        }
+        if (sel.order > 0) {
+            start = &sel.start;
+            *cfg = ai.cfg;
+            cfg->order = 0; /* "config": the order as given; "chosen" says how */
+        }
+    }
     const int automatic = o->refine_cfg.refine_model == (okid_refine_model)REFINE_MODEL_AUTO;
     identify_options oe = *o, inn = *o;
     oe.refine_cfg.refine_model = OKID_REFINE_OUTPUT_ERROR;
     inn.refine_cfg.refine_model = OKID_REFINE_INNOVATION;
     model_run runs[2];
     model_run *chosen = &runs[0];
-    run_model(automatic ? &oe : o, cfg, n, u, y, cols, ws, bytes, &runs[0]);
+    run_model(automatic ? &oe : o, cfg, n, u, y, cols, ws, bytes, start, &ai.id, &runs[0]);
     refine_choice choice = {.chosen = OKID_REFINE_OUTPUT_ERROR};
     int ran_innovation = 0;
     if (automatic && runs[0].st == OKID_OK && runs[0].rc == 0) {
@@ -443,10 +504,12 @@ static int identify_and_refine(const identify_options *o, okid_config *cfg, reco
                                ? aligned_alloc(OKID_WORKSPACE_ALIGN, (inn_bytes + 15) / 16 * 16) : NULL;
             if (inn_ws == NULL) {
                 model_run_free(&runs[0]);
+                refine_selection_free(&sel);
+                auto_identification_free(&ai);
                 free(u), free(y);
                 return cli_error(EXIT_DATA, "out of memory (workspace of %zu bytes)", inn_bytes);
             }
-            run_model(&inn, cfg, n, u, y, cols, inn_ws, inn_bytes, &runs[1]);
+            run_model(&inn, cfg, n, u, y, cols, inn_ws, inn_bytes, start, &ai.id, &runs[1]);
             ran_innovation = 1;
             const int inn_ok = runs[1].st == OKID_OK && runs[1].rc == 0;
             refine_choose(&runs[0].refined, inn_ok ? &runs[1].refined : NULL, cols->m, &choice);
@@ -466,23 +529,18 @@ static int identify_and_refine(const identify_options *o, okid_config *cfg, reco
         const double elapsed = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
         identify_options shown = chosen == &runs[1] ? inn : automatic ? oe : *o;
         if (automatic) shown.refine_choice = &choice;
+        shown.refine_order_reason = sel.reason;
         *cfg = chosen->cfg;
-        rc = report(&shown, cfg, &chosen->id, &chosen->res, cc, elapsed, &chosen->refined, &chosen->search, NULL,
-                    NULL, NULL);
+        rc = report(&shown, cfg, chosen->start_id, &chosen->res, cc, elapsed, &chosen->refined, &chosen->search,
+                    ai.modes != NULL ? &ai.choice : NULL, NULL, NULL);
     }
     model_run_free(&runs[0]);
     if (ran_innovation) model_run_free(&runs[1]);
+    refine_selection_free(&sel);
+    auto_identification_free(&ai);
     free(u);
     free(y);
     return rc;
-}
-
-/* okid_config_horizons refused --observer-seconds/--hankel-seconds: the line and the exit code. */
-static int horizons_error(okid_status st, const okid_config *cfg)
-{
-    const double step = (double)cfg->dt * (cfg->decimation > 1 ? cfg->decimation : 1);
-    return cli_error(EXIT_USAGE, "--observer-seconds/--hankel-seconds: %s (at most %d blocks of K dt = %g s)",
-                     okid_status_str(st), OKID_MAX_HORIZON, step);
 }
 
 /*
@@ -517,12 +575,7 @@ static int identify_auto(const identify_options *o, const okid_config *cfg, reco
         rc = report(o, &shown, &ai.id, &ai.result, cc, elapsed, NULL, NULL, &ai.choice, ai.modes, have_fit ? fit : NULL);
         break;
     }
-    case AUTO_FAILED_HORIZONS: rc = horizons_error(st, &ai.cfg); break;
-    case AUTO_FAILED_SETTINGS: rc = settings_error(&ai.cfg, st); break;
-    case AUTO_FAILED_DATA: rc = cli_error(EXIT_DATA, "%s", ai.shortfall); break;
-    case AUTO_FAILED_MEMORY: rc = cli_error(EXIT_DATA, "out of memory"); break;
-    case AUTO_FAILED_MODES:
-    case AUTO_FAILED_MODEL: rc = identify_failure(&ai.cfg, auto_failed_identifier(&ai), st, cc, scan); break;
+    default: rc = auto_failure_exit(&ai, st, cc, scan); break;
     }
     auto_identification_free(&ai);
     free(u);

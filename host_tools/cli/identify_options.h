@@ -21,6 +21,8 @@ typedef struct identify_options {
     int decimation_method;         /* --decimation-method: DECIMATION_FILTER or DECIMATION_LIFT (identify_lift.h) */
     /* --refine-model auto: the choice made (refine_choice.h), for the report; NULL otherwise */
     const struct refine_choice *refine_choice;
+    /* --refine without --order: why the refinement's order (refine_selection.h), for the report; NULL otherwise */
+    const char *refine_order_reason;
 } identify_options;
 
 /* Fills o from the command line; 0, or EXIT_USAGE after one line on stderr. "--help" exits 0. */

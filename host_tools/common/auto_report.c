@@ -119,7 +119,7 @@ static void json_setting(FILE *out, const char *name, int value, int chosen, con
     fputc('}', out);
 }
 
-void auto_json(FILE *out, const auto_choice *c, double dt, const auto_modes *am, const okid_result *res, int m)
+void auto_json_chosen(FILE *out, const auto_choice *c, double dt, int order, const char *order_reason)
 {
     const double step = c->decimation * dt;
     char reason[256];
@@ -153,13 +153,19 @@ void auto_json(FILE *out, const auto_choice *c, double dt, const auto_modes *am,
     fputs(", ", out);
     json_number(out, c->frequency_max_hz);
     fputc(']', out);
-    if (am != NULL) {
+    if (order_reason != NULL) {
         fputs(",\n    ", out);
-        json_setting(out, "order", res->order, 1,
-                     am->order_holds_all ? "the lowest order whose poles hold every physical mode"
-                                         : "the order whose poles hold the most physical modes");
+        json_setting(out, "order", order, 1, order_reason);
     }
     fputs("}", out);
+}
+
+void auto_json(FILE *out, const auto_choice *c, double dt, const auto_modes *am, const okid_result *res, int m)
+{
+    auto_json_chosen(out, c, dt, res->order,
+                     am == NULL               ? NULL
+                     : am->order_holds_all ? "the lowest order whose poles hold every physical mode"
+                                           : "the order whose poles hold the most physical modes");
     if (am == NULL) { /* an order given: that model's modes */
         json_modes(out, res, m);
         return;

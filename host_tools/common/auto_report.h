@@ -21,6 +21,9 @@ void auto_print_modes(const auto_modes *am, const okid_result *res, const char *
 /* One row of sensor shapes C psi, scaled so that the largest component is 1 (the rest of the line). */
 void auto_print_sensor_shape(const okid_mode *md, int m);
 
+/* ",\n  "chosen": {...}": the settings of c and, with order_reason, "order": {"value": order, ...}. */
+void auto_json_chosen(FILE *out, const auto_choice *c, double dt, int order, const char *order_reason);
+
 /* ",\n  "chosen": {...}" and, with am, ",\n  "modes": [...]" and ",\n  "poles": [...]". */
 void auto_json(FILE *out, const auto_choice *choice, double dt, const auto_modes *am, const okid_result *res, int m);
 

@@ -234,7 +234,9 @@ def identify(u: Any, y: Any, dt: float, *,
     either, by the start search below)
     order: model order n (states); 0: chosen with the physical modes: ``modes`` then holds the
     modes stable across orders and Hankel windows (okid.SelectedMode), ``poles`` every pole of the
-    model with its verdict (okid.Pole), ``chosen`` each choice and its reason, as okid identify does
+    model with its verdict (okid.Pole), ``chosen`` each choice and its reason, as okid identify does;
+    with refine=True, 0 takes the refinement's order and start from that selection (2 x the pairs
+    kept, the selection's model truncated to them; ``chosen["order"]`` says how, docs/refinement.md)
     hankel_rows, hankel_cols: alpha, beta block rows/columns of the ERA Hankel matrix (1..1000);
     None: chosen from the data, three slowest periods (checked at two and four)
     block_rows: regressor rows folded per update (0 = automatic: 256, fewer for wide regressors)
@@ -352,6 +354,14 @@ def identify(u: Any, y: Any, dt: float, *,
     shortfall = _core.data_shortfall(config, ub.shape[0])
     if shortfall is not None and not (refine and not horizons_given) and not chosen_from_data:
         raise NotEnoughDataError(shortfall, E_NOT_ENOUGH_DATA)
+    chosen = None
+    if refine and options["order"] == 0:
+        # okid identify --refine without --order: the order and start from the physical-mode selection
+        # (host_tools/common/refine_selection.c); none kept: the library's order as before, and "chosen" says so
+        selected, chosen = _refined_from_selection(config, given, ub, yb, r, m, dt, options, max_passes,
+                                                   step_tolerance, refine_model, progress)
+        if selected is not None:
+            return selected
     search = None
     if refine and not horizons_given:
         # okid identify --refine's own start search (host_tools/common/start_search.c), each start
@@ -396,8 +406,38 @@ def identify(u: Any, y: Any, dt: float, *,
         result = replace(result, warnings=result.warnings | WarningFlag.CORRELATION_FALLBACK)
     if not refine:
         return _warn_if_unexplained(_measured(result, ub, yb), CALLER)
-    return replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=CALLER, progress=progress,
-                                  refine_model=refine_model), start_search=search)
+    refined = replace(result._refine(ub, yb, max_passes, step_tolerance, stacklevel=CALLER, progress=progress,
+                                     refine_model=refine_model), start_search=search)
+    return refined if chosen is None else replace(refined, chosen=chosen)
+
+
+def _chosen(member: str) -> MappingProxyType:
+    """The JSON member ',\n  "chosen": {...}' of the host library as Result.chosen."""
+    doc = json.loads("{" + member.lstrip().lstrip(",") + "}")["chosen"]
+    return MappingProxyType({k: MappingProxyType(v) if isinstance(v, dict) else v for k, v in doc.items()})
+
+
+def _refined_from_selection(config, given, ub, yb, r, m, dt, options, max_passes, step_tolerance, refine_model,
+                            progress) -> Tuple[Optional[Result], Optional[MappingProxyType]]:
+    """refine=True without order (okid identify --refine without --order): the selection on this record
+    (its decimation kept), its model truncated to the pairs kept (refine_selection.h), refined from there:
+    (the refined Result with ``chosen``, None) or, when no pair was kept, (None, ``chosen`` with the reason)."""
+    status, order, _reason, member, settings, start, model = _core.refine_selection(
+        config, given | _core.AUTO_GIVEN_DECIMATION, ub, yb)
+    check(status, "identify (the physical-mode selection of refine=True without order)")
+    chosen = _chosen(member)
+    if order == 0:
+        return None, chosen
+    code = settings.pop("estimator")  # least_squares after the correlation form's fallback
+    options = dict(options, **settings, estimator=next(k for k, v in _config.ENUMS["estimator"].items() if v == code))
+    identifier = Identifier._adopt(r, m, dt, options, model[0])
+    selection = Result._from_core(model[1], identifier.config, model[0], model[0].generation)
+    a, b, c, d, g, poles = start
+    truncated = replace(selection, order=order, A=a, B=b, C=c, D=d, G=g, modes=tuple(selection.modes[i] for i in poles),
+                        config=MappingProxyType({**selection.config, "order": 0}))
+    refined = truncated._refine(ub, yb, max_passes, step_tolerance, stacklevel=CALLER + 1, progress=progress,
+                                refine_model=refine_model)
+    return replace(refined, chosen=chosen), None
 
 
 def _identify_choosing_the_model(u: Any, y: Any, dt: Any, settings: Dict[str, Any]) -> Result:

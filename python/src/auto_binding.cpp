@@ -16,6 +16,7 @@ extern "C" {
 #include "auto_modes.h"
 #include "auto_report.h"
 #include "auto_settings.h"
+#include "refine_selection.h"
 }
 
 namespace okid_py {
@@ -55,6 +56,18 @@ okid_status push_with_progress(void *context, okid_identifier *id, size_t n, con
 }
 
 
+// The record and the settings given, as auto_identify() takes them (no push callback: one okid_push_block).
+auto_request request_of(const nb::dict &config, unsigned given, CBlock u, CBlock y)
+{
+    auto_request rq{};
+    rq.cfg = config_from_dict(config);
+    rq.given = given;
+    rq.n = u.shape(0);
+    rq.u = u.data();
+    rq.y = y.data();
+    return rq;
+}
+
 // A selected mode: the okid_mode fields, then its cluster's statistics and its support.
 nb::dict selected_dict(const auto_modes &am, int k, int m)
 {
@@ -73,12 +86,7 @@ void bind_auto(nb::module_ &m)
     m.def(
         "auto_identify",
         [](const nb::dict &config, unsigned given, CBlock u, CBlock y, nb::object progress) {
-            auto_request rq{};
-            rq.cfg = config_from_dict(config);
-            rq.given = given;
-            rq.n = u.shape(0);
-            rq.u = u.data();
-            rq.y = y.data();
+            auto_request rq = request_of(config, given, u, y);
             PushContext push{progress, nullptr, {}};
             rq.push = push_with_progress;
             rq.push_context = &push;
@@ -127,6 +135,56 @@ void bind_auto(nb::module_ &m)
         "settings of the model, the JSON's \"chosen\"/\"modes\"/\"poles\" members (the refusal on too little "
         "data), selected modes or None, the model's pole verdicts or None, (IdentifierCore, ResultCore) or None). "
         "The model's samples go in chunks: progress(done, count) after each, Ctrl-C raises between two.");
+    m.def(
+        "refine_selection",
+        [](const nb::dict &config, unsigned given, CBlock u, CBlock y) {
+            auto_request rq = request_of(config, given, u, y);
+            auto_identification ai{};
+            refine_selection sel{};
+            okid_status status;
+            int memory = 0;
+            {
+                nb::gil_scoped_release release;
+                status = auto_identify(&rq, &ai);
+                if (status == OKID_OK) memory = refine_selection_start(&ai, &sel);
+            }
+            std::unique_ptr<auto_identification, IdentificationFree> owner(&ai);
+            struct SelectionFree {
+                void operator()(refine_selection *s) const noexcept { refine_selection_free(s); }
+            };
+            std::unique_ptr<refine_selection, SelectionFree> sel_owner(&sel);
+            if (ai.failure == AUTO_FAILED_MEMORY || memory != 0) throw std::bad_alloc();
+            if (status != OKID_OK) {
+                return nb::make_tuple((int)status, 0, nb::none(), nb::none(), nb::none(), nb::none(), nb::none());
+            }
+            const okid_config &cfg = ai.cfg;
+            nb::dict settings;
+            settings["observer_order"] = cfg.observer_order;
+            settings["hankel_rows"] = cfg.hankel_rows;
+            settings["hankel_cols"] = cfg.hankel_cols;
+            settings["estimator"] = (int)cfg.estimator;
+            nb::str chosen = write_to_string([&](FILE *out) {
+                auto_json_chosen(out, &ai.choice, (double)cfg.dt, sel.order, sel.reason);
+            });
+            if (sel.order == 0) {
+                return nb::make_tuple((int)status, 0, nb::str(sel.reason), chosen, settings, nb::none(), nb::none());
+            }
+            nb::list poles;
+            for (int k = 0; k < sel.num_modes + sel.num_other; ++k) poles.append(sel.poles[k]);
+            const okid_result &s0 = sel.start;
+            nb::tuple start = nb::make_tuple(matrix_array(s0.A), matrix_array(s0.B), matrix_array(s0.C),
+                                             matrix_array(s0.D),
+                                             s0.G.data != nullptr ? nb::cast(matrix_array(s0.G)) : nb::none(), poles);
+            void *workspace = ai.workspace;
+            ai.workspace = nullptr;  // the IdentifierCore's from here on
+            nb::tuple model = adopt_identifier(cfg, workspace, ai.id, ai.result);
+            return nb::make_tuple((int)status, sel.order, nb::str(sel.reason), chosen, settings, start, model);
+        },
+        nb::arg("config"), nb::arg("given"), nb::arg("u"), nb::arg("y"),
+        "refine_selection_start() after auto_identify() (host_tools/common/refine_selection.h), okid identify "
+        "--refine's order and start without --order: (status, order (0: none kept), reason, the JSON's "
+        "\"chosen\" member, the selection's settings, (A, B, C, D, G or None, kept pole indices) or None, "
+        "(IdentifierCore, ResultCore) or None).");
 }
 
 }  // namespace okid_py

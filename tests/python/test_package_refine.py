@@ -459,3 +459,19 @@ def test_lift_refusals():
             okid.model.lift(u, y, bad)
     with pytest.raises(okid.BadSizeError, match="expected"):
         okid.model.lift(u, np.zeros((9, 2)), 2)
+
+
+def test_refine_without_order_takes_the_mode_selection(record):
+    """refine=True without order, as okid identify --refine without --order: the order and start from the
+    physical-mode selection (host_tools/common/refine_selection.c through the binding), Result.chosen's
+    "order" the CLI's, the refined modes the CLI's (the same C code on the same samples: 1e-12 relative;
+    the CSV holds 17 digits), the start the truncated model."""
+    path, _, data = record
+    res = okid.identify(data[:, 1:2], data[:, 2:], 0.05, refine=True)
+    out = json.loads(cli("identify", "--refine", "--json", path).stdout)
+    assert dict(res.chosen["order"]) == out["chosen"]["order"] and res.chosen["order"]["value"] == 4
+    assert res.config["order"] == 0 and res.start.order == 4 and res.refinement.state == "converged"
+    for key in ("frequency_hz", "damping_ratio", "frequency_std", "damping_std"):
+        assert np.allclose([getattr(md, key) for md in res.modes], [md[key] for md in out["modes"]], rtol=1e-12, atol=0)
+    assert np.allclose([md.frequency_hz for md in res.start.modes], [md["frequency_hz"] for md in out["start"]["modes"]],
+                       rtol=1e-12, atol=0)

@@ -344,3 +344,34 @@ def test_refine_model_auto(tmp_path):
             assert got["damping_ratio"] == pytest.approx(want["damping_ratio"], rel=1e-9)
     with pytest.raises(okid.BadParameterError, match="'output_error', 'innovation', 'auto'"):
         okid.identify(data[:, 1:2], data[:, 2:], 0.05, order=4, refine=True, refine_model="best")
+
+
+def test_refine_order_from_the_mode_selection(record):
+    """--refine without --order: the order is 2 x the pairs kept from the physical-mode selection
+    (host_tools/common/refine_selection.c) and the start is the selection's model truncated to them.
+    On the paper's record the selection keeps 0.50 Hz (physical) and 1.05 Hz (rejected on its EMAC,
+    a mode by the hard criteria): order 4, one refined pair per exact mode, converged, the truth
+    within 4 sigma; a fixed order 6 leaves a spare pair (3.07 Hz on this record)."""
+    freq, zeta = exact_modes()
+    proc = run("identify", "--refine", "--json", record)
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout)
+    assert out["chosen"]["order"]["value"] == 4 and out["chosen"]["order"]["chosen"] is True
+    assert "1 physical + 1 other" in out["chosen"]["order"]["reason"]
+    assert out["config"]["order"] == 0 and out["refinement"]["state"] == "converged"
+    assert "start_search" not in out  # the start is the selection's model, not searched
+    pairs = [m for m in out["modes"] if m["is_pair"]]
+    assert len(pairs) == 2
+    for k, mode in enumerate(pairs):
+        assert abs(mode["frequency_hz"] - freq[k]) < 4 * mode["frequency_std"]
+        assert abs(mode["damping_ratio"] - zeta[k]) < 4 * mode["damping_std"]
+    # the start keeps the selection model's poles exactly (a modal truncation moves no eigenvalue):
+    # against the poles of the selection itself, okid identify --decimation 1 (no refinement)
+    selection = json.loads(run("identify", "--decimation", 1, "--json", record).stdout)
+    want = sorted(p["frequency_hz"] for p in selection["poles"] if p["is_pair"] and p["damping_ratio"] < 0.7071)
+    got = sorted(m["frequency_hz"] for m in out["start"]["modes"])
+    assert np.allclose(got, want, rtol=1e-9, atol=0)
+    # the fixed order 6 of the same record: a spare pair beside the two exact modes
+    fixed = json.loads(run("identify", "--order", 6, "--refine", "--json", record).stdout)
+    spare = [m for m in fixed["modes"] if m["is_pair"] and min(abs(m["frequency_hz"] - f) / f for f in freq) > 0.05]
+    assert len(spare) == 1
