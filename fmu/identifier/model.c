@@ -400,6 +400,14 @@ static void *allocate_workspace(identifier_data *d, const fmu_allocator *memory,
     return (void *)((raw + OKID_WORKSPACE_ALIGN - 1) / OKID_WORKSPACE_ALIGN * OKID_WORKSPACE_ALIGN);
 }
 
+/* The initialization `function` refused the parameters `values` with st. */
+static fmu_status refused_by(fmu_logger *logger, const char *function, okid_status st, const char *values)
+{
+    fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused by %s: %s (okid_status %d) for %s",
+            function, okid_status_str(st), (int)st, values);
+    return FMU_ERROR;
+}
+
 /*
  * num_inputs = 0: the output-only identifier (okid/ambient.h) over the outputs' correlations of
  * lags 0..2L, L = hankel_rows, with order, dt and sensing; the parameters that belong to the
@@ -456,11 +464,7 @@ static fmu_status exit_output_only(identifier_data *d, const fmu_allocator *memo
     void *workspace = allocate_workspace(d, memory, logger, bytes, values);
     if (workspace == NULL) return FMU_ERROR;
     st = okid_ambient_init(&d->amb, &cfg, workspace, bytes, NULL);
-    if (st != OKID_OK) {
-        fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused by okid_ambient_init: %s "
-                "(okid_status %d) for %s", okid_status_str(st), (int)st, values);
-        return FMU_ERROR;
-    }
+    if (st != OKID_OK) return refused_by(logger, "okid_ambient_init", st, values);
     fmu_log(logger, FMU_OK, "logEvents", "output-only identification: the correlations of lags 0..%d of %d outputs "
             "and their ERA in a workspace of %zu bytes", 2 * d->hankel_rows, d->num_outputs, bytes);
     return prepare_selection(d, memory, logger, values);
@@ -512,11 +516,7 @@ static fmu_status exit_initialization(void *data, const fmu_allocator *memory, f
     void *workspace = allocate_workspace(d, memory, logger, bytes, values);
     if (workspace == NULL) return FMU_ERROR;
     st = okid_init(&d->id, &cfg, workspace, bytes, NULL);
-    if (st != OKID_OK) {
-        fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused by okid_init: %s (okid_status %d) "
-                "for %s", okid_status_str(st), (int)st, values);
-        return FMU_ERROR;
-    }
+    if (st != OKID_OK) return refused_by(logger, "okid_init", st, values);
     return prepare_selection(d, memory, logger, values);
 }
 

@@ -737,6 +737,16 @@ def same_bits(a, b):
     return (isinstance(a, float) and isinstance(b, float) and math.isnan(a) and math.isnan(b)) or a == b
 
 
+def assert_modes_are_the_clis(fmu_modes, cli_modes, tol):
+    """The FMU's mode outputs (fmu_modes()) equal the CLI JSON's modes to tol; NaN beyond them."""
+    for k, (c, f) in enumerate(zip(cli_modes, fmu_modes)):
+        expected = dict(c, eigenvalue_re=c["eigenvalue"][0], eigenvalue_im=c["eigenvalue"][1])
+        for v in MODE_VALUES:
+            assert f[v] == pytest.approx(expected[v], rel=tol, abs=tol), (k, v)
+        assert np.allclose(f["shape"], c["shape"], rtol=0, atol=tol), k
+    assert all(math.isnan(md[v]) for md in fmu_modes[len(cli_modes):] for v in MODE_VALUES)
+
+
 @pytest.mark.parametrize("version", VERSIONS)
 def test_mode_outputs_are_the_clis_physical_modes(version, selection_record):
     """Order 0 and all_poles false (the defaults): the mode outputs are the modes okid identify lists
@@ -762,12 +772,7 @@ def test_mode_outputs_are_the_clis_physical_modes(version, selection_record):
     closest = max(abs(complex(*md["eigenvalue"])) for md in cli["modes"])
     tol = np.finfo(float).eps * sv[0] / sv[top - 1] / (1 - closest)
     assert tol < 1e-8
-    for k, (c, f) in enumerate(zip(cli["modes"], out["modes"])):
-        expected = dict(c, eigenvalue_re=c["eigenvalue"][0], eigenvalue_im=c["eigenvalue"][1])
-        for v in MODE_VALUES:
-            assert f[v] == pytest.approx(expected[v], rel=tol, abs=tol), (k, v)
-        assert np.allclose(f["shape"], c["shape"], rtol=0, atol=tol), k
-    assert all(math.isnan(md[v]) for md in out["modes"][2:] for v in MODE_VALUES)
+    assert_modes_are_the_clis(out["modes"], cli["modes"], tol)
 
 
 @pytest.mark.parametrize("version", VERSIONS)
@@ -881,12 +886,7 @@ def test_output_only_modes_are_the_clis(version, ambient_case):
     closest = max(abs(complex(*md["eigenvalue"])) for md in cli["modes"])
     tol = np.finfo(float).eps * math.sqrt(n) * top * sv[0] / sv[top - 1] / (1 - closest)
     assert tol < 1e-7
-    for k, (c, f) in enumerate(zip(cli["modes"], out["modes"])):
-        expected = dict(c, eigenvalue_re=c["eigenvalue"][0], eigenvalue_im=c["eigenvalue"][1])
-        for v in MODE_VALUES:
-            assert f[v] == pytest.approx(expected[v], rel=tol, abs=tol), (k, v)
-        assert np.allclose(f["shape"], c["shape"], rtol=0, atol=tol), k
-    assert all(math.isnan(md[v]) for md in out["modes"][2:] for v in MODE_VALUES)
+    assert_modes_are_the_clis(out["modes"], cli["modes"], tol)
 
 
 @pytest.mark.parametrize("version", VERSIONS)
