@@ -945,3 +945,28 @@ def test_output_only_nan_gap_and_order_given(version, ambient_case):
     assert len(res.modes) == 2 and res.samples == len(y) - 1
     for (f, z), c in zip(fmu_modes_4, res.modes):
         assert f == pytest.approx(c.frequency_hz, rel=tol) and z == pytest.approx(c.damping_ratio, rel=tol)
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_output_only_state_restores_the_sums(version, ambient_case):
+    """An FMU state taken halfway holds the correlation sums (the workspace): the second half run
+    again from it gives the first run's outputs bit for bit."""
+    y, dt = ambient_case["y"][:6000], ambient_case["dt"]
+    s = output_only_identifier(version, ambient_case)
+    s.set(dt=dt, hankel_rows=10, identify_every=1000)
+    s.initialize()
+    get_state, set_state = ("getFMUstate", "setFMUstate") if version == 2 else ("getFMUState", "setFMUState")
+
+    def steps(first, last):
+        for k in range(first, last):
+            s.set_array("y", y[k])
+            s.step(k * dt, dt)
+        return s.get("identifications", "num_modes", "samples", "mode1_frequency_hz", "mode1_damping_ratio",
+                     "singular_value1")
+
+    steps(0, 3000)
+    state = getattr(s.fmu, get_state)()
+    first = steps(3000, 6000)
+    getattr(s.fmu, set_state)(state)
+    assert steps(3000, 6000) == first and first[:3] == [6, first[1], 6000] and first[1] >= 1
+    s.close()
