@@ -349,10 +349,10 @@ static fmu_status prepare_selection(identifier_data *d, const fmu_allocator *mem
     if (st == OKID_OK) st = okid_mode_selection_workspace_size(top, 2, &d->selection_bytes);
     if (st != OKID_OK) {
         fmu_log(logger, FMU_ERROR, "logStatusError", "all_poles = false (the default) refused: the stabilization table of the even "
-                "orders 2..%d (%s) cannot be sized: %s (okid_status %d); set all_poles = true for the model's poles (%s)", top,
-                output_only(d) ? "min(60, hankel_rows num_outputs)"
-                               : "min(60, hankel_rows num_outputs, hankel_cols columns, observer_order num_outputs)",
-                okid_status_str(st), (int)st, values);
+                "orders 2..%d (min(%d, hankel_rows num_outputs%s)) cannot be sized: %s (okid_status %d); set all_poles = "
+                "true for the model's poles (%s)", top, MODE_WINDOWS_MAX_ORDER,
+                output_only(d) ? "" : ", hankel_cols columns, observer_order num_outputs", okid_status_str(st), (int)st,
+                values);
         return FMU_ERROR;
     }
     const size_t table = aligned_up(d->table_bytes), total = table + aligned_up(d->selection_bytes);
