@@ -7,7 +7,11 @@
  * with okid's exact zero-order hold); prints the identified modes with 17 digits, which
  * tests/python/test_fmu_platforms.py compares with numpy's exact modes and across the platforms.
  * It runs the case twice, with fmi3Reset and a new configuration in between, and requires the same
- * bits both times (valgrind checks the allocations of both configurations).
+ * bits both times (valgrind checks the allocations of both configurations). A third run after one
+ * more fmi3Reset configures num_inputs 0 (output-only identification: the correlation sums, the
+ * stabilization table and the selection in their own memory) and feeds the accelerations alone;
+ * it requires one identification (its modes are estimates from correlations: test_fmu.py checks
+ * those against the CLI).
  *   fmu3_chain IDENTIFIER_DIR [PLATFORM]   (unpacked FMU of build/fmu/fmi3; x86_64-linux by default)
  */
 #include <stdio.h>
@@ -185,6 +189,36 @@ static int identify(fmi3Instance fmu, const char *xml, const double *u, const do
     return identifications == 1;
 }
 
+/*
+ * num_inputs 0, num_outputs 3, L = 10, order 0 (the physical modes): y alone; 1 when it identified
+ * once. L m = 30 keeps the largest-gap order within the Eigen platforms' 32 (OKID_EIGEN_MAX_ORDER).
+ */
+static int identify_output_only(fmi3Instance fmu, const char *xml, const double *y)
+{
+    const fmi3ValueReference sizes[3] = {vr(xml, "num_inputs"), vr(xml, "num_outputs"), vr(xml, "max_modes")};
+    const fmi3UInt64 size_values[3] = {0, M, 3};
+    check(enter_configuration(fmu), "fmi3EnterConfigurationMode");
+    check(set_uint64(fmu, sizes, 3, size_values, 3), "fmi3SetUInt64");
+    check(exit_configuration(fmu), "fmi3ExitConfigurationMode");
+    const fmi3ValueReference settings[2] = {vr(xml, "hankel_rows"), vr(xml, "identify_every")}, dt_vr = vr(xml, "dt");
+    const fmi3Int32 values[2] = {10, SAMPLES};
+    check(set_int32(fmu, settings, 2, values, 2), "fmi3SetInt32");
+    check(set_float64(fmu, &dt_vr, 1, &DT, 1), "fmi3SetFloat64");
+    check(enter_init(fmu, fmi3False, 0, 0, fmi3False, 0), "fmi3EnterInitializationMode");
+    check(exit_init(fmu), "fmi3ExitInitializationMode");
+    const fmi3ValueReference outputs = vr(xml, "y");
+    for (int k = 0; k < SAMPLES; ++k) {
+        fmi3Boolean event, stop, early;
+        fmi3Float64 last;
+        check(set_float64(fmu, &outputs, 1, &y[k * M], M), "fmi3SetFloat64 (y)");
+        check(do_step(fmu, k * DT, DT, fmi3True, &event, &stop, &early, &last), "fmi3DoStep");
+    }
+    const fmi3ValueReference count_vr = vr(xml, "identifications");
+    fmi3Int32 identifications = 0;
+    check(get_int32(fmu, &count_vr, 1, &identifications, 1), "fmi3GetInt32");
+    return identifications == 1;
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2 && argc != 3) {
@@ -236,6 +270,11 @@ int main(int argc, char **argv)
     for (int k = 0; k < 3; ++k) printf("mode %d: frequency_hz %.17g damping_ratio %.17g\n", k + 1, first[k], first[3 + k]);
     if (memcmp(first, again, sizeof first) != 0) {
         fprintf(stderr, "fmu3_chain: the run after fmi3Reset differs\n");
+        return 1;
+    }
+    check(reset(fmu), "fmi3Reset");
+    if (!identify_output_only(fmu, xml, y)) {
+        fprintf(stderr, "fmu3_chain: the output-only run did not identify\n");
         return 1;
     }
     terminate(fmu);

@@ -10,6 +10,12 @@ identifications is the table and the selection. CPU seconds of this process (the
 single-threaded), best of --repeat runs each. The memory is the
 FMU's own logEvents line at initialization (the table's and the selection's bytes).
 
+Output-only (num_inputs 0, okid identify --inputs 0's path): tests/python/test_ambient.py's
+record (the paper's plant under unmeasured white forces, 40000 samples at 0.05 s, its mean
+removed) with L = hankel_rows 20, fed once with identify_every 40000 (one identification) and
+once with identify_every 200 (200); the difference over the 199 more identifications is the time
+of one (identify, table and selection), the same fmpy steps in both.
+
     .venv/bin/python bench/python/fmu_selection_cost.py [--fmu build/fmu/fmi3/okid_identifier.fmu]
 """
 import argparse
@@ -29,20 +35,43 @@ CONFIGS = [("paper: p 20, alpha = beta 20", dict(observer_order=20, hankel_rows=
            ("p 50, alpha = beta 100", dict(observer_order=50, hankel_rows=100, hankel_cols=100))]
 
 
-def run(path, data, settings):
+def run(path, data, settings, output_only=False):
+    """data: rows (t, force, acc1, acc2), or with output_only rows of y alone (num_inputs 0)."""
     log = []
     s = Slave(path, "identifier", logger=lambda st, cat, msg: log.append(msg)).instantiate(logging_on=True)
+    if output_only:
+        s.configure(num_inputs=0)
     s.set(**settings)
     s.initialize()
     dt = settings["dt"]
     start = time.process_time()  # CPU seconds of this process (the FMU runs in it): not the other jobs'
     for k in range(len(data)):
-        s.set_inputs(data[k, 1], data[k, 2:])
+        if output_only:
+            s.set_array("y", data[k])
+        else:
+            s.set_inputs(data[k, 1], data[k, 2:])
         s.step(k * dt, dt)
     elapsed = time.process_time() - start
     count, modes = s.get("identifications", "num_modes")
     s.close()
-    return elapsed, count, modes, [m for m in log if m.startswith("mode selection")]
+    return elapsed, count, modes, [m for m in log if m.startswith(("mode selection", "output-only"))]
+
+
+def output_only_cost(path, repeat):
+    from test_ambient import DT, ambient_record
+    y = ambient_record()
+    y = y - y.mean(axis=0)
+    settings = dict(dt=DT, hankel_rows=20)
+    best = {}
+    for every in (len(y), 200):
+        for _ in range(repeat):
+            elapsed, count, modes, memory = run(path, y, {**settings, "identify_every": every}, output_only=True)
+            if every not in best or elapsed < best[every][0]:
+                best[every] = (elapsed, count, modes, memory)
+    (once, n1, modes, memory), (often, n200, _, _) = best[len(y)], best[200]
+    print("output-only, L 20 (m 2): " + "; ".join(memory))
+    print(f"  {len(y)} steps: {once:.3f} s with {n1} identification ({modes} modes), {often:.3f} s with {n200}: "
+          f"{1e3 * (often - once) / (n200 - n1):.2f} ms per identification (identify, table and selection)")
 
 
 def main():
@@ -69,6 +98,7 @@ def main():
         print(f"{name}: {memory[0] if memory else 'no selection memory'}")
         print(f"  {count} identifications: {sel:.3f} s with the selection ({modes} modes), {raw:.3f} s with all_poles "
               f"({raw_modes} poles): {1e3 * (sel - raw) / count:.2f} ms per identification for the table and the selection")
+    output_only_cost(a.fmu, a.repeat)
 
 
 if __name__ == "__main__":

@@ -19,6 +19,13 @@
  * with all_poles true or an order given, every pole of the identified model (okid_result::modes).
  * No physical mode: num_modes 0 and OKID_W_NO_PHYSICAL_MODE in warnings.
  *
+ * num_inputs = 0 is output-only (ambient) identification, okid identify --inputs 0's: y goes into
+ * the correlation sums of okid/ambient.h (lags 0..2L, L = hankel_rows, in a workspace sized by
+ * okid_ambient_workspace_size()), each identification realizes their block Hankel and the mode
+ * outputs are as above (the table of the even orders 2..min(60, L m)); the observer's parameters
+ * must keep their start values, and y_hat, y_error stay NaN, prediction_valid false and
+ * regressor_rank 0 (there is no predictor). The record should have zero mean (docs/ambient.md).
+ *
  * Every output is current or visibly not (docs/fmu.md): mode outputs are NaN until the first
  * identification and beyond num_modes; after a failed identification they keep the last
  * successful one, status says "failed" and identification_time when that one was; y_hat and
@@ -68,7 +75,8 @@ typedef struct identifier_data {
     void *workspace_block;           /* the workspace as allocated (aligned inside) */
     size_t arrays_bytes, workspace_block_bytes;
     int since_identify;
-    okid_identifier id;
+    okid_identifier id;              /* num_inputs >= 1 */
+    okid_ambient amb;                /* num_inputs = 0: output-only */
     /* the selection of the physical modes (all_poles false, order 0): its own block, scratch
        between identifications (not part of the FMU state) */
     void *selection_block;           /* NULL: the mode outputs are the model's poles */
@@ -101,8 +109,8 @@ static const fmu_enum_type ESTIMATOR = {"okid_estimator", 3, ESTIMATOR_ITEMS};
 static const fmu_enum_type STATUS = {"okid_fmu_status", 3, STATUS_ITEMS};
 
 #define OFF(field) offsetof(identifier_data, field)
-#define STRUCTURAL(name, field, start, max, text) \
-    {name, NULL, FMU_SIZE, FMU_STRUCTURAL, FMU_FIXED, OFF(field), SCALAR, start, 1, max, NULL, NULL, text, NULL}
+#define STRUCTURAL(name, field, start, min, max, text) \
+    {name, NULL, FMU_SIZE, FMU_STRUCTURAL, FMU_FIXED, OFF(field), SCALAR, start, min, max, NULL, NULL, text, NULL}
 #define PARAM(name, type, field, min, max, enumeration, unit, text) \
     {name, NULL, type, FMU_PARAMETER, FMU_FIXED, OFF(field), SCALAR, 0, min, max, enumeration, unit, text, NULL}
 #define OUT(name, type, field, enumeration, unit, text) \
@@ -111,10 +119,11 @@ static const fmu_enum_type STATUS = {"okid_fmu_status", 3, STATUS_ITEMS};
     {name, flat, FMU_REAL, FMU_OUTPUT, FMU_DISCRETE, OFF(field), dims, 0, NO_RANGE, NULL, unit, text, NULL}
 
 static const fmu_variable_group GROUPS[] = {
-    [G_NUM_INPUTS] = STRUCTURAL("num_inputs", num_inputs, 1, MAX_CHANNELS, "r: inputs (forces)"),
-    [G_NUM_OUTPUTS] = STRUCTURAL("num_outputs", num_outputs, 2, MAX_CHANNELS, "m: outputs (sensors)"),
-    [G_MAX_MODES] = STRUCTURAL("max_modes", max_modes, 4, MAX_MODES_LIMIT, "modes published (the first, by frequency)"),
-    [G_NUM_SINGULAR_VALUES] = STRUCTURAL("num_singular_values", num_singular_values, 8, MAX_SINGULAR_VALUES,
+    [G_NUM_INPUTS] = STRUCTURAL("num_inputs", num_inputs, 1, 0, MAX_CHANNELS,
+                                "r: inputs (forces); 0 = output-only (ambient: modes from the outputs' correlations)"),
+    [G_NUM_OUTPUTS] = STRUCTURAL("num_outputs", num_outputs, 2, 1, MAX_CHANNELS, "m: outputs (sensors)"),
+    [G_MAX_MODES] = STRUCTURAL("max_modes", max_modes, 4, 1, MAX_MODES_LIMIT, "modes published (the first, by frequency)"),
+    [G_NUM_SINGULAR_VALUES] = STRUCTURAL("num_singular_values", num_singular_values, 8, 1, MAX_SINGULAR_VALUES,
                                          "Hankel singular values published"),
     /* Start values: okid_config_default() (set_defaults); the description generator reads them from there. */
     PARAM("observer_order", FMU_INTEGER, observer_order, 1, OKID_MAX_HORIZON, NULL, NULL,
@@ -267,15 +276,15 @@ static fmu_status configure(void *data, const fmu_allocator *memory, fmu_logger 
     release(d, memory);
     const struct {
         const char *name;
-        int value, max;
-    } sizes[] = {{"num_inputs", d->num_inputs, MAX_CHANNELS}, {"num_outputs", d->num_outputs, MAX_CHANNELS},
-                 {"max_modes", d->max_modes, MAX_MODES_LIMIT},
-                 {"num_singular_values", d->num_singular_values, MAX_SINGULAR_VALUES}};
+        int value, min, max;
+    } sizes[] = {{"num_inputs", d->num_inputs, 0, MAX_CHANNELS}, {"num_outputs", d->num_outputs, 1, MAX_CHANNELS},
+                 {"max_modes", d->max_modes, 1, MAX_MODES_LIMIT},
+                 {"num_singular_values", d->num_singular_values, 1, MAX_SINGULAR_VALUES}};
     for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; ++i) {
-        if (sizes[i].value < 1 || sizes[i].value > sizes[i].max) {
+        if (sizes[i].value < sizes[i].min || sizes[i].value > sizes[i].max) {
             fmu_log(logger, FMU_ERROR, "logStatusError",
-                    "structural parameter %s = %d refused: this build allows 1..%d", sizes[i].name,
-                    sizes[i].value, sizes[i].max);
+                    "structural parameter %s = %d refused: this build allows %d..%d", sizes[i].name,
+                    sizes[i].value, sizes[i].min, sizes[i].max);
             return FMU_ERROR;
         }
     }
@@ -310,13 +319,17 @@ static size_t aligned_up(size_t bytes)
     return (bytes + OKID_WORKSPACE_ALIGN - 1) / OKID_WORKSPACE_ALIGN * OKID_WORKSPACE_ALIGN;
 }
 
+static int output_only(const identifier_data *d) { return d->num_inputs == 0; }
+
 /*
  * The selection's memory, sized once from the parameters (all_poles false, order 0): the table of
- * the even orders 2..N, N = min(MODE_WINDOWS_MAX_ORDER, alpha m, beta columns, m p) as okid identify
- * takes it for one Hankel window (host_tools/common/auto_settings.c), and the selection of it. The
- * criteria are the CLI's: the library's defaults with the damping limit 1/sqrt(2) and the band up to
- * 0.8 times the model's Nyquist frequency; its lower edge is 0 (the CLI's f5/3 comes from the
- * record's spectrum, which a streaming FMU does not hold).
+ * the even orders 2..N and the selection of it. Input-output: N = min(MODE_WINDOWS_MAX_ORDER,
+ * alpha m, beta columns, m p) as okid identify takes it for one Hankel window (host_tools/common/
+ * auto_settings.c); output-only: N = min(MODE_WINDOWS_MAX_ORDER, L m) as okid identify --inputs 0
+ * takes it for one Hankel size (host_tools/common/ambient_modes.c). The criteria are the CLI's:
+ * the library's defaults with the damping limit 1/sqrt(2) and the band up to 0.8 times the model's
+ * Nyquist frequency; its lower edge is 0 (the CLI's f5/3 comes from the record's spectrum, which a
+ * streaming FMU does not hold).
  */
 static fmu_status prepare_selection(identifier_data *d, const fmu_allocator *memory, fmu_logger *logger,
                                     const char *values)
@@ -327,16 +340,19 @@ static fmu_status prepare_selection(identifier_data *d, const fmu_allocator *mem
     const int m = d->num_outputs, columns = d->realization == OKID_REALIZATION_COMBINED ? d->num_inputs + m : d->num_inputs;
     int top = MODE_WINDOWS_MAX_ORDER;
     if (top > d->hankel_rows * m) top = d->hankel_rows * m;
-    if (top > d->hankel_cols * columns) top = d->hankel_cols * columns;
-    if (top > d->observer_order * m) top = d->observer_order * m;
+    if (!output_only(d) && top > d->hankel_cols * columns) top = d->hankel_cols * columns;
+    if (!output_only(d) && top > d->observer_order * m) top = d->observer_order * m;
     top -= top % 2;
-    okid_status st = top >= 2 ? okid_stabilization_workspace_size(&d->id, top, 2, &d->table_bytes) : OKID_E_BAD_ORDER;
+    okid_status st = top < 2            ? OKID_E_BAD_ORDER
+                     : output_only(d) ? okid_ambient_stabilization_workspace_size(&d->amb, top, 2, &d->table_bytes)
+                                        : okid_stabilization_workspace_size(&d->id, top, 2, &d->table_bytes);
     if (st == OKID_OK) st = okid_mode_selection_workspace_size(top, 2, &d->selection_bytes);
     if (st != OKID_OK) {
         fmu_log(logger, FMU_ERROR, "logStatusError", "all_poles = false (the default) refused: the stabilization table of the even "
-                "orders 2..%d (min(%d, hankel_rows num_outputs, hankel_cols columns, observer_order num_outputs)) "
-                "cannot be sized: %s (okid_status %d); set all_poles = true for the model's poles (%s)", top,
-                MODE_WINDOWS_MAX_ORDER, okid_status_str(st), (int)st, values);
+                "orders 2..%d (min(%d, hankel_rows num_outputs%s)) cannot be sized: %s (okid_status %d); set all_poles = "
+                "true for the model's poles (%s)", top, MODE_WINDOWS_MAX_ORDER,
+                output_only(d) ? "" : ", hankel_cols columns, observer_order num_outputs", okid_status_str(st), (int)st,
+                values);
         return FMU_ERROR;
     }
     const size_t table = aligned_up(d->table_bytes), total = table + aligned_up(d->selection_bytes);
@@ -364,6 +380,96 @@ static fmu_status prepare_selection(identifier_data *d, const fmu_allocator *mem
     return FMU_OK;
 }
 
+/* The workspace of `bytes` (checked against this build's limit), aligned; NULL after logging why. */
+static void *allocate_workspace(identifier_data *d, const fmu_allocator *memory, fmu_logger *logger, size_t bytes,
+                                const char *values)
+{
+    if ((double)bytes > OKID_FMU_MAX_WORKSPACE_BYTES) {
+        fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused: their workspace of %zu bytes "
+                "exceeds this build's limit of %.0f bytes (%s)", bytes, (double)OKID_FMU_MAX_WORKSPACE_BYTES, values);
+        return NULL;
+    }
+    if (d->workspace_block) memory->release(d->workspace_block);
+    d->workspace_block_bytes = bytes + OKID_WORKSPACE_ALIGN;
+    d->workspace_block = memory->allocate(d->workspace_block_bytes, 1);
+    if (d->workspace_block == NULL) {
+        fmu_log(logger, FMU_ERROR, "logStatusError", "out of memory for the workspace of %zu bytes", bytes);
+        return NULL;
+    }
+    const uintptr_t raw = (uintptr_t)d->workspace_block;
+    return (void *)((raw + OKID_WORKSPACE_ALIGN - 1) / OKID_WORKSPACE_ALIGN * OKID_WORKSPACE_ALIGN);
+}
+
+/* The initialization `function` refused the parameters `values` with st. */
+static fmu_status refused_by(fmu_logger *logger, const char *function, okid_status st, const char *values)
+{
+    fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused by %s: %s (okid_status %d) for %s",
+            function, okid_status_str(st), (int)st, values);
+    return FMU_ERROR;
+}
+
+/*
+ * num_inputs = 0: the output-only identifier (okid/ambient.h) over the outputs' correlations of
+ * lags 0..2L, L = hankel_rows, with order, dt and sensing; the parameters that belong to the
+ * observer (OKID) must keep their defaults, as okid identify --inputs 0 refuses their flags.
+ */
+static fmu_status exit_output_only(identifier_data *d, const fmu_allocator *memory, fmu_logger *logger)
+{
+    okid_config def;
+    okid_config_default(&def, 1, d->num_outputs);
+    const struct {
+        int given;
+        const char *name;
+    } observer[] = {
+        {d->observer_order != def.observer_order, "observer_order"},
+        {d->hankel_cols != def.hankel_cols && d->hankel_cols != d->hankel_rows, "hankel_cols (L is both rows and columns: set hankel_rows)"},
+        {d->block_rows != def.block_rows, "block_rows"},
+        {d->forgetting_factor != (double)def.forgetting_factor, "forgetting_factor"},
+        {d->rank_tolerance != (double)def.rank_tolerance, "rank_tolerance"},
+        {d->realization != (int)def.realization, "realization"},
+        {d->zero_initial_state != def.zero_initial_state, "zero_initial_state"},
+        {d->decimation != def.decimation, "decimation"},
+        {d->scaling != (int)def.scaling, "scaling (the correlations are always scaled by the channels' RMS)"},
+        {d->estimator != (int)def.estimator, "estimator"},
+        {d->instrument_lags != def.instrument_lags, "instrument_lags"},
+    };
+    for (size_t i = 0; i < sizeof observer / sizeof observer[0]; ++i) {
+        if (observer[i].given) {
+            fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused: %s does not apply to "
+                    "output-only identification (num_inputs = 0): leave it at its start value", observer[i].name);
+            return FMU_ERROR;
+        }
+    }
+    okid_ambient_config cfg;
+    okid_ambient_config_default(&cfg, d->num_outputs);
+    cfg.hankel_rows = d->hankel_rows;
+    cfg.order = d->order;
+    cfg.dt = (okid_real)d->dt;
+    cfg.sensing = (okid_sensing)d->sensing;
+    char values[160];
+    snprintf(values, sizeof values, "num_inputs 0, num_outputs %d, hankel_rows %d, order %d, dt %.17g, sensing %d, "
+             "all_poles %d", d->num_outputs, d->hankel_rows, d->order, d->dt, d->sensing, d->all_poles);
+    size_t bytes = 0;
+    okid_status st = okid_ambient_workspace_size(&cfg, &bytes);
+    if (st != OKID_OK) { /* the field okid_ambient_config_check names is the FMU variable of that name */
+        okid_config_issue issue;
+        (void)okid_ambient_config_check(&cfg, &issue);
+        fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused by okid_ambient_workspace_size: "
+                "%s = %.17g, valid %.17g..%.17g for output-only identification%s (okid_status %d) for %s",
+                issue.field ? issue.field : "?", issue.value, issue.min, issue.max,
+                issue.field && strcmp(issue.field, "order") == 0 ? " (at most hankel_rows num_outputs, and 512)" : "",
+                (int)st, values);
+        return FMU_ERROR;
+    }
+    void *workspace = allocate_workspace(d, memory, logger, bytes, values);
+    if (workspace == NULL) return FMU_ERROR;
+    st = okid_ambient_init(&d->amb, &cfg, workspace, bytes, NULL);
+    if (st != OKID_OK) return refused_by(logger, "okid_ambient_init", st, values);
+    fmu_log(logger, FMU_OK, "logEvents", "output-only identification: the correlations of lags 0..%d of %d outputs "
+            "and their ERA in a workspace of %zu bytes", 2 * d->hankel_rows, d->num_outputs, bytes);
+    return prepare_selection(d, memory, logger, values);
+}
+
 static fmu_status exit_initialization(void *data, const fmu_allocator *memory, fmu_logger *logger)
 {
     identifier_data *d = data;
@@ -372,6 +478,7 @@ static fmu_status exit_initialization(void *data, const fmu_allocator *memory, f
                 d->identify_every);
         return FMU_ERROR;
     }
+    if (output_only(d)) return exit_output_only(d, memory, logger);
     okid_config cfg;
     okid_config_default(&cfg, d->num_inputs, d->num_outputs);
     cfg.observer_order = d->observer_order;
@@ -406,40 +513,35 @@ static fmu_status exit_initialization(void *data, const fmu_allocator *memory, f
                 "(okid_status %d) for %s", why, (int)st, values);
         return FMU_ERROR;
     }
-    if ((double)bytes > OKID_FMU_MAX_WORKSPACE_BYTES) {
-        fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused: their workspace of %zu bytes "
-                "exceeds this build's limit of %.0f bytes (%s)", bytes, (double)OKID_FMU_MAX_WORKSPACE_BYTES, values);
-        return FMU_ERROR;
-    }
-    if (d->workspace_block) memory->release(d->workspace_block);
-    d->workspace_block_bytes = bytes + OKID_WORKSPACE_ALIGN;
-    d->workspace_block = memory->allocate(d->workspace_block_bytes, 1);
-    if (d->workspace_block == NULL) {
-        fmu_log(logger, FMU_ERROR, "logStatusError", "out of memory for the workspace of %zu bytes", bytes);
-        return FMU_ERROR;
-    }
-    const uintptr_t raw = (uintptr_t)d->workspace_block;
-    void *workspace = (void *)((raw + OKID_WORKSPACE_ALIGN - 1) / OKID_WORKSPACE_ALIGN * OKID_WORKSPACE_ALIGN);
+    void *workspace = allocate_workspace(d, memory, logger, bytes, values);
+    if (workspace == NULL) return FMU_ERROR;
     st = okid_init(&d->id, &cfg, workspace, bytes, NULL);
-    if (st != OKID_OK) {
-        fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused by okid_init: %s (okid_status %d) "
-                "for %s", okid_status_str(st), (int)st, values);
-        return FMU_ERROR;
-    }
+    if (st != OKID_OK) return refused_by(logger, "okid_init", st, values);
     return prepare_selection(d, memory, logger, values);
 }
+
+/* What publish() needs of an identification, input-output (okid_result) or output-only (okid_ambient_result). */
+typedef struct identified {
+    int num_modes, regressor_rank, num_singular_values;
+    const okid_mode *modes;
+    const okid_real *singular_values;
+    unsigned warnings;
+} identified;
 
 /*
  * The physical modes of the last identification into d->selected (the CLI's one-window rule:
  * mode_windows_add, then mode_windows_keep): their count, or a negative okid_status.
  */
-static int select_modes(identifier_data *d, const okid_result *res)
+static int select_modes(identifier_data *d, const identified *res)
 {
     int top = d->table_order < res->num_singular_values ? d->table_order : res->num_singular_values;
     top -= top % 2;
     if (top < 2) return (int)OKID_E_BAD_ORDER;
     okid_stabilization table;
-    okid_status st = okid_stabilization_compute(&d->id, top, 2, NULL, d->table_workspace, d->table_bytes, &table);
+    okid_status st = output_only(d) ? okid_ambient_stabilization_compute(&d->amb, top, 2, NULL, d->table_workspace,
+                                                                         d->table_bytes, &table)
+                                    : okid_stabilization_compute(&d->id, top, 2, NULL, d->table_workspace,
+                                                                 d->table_bytes, &table);
     okid_mode_selection selection;
     if (st == OKID_OK) {
         st = okid_select_modes(&table, d->num_outputs, &d->criteria, d->selection_workspace, d->selection_bytes,
@@ -453,7 +555,7 @@ static int select_modes(identifier_data *d, const okid_result *res)
 }
 
 /* selected < 0: the model's poles; else the first `selected` of d->selected. */
-static void publish(identifier_data *d, const okid_result *res, int selected, double t)
+static void publish(identifier_data *d, const identified *res, int selected, double t)
 {
     const int m2 = 2 * d->num_outputs;
     publish_nothing(d);
@@ -482,6 +584,55 @@ static void publish(identifier_data *d, const okid_result *res, int selected, do
 
 static int saturate(uint64_t count) { return count > INT_MAX ? INT_MAX : (int)count; }
 
+/* The identification st with its model res: the physical modes selected (order 0) and published, or the failure shown. */
+static fmu_status conclude(identifier_data *d, okid_status st, const identified *res, double t, fmu_logger *logger)
+{
+    int selected = -1;
+    if (st == OKID_OK && d->selection_block != NULL && (selected = select_modes(d, res)) < 0) {
+        st = (okid_status)selected; /* the table or the selection failed: the outputs keep the last ones */
+    }
+    if (st != OKID_OK) {
+        d->last_error = (int)st;
+        d->status = STATUS_FAILED;
+        fmu_log(logger, FMU_OK, "logEvents",
+                "identification at t = %.17g failed: %s (okid_status %d); the mode outputs keep the identification at "
+                "t = %.17g (NaN: none)", t, okid_status_str(st), (int)st, d->identification_time);
+        return FMU_OK; /* data-dependent: keep collecting */
+    }
+    publish(d, res, selected, t);
+    d->status = STATUS_IDENTIFIED;
+    d->last_error = 0;
+    ++d->identifications;
+    return FMU_OK;
+}
+
+/* num_inputs = 0: y into the correlation sums; identify every identify_every samples once 2L + 1 follow one another. */
+static fmu_status step_output_only(identifier_data *d, double t, fmu_logger *logger)
+{
+    for (int i = 0; i < d->num_outputs; ++i) d->y_real[i] = (okid_real)d->y[i];
+    const okid_status pushed = okid_ambient_push(&d->amb, d->y_real);
+    if (pushed == OKID_E_NONFINITE_SAMPLE) {
+        d->rejected = saturate((uint64_t)d->rejected + 1u);
+        fmu_log(logger, FMU_WARNING, "logStatusWarning",
+                "non-finite output sample at t = %.17g rejected (a gap in the correlations); the sums so far are kept", t);
+        return FMU_WARNING;
+    }
+    if (pushed != OKID_OK) {
+        fmu_log(logger, FMU_ERROR, "logStatusError", "okid_ambient_push failed: %s (okid_status %d)",
+                okid_status_str(pushed), (int)pushed);
+        return FMU_ERROR;
+    }
+    d->samples = saturate((uint64_t)d->samples + 1u);
+    if (++d->since_identify < d->identify_every) return FMU_OK;
+    okid_ambient_result res;
+    memset(&res, 0, sizeof res); /* read only when the identification succeeded */
+    const okid_status st = okid_ambient_identify(&d->amb, &res);
+    if (st == OKID_E_NOT_ENOUGH_DATA) return FMU_OK; /* no pair at lag 2L yet: try again next step */
+    d->since_identify = 0;
+    const identified view = {res.num_modes, 0, res.num_singular_values, res.modes, res.singular_values, res.warnings};
+    return conclude(d, st, &view, t, logger);
+}
+
 static fmu_status do_step(void *data, double t, double h, fmu_logger *logger)
 {
     identifier_data *d = data;
@@ -492,6 +643,7 @@ static fmu_status do_step(void *data, double t, double h, fmu_logger *logger)
                 "once per step)", h, d->dt);
         return FMU_ERROR;
     }
+    if (output_only(d)) return step_output_only(d, t, logger);
     for (int i = 0; i < r; ++i) d->u_real[i] = (okid_real)d->u[i];
     for (int i = 0; i < m; ++i) d->y_real[i] = (okid_real)d->y[i];
     /* The prediction of this sample from the model and the past, or NaN: never an earlier step's. */
@@ -520,24 +672,11 @@ static fmu_status do_step(void *data, double t, double h, fmu_logger *logger)
     }
     d->since_identify = 0;
     okid_result res;
-    okid_status st = okid_identify(&d->id, &res);
-    int selected = -1;
-    if (st == OKID_OK && d->selection_block != NULL && (selected = select_modes(d, &res)) < 0) {
-        st = (okid_status)selected; /* the table or the selection failed: the outputs keep the last ones */
-    }
-    if (st != OKID_OK) {
-        d->last_error = (int)st;
-        d->status = STATUS_FAILED;
-        fmu_log(logger, FMU_OK, "logEvents",
-                "identification at t = %.17g failed: %s (okid_status %d); the mode outputs keep the identification at "
-                "t = %.17g (NaN: none)", t, okid_status_str(st), (int)st, d->identification_time);
-        return FMU_OK; /* data-dependent: keep collecting */
-    }
-    publish(d, &res, selected, t);
-    d->status = STATUS_IDENTIFIED;
-    d->last_error = 0;
-    ++d->identifications;
-    return FMU_OK;
+    memset(&res, 0, sizeof res); /* read only when the identification succeeded */
+    const okid_status st = okid_identify(&d->id, &res);
+    const identified view = {res.num_modes, res.regressor_rank, res.num_singular_values, res.modes,
+                             res.singular_values, res.warnings};
+    return conclude(d, st, &view, t, logger);
 }
 
 /* The identifier's state beyond its data: the arrays and the workspace, which okid_identifier points into. */
@@ -554,7 +693,8 @@ static int state_blocks(void *data, fmu_block blocks[FMU_MAX_BLOCKS])
 
 const fmu_model FMU_MODEL = {
     "okid_identifier",
-    "OKID/ERA identification of a structure from forces and responses: modes as they converge",
+    "OKID/ERA identification of a structure from forces and responses (or from responses alone: num_inputs 0): "
+    "modes as they converge",
     0.01,
     0, /* one sample per step: the step must be dt */
     GROUPS,

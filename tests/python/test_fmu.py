@@ -737,6 +737,16 @@ def same_bits(a, b):
     return (isinstance(a, float) and isinstance(b, float) and math.isnan(a) and math.isnan(b)) or a == b
 
 
+def assert_modes_are_the_clis(fmu_modes, cli_modes, tol):
+    """The FMU's mode outputs (fmu_modes()) equal the CLI JSON's modes to tol; NaN beyond them."""
+    for k, (c, f) in enumerate(zip(cli_modes, fmu_modes)):
+        expected = dict(c, eigenvalue_re=c["eigenvalue"][0], eigenvalue_im=c["eigenvalue"][1])
+        for v in MODE_VALUES:
+            assert f[v] == pytest.approx(expected[v], rel=tol, abs=tol), (k, v)
+        assert np.allclose(f["shape"], c["shape"], rtol=0, atol=tol), k
+    assert all(math.isnan(md[v]) for md in fmu_modes[len(cli_modes):] for v in MODE_VALUES)
+
+
 @pytest.mark.parametrize("version", VERSIONS)
 def test_mode_outputs_are_the_clis_physical_modes(version, selection_record):
     """Order 0 and all_poles false (the defaults): the mode outputs are the modes okid identify lists
@@ -762,12 +772,7 @@ def test_mode_outputs_are_the_clis_physical_modes(version, selection_record):
     closest = max(abs(complex(*md["eigenvalue"])) for md in cli["modes"])
     tol = np.finfo(float).eps * sv[0] / sv[top - 1] / (1 - closest)
     assert tol < 1e-8
-    for k, (c, f) in enumerate(zip(cli["modes"], out["modes"])):
-        expected = dict(c, eigenvalue_re=c["eigenvalue"][0], eigenvalue_im=c["eigenvalue"][1])
-        for v in MODE_VALUES:
-            assert f[v] == pytest.approx(expected[v], rel=tol, abs=tol), (k, v)
-        assert np.allclose(f["shape"], c["shape"], rtol=0, atol=tol), k
-    assert all(math.isnan(md[v]) for md in out["modes"][2:] for v in MODE_VALUES)
+    assert_modes_are_the_clis(out["modes"], cli["modes"], tol)
 
 
 @pytest.mark.parametrize("version", VERSIONS)
@@ -800,3 +805,168 @@ def test_no_physical_mode_is_a_warning(version):
     assert all(math.isnan(md[v]) for md in out["modes"] for v in MODE_VALUES)
     raw = fmu_modes(version, data, {**settings, "all_poles": True})
     assert raw["num_modes"] > 0 and not raw["warnings"] & 16384
+
+
+# ---- output-only (num_inputs = 0): okid identify --inputs 0's modes from y alone ----
+
+# tests/python/test_ambient.py's record (the paper's plant under unmeasured white forces on both
+# masses, 5 % sensor noise, 40000 samples at 0.05 s) with its mean removed here, so that the CLI's
+# own mean removal changes it by round-off only (the FMU streams and removes none: docs/fmu.md).
+# L = 10: one Hankel size whose selection holds both modes (0.537 and 1.050 Hz against the exact
+# 0.503 and 1.048 Hz; within test_ambient.py's statistical tolerances).
+AMBIENT_SETTINGS = dict(hankel_rows=10, identify_every=40000)
+
+
+@pytest.fixture(scope="module")
+def ambient_case(tmp_path_factory):
+    from okid.tools.fmu_generator import generate
+    from test_ambient import DT, ambient_record
+    y = ambient_record()
+    y = y - y.mean(axis=0)
+    folder = tmp_path_factory.mktemp("output_only")
+    path = folder / "ambient.csv"
+    np.savetxt(path, np.column_stack([DT * np.arange(len(y)), y]), delimiter=",", header="t,acc1,acc2", comments="",
+               fmt="%.17g")  # %.17g: the CSV holds y's doubles exactly
+    fmi2 = folder / "output_only.fmu"  # FMI 2 takes its sizes from resources/: okid-fmu --inputs 0
+    generate(fmu(2), fmi2, [("num_inputs", 0), ("num_outputs", 2), ("max_modes", 4)])
+    return dict(path=path, y=y, dt=DT, fmu={2: str(fmi2), 3: fmu(3)})
+
+
+def output_only_identifier(version, case, log=None):
+    s = Slave(case["fmu"][version], "output_only", logger=log).instantiate(logging_on=True)
+    if version == 3:
+        s.configure(num_inputs=0)
+    return s
+
+
+def output_only_modes(version, case, settings, max_modes=4, m=2):
+    """Feed y to the output-only identifier; its counters, predictor outputs and max_modes mode outputs."""
+    s = output_only_identifier(version, case)
+    dt = case["dt"]
+    s.set(dt=dt, **settings)
+    s.initialize()
+    for k, row in enumerate(case["y"]):
+        s.set_array("y", row)
+        s.step(k * dt, dt)
+    names = ["status", "num_modes", "warnings", "identifications", "samples", "rejected", "last_error",
+             "prediction_valid", "regressor_rank", "y_hat1", "y_error2", "singular_value1"]
+    out = dict(zip(names, s.get(*names)))
+    out["modes"] = [{v: s.get(f"mode{k}_{v}")[0] for v in MODE_VALUES} for k in range(1, max_modes + 1)]
+    for k, md in enumerate(out["modes"], 1):
+        md["shape"] = [[s.get(f"mode{k}_shape{j}_re")[0], s.get(f"mode{k}_shape{j}_im")[0]] for j in range(1, 2 * m + 1)]
+    s.close()
+    return out
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_output_only_modes_are_the_clis(version, ambient_case):
+    """num_inputs 0, order 0, all_poles false: the mode outputs are the physical modes okid identify
+    --inputs 0 lists for the same record and L (one Hankel size), to round-off."""
+    import json
+    cli = json.loads(subprocess.run(
+        [OKID_CLI, "identify", "--inputs", "0", "--hankel-rows", str(AMBIENT_SETTINGS["hankel_rows"]), "--json",
+         str(ambient_case["path"])], check=True, capture_output=True, text=True).stdout)
+    out = output_only_modes(version, ambient_case, AMBIENT_SETTINGS)
+    n = len(ambient_case["y"])
+    assert out["status"] == 1 and out["identifications"] == 1 and out["samples"] == n and out["rejected"] == 0
+    assert out["num_modes"] == len(cli["modes"]) == 2 and not out["warnings"] & 16384
+    # no predictor output-only: visibly none
+    assert not out["prediction_valid"] and out["regressor_rank"] == 0
+    assert math.isnan(out["y_hat1"]) and math.isnan(out["y_error2"])
+    assert out["singular_value1"] == pytest.approx(cli["singular_values"][0], rel=1e-12)
+    # The same sums in another order: the CLI sums R(k) in batches of 256 samples by matrix products
+    # (okid_ambient_push_block, the system's BLAS), the FMU one sample at a time (okid_ambient_push,
+    # the reference BLAS). Each of the N-term sums then differs by about sqrt(N) eps relative to the
+    # sum of the magnitudes, which bounds each entry of the scaled correlations (|R(k)| <= 1: the
+    # channels' RMS divide them); the N x N Hankel of the table's top order N = L m changes by N times
+    # that, a pole of its order-N realization by that times sigma_1 / sigma_N, and its frequency and
+    # damping (log lambda / dt) by that over 1 - |lambda|: 3.9e-8 here (sigma_1 / sigma_20 = 730,
+    # 1 - |lambda| = 0.017); measured 1.1e-14.
+    sv, top = cli["singular_values"], min(cli["chosen"]["max_order"], AMBIENT_SETTINGS["hankel_rows"] * 2)
+    closest = max(abs(complex(*md["eigenvalue"])) for md in cli["modes"])
+    tol = np.finfo(float).eps * math.sqrt(n) * top * sv[0] / sv[top - 1] / (1 - closest)
+    assert tol < 1e-7
+    assert_modes_are_the_clis(out["modes"], cli["modes"], tol)
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("bad, says", [
+    # okid_ambient_config_check's field, value and range: order <= L min(m, references) = 10 x 2
+    (dict(hankel_rows=10, order=21), "order = 21, valid 0..20 for output-only identification (at most hankel_rows "
+                                     "num_outputs, and 512)"),
+    (dict(hankel_rows=0), "hankel_rows = 0, valid 1..1000 for output-only identification"),
+    (dict(dt=-1.0), "dt = -1, valid "),
+    # the observer's settings, as okid identify --inputs 0 refuses their flags
+    (dict(observer_order=10), "observer_order does not apply to output-only identification (num_inputs = 0)"),
+    (dict(estimator=1), "estimator does not apply to output-only identification"),
+    (dict(hankel_rows=10, hankel_cols=30), "hankel_cols (L is both rows and columns: set hankel_rows) does not apply"),
+])
+def test_output_only_refusals_name_the_setting(version, ambient_case, bad, says):
+    log = Log()
+    s = output_only_identifier(version, ambient_case, log)
+    s.set(**{"dt": ambient_case["dt"], **bad})
+    with pytest.raises(FMICallException):
+        s.initialize()
+    assert says in log.text(), log.text()
+    s.fmu.terminate()
+    s.fmu.freeInstance()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_output_only_nan_gap_and_order_given(version, ambient_case):
+    """A NaN sample is rejected with a warning and counted (a gap: no product spans it), the sums
+    kept; with the order given the mode outputs are the order-4 model's poles, as Python's
+    okid.identify_ambient(order=4) gives them (the same round-off argument as above, the condition
+    now sigma_1 / sigma_4)."""
+    gap = ambient_case["y"][:4000].copy()
+    gap[100, 0] = math.nan
+    y = gap - np.nanmean(gap, axis=0)  # the finite values' mean: what Python removes, so it removes ~0 below
+    dt = ambient_case["dt"]
+    log = Log()
+    s = output_only_identifier(version, ambient_case, log)
+    s.set(dt=dt, hankel_rows=10, order=4, identify_every=len(y) - 1)  # accepted samples
+    s.initialize()
+    for k, row in enumerate(y):
+        s.set_array("y", row)
+        assert status_of(s.step, k * dt, dt) == 0  # the NaN's a warning (fmpy raises only above warning)
+    assert [text for _, cat, text in log.messages if cat == "logStatusWarning"] == [
+        "non-finite output sample at t = 5 rejected (a gap in the correlations); the sums so far are kept"]
+    assert s.get("status", "samples", "rejected", "identifications") == [1, len(y) - 1, 1, 1]
+    fmu_modes_4 = [s.get(f"mode{k}_frequency_hz", f"mode{k}_damping_ratio") for k in (1, 2)]
+    s.close()
+    # the CLI refuses a NaN in a CSV; Python's okid.identify_ambient (the same library, its mean of the
+    # finite values moving the record by round-off only) takes the gap
+    import okid
+    with pytest.warns(okid.NonFiniteSampleWarning):
+        res = okid.identify_ambient(y, dt, order=4, hankel_rows=10)
+    sv = res.singular_values
+    closest = max(abs(md.eigenvalue) for md in res.modes)
+    tol = np.finfo(float).eps * math.sqrt(len(y)) * 20 * sv[0] / sv[3] / (1 - closest)
+    assert len(res.modes) == 2 and res.samples == len(y) - 1
+    for (f, z), c in zip(fmu_modes_4, res.modes):
+        assert f == pytest.approx(c.frequency_hz, rel=tol) and z == pytest.approx(c.damping_ratio, rel=tol)
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_output_only_state_restores_the_sums(version, ambient_case):
+    """An FMU state taken halfway holds the correlation sums (the workspace): the second half run
+    again from it gives the first run's outputs bit for bit."""
+    y, dt = ambient_case["y"][:6000], ambient_case["dt"]
+    s = output_only_identifier(version, ambient_case)
+    s.set(dt=dt, hankel_rows=10, identify_every=1000)
+    s.initialize()
+    get_state, set_state = ("getFMUstate", "setFMUstate") if version == 2 else ("getFMUState", "setFMUState")
+
+    def steps(first, last):
+        for k in range(first, last):
+            s.set_array("y", y[k])
+            s.step(k * dt, dt)
+        return s.get("identifications", "num_modes", "samples", "mode1_frequency_hz", "mode1_damping_ratio",
+                     "singular_value1")
+
+    steps(0, 3000)
+    state = getattr(s.fmu, get_state)()
+    first = steps(3000, 6000)
+    getattr(s.fmu, set_state)(state)
+    assert steps(3000, 6000) == first and first[:3] == [6, first[1], 6000] and first[1] >= 1
+    s.close()

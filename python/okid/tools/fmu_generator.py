@@ -222,6 +222,10 @@ def check_identifier_config(values: Mapping[str, Any]) -> Optional[str]:
     and its explanation, host_tools/common/config_explain.c): the refusal's text, or None."""
     from okid import _core
 
+    if int(values["num_inputs"]) == 0:
+        # output-only (okid_ambient): the binary checks hankel_rows, order, dt and sensing with
+        # okid_ambient_config_check at initialization and names the refused one in its log
+        return None
     cfg = _core.config_default(int(values["num_inputs"]), int(values["num_outputs"]))
     for name in cfg:
         if name in values:
@@ -289,7 +293,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser = argparse.ArgumentParser(prog="okid-fmu", description=__doc__.split("\n\n")[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--base", type=Path, default=base, help=f"the prebuilt FMI 2 identifier FMU (default {base})")
-    parser.add_argument("--inputs", type=int, required=True, help="num_inputs r (forces)")
+    parser.add_argument("--inputs", type=int, required=True, help="num_inputs r (forces); 0 = output-only (ambient) identification")
     parser.add_argument("--outputs", type=int, required=True, help="num_outputs m (sensors)")
     parser.add_argument("--max-modes", type=int, required=True, help="modes published")
     parser.add_argument("--singular-values", type=int, default=None, help="Hankel singular values published")
