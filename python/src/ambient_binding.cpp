@@ -112,6 +112,8 @@ void bind_ambient(nb::module_ &m)
             }
             std::vector<okid_real> data;
             double band_hz = 0;
+            auto_band band{};
+            const auto_band *have_band = nullptr;
             /* with L and the order given nothing needs the whole mean-removed record: the means, then
                the record streamed through a small buffer (the same values as the copy, no copy) */
             const bool stream = hankel_rows > 0 && order > 0;
@@ -124,8 +126,12 @@ void bind_ambient(nb::module_ &m)
                 data.assign(y.data(), y.data() + n * (size_t)mo);
                 ambient_remove_mean(data.data(), n, mo);
                 const int refs = cfg.num_references > 0 ? cfg.num_references : mo;
-                cfg.hankel_rows = hankel_rows > 0 ? hankel_rows
-                                                  : ambient_choose_hankel_rows(data.data(), n, mo, dt, order, refs, &band_hz);
+                if (hankel_rows == 0) { /* the band once: for L here and for the physical modes' choice */
+                    (void)ambient_record_band(data.data(), n, mo, dt, &band);
+                    have_band = &band;
+                    band_hz = band.low_hz;
+                }
+                cfg.hankel_rows = hankel_rows > 0 ? hankel_rows : ambient_band_hankel_rows(&band, n, mo, dt, order, refs);
                 status = okid_ambient_config_check(&cfg, &issue);
             }
             if (status != OKID_OK) {
@@ -139,7 +145,7 @@ void bind_ambient(nb::module_ &m)
                 if (!am) throw std::bad_alloc();
                 {
                     nb::gil_scoped_release release;
-                    status = ambient_modes_find(&cfg, hankel_rows > 0, n, data.data(), nullptr, am.get());
+                    status = ambient_modes_find(&cfg, hankel_rows > 0, have_band, n, data.data(), nullptr, am.get());
                 }
                 if (status != OKID_OK) {
                     return nb::make_tuple(status, std::string(), 0.0, 0.0, 0.0, nb::none());
