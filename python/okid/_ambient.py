@@ -18,6 +18,7 @@ from ._document import Travelling
 from ._errors import (E_BAD_SIZE, E_NONFINITE_SAMPLE, E_NOT_ENOUGH_DATA, OK, BadParameterError, BadSizeError,
                       NonFiniteSampleWarning, check, error_for)
 from ._mode import Mode, ModeArrays, Pole, SelectedMode, WarningFlag, modes_from_dicts
+from ._stays_here import StaysHere
 
 __all__ = ["AmbientIdentifier", "AmbientProgress", "AmbientResult", "identify_ambient"]
 
@@ -156,7 +157,7 @@ class AmbientProgress:
     samples_needed: int   #: consecutive samples identify() needs at least: 2 hankel_rows + 1
 
 
-class AmbientIdentifier:
+class AmbientIdentifier(StaysHere):
     """A streaming output-only identifier: push blocks of outputs as they come, identify at any time.
 
     ``AmbientIdentifier(num_outputs, dt, hankel_rows=20, order=0, references=None,
@@ -174,6 +175,9 @@ class AmbientIdentifier:
     result. One identifier serves one thread at a time (a second raises okid.ConcurrentUseError);
     push() and identify() release the GIL. Usable as a context manager (the workspace is freed).
     """
+
+    _HOLDS = ("the correlation sums", "pickle its AmbientResults, or push the same samples into an "
+                                      "AmbientIdentifier there")
 
     def __init__(self, num_outputs: int, dt: float, *, hankel_rows: int = 20, order: int = 0,
                  references: Optional[Sequence[int]] = None, sensing: str = "acceleration", segments: int = 0,
@@ -193,17 +197,6 @@ class AmbientIdentifier:
         self._core: Optional[Any] = core
         self._samples = 0
         self._rejected = 0
-
-    def __copy__(self) -> "AmbientIdentifier":
-        raise TypeError("an okid.AmbientIdentifier cannot be copied: the copy would share its C core (the sums); "
-                        "create another and push the same samples into it")
-
-    def __deepcopy__(self, memo: Dict[int, Any]) -> "AmbientIdentifier":
-        return self.__copy__()
-
-    def __reduce__(self) -> Tuple[Any, ...]:
-        raise TypeError("an okid.AmbientIdentifier cannot be pickled: its C core (the sums) stays in this "
-                        "process; pickle its AmbientResults instead")
 
     def _live(self) -> Any:
         if self._core is None:
@@ -266,12 +259,6 @@ class AmbientIdentifier:
     def close(self) -> None:
         """Free the workspace; any later call raises ValueError. AmbientResults stay valid (they are copies)."""
         self._core = None
-
-    def __enter__(self) -> "AmbientIdentifier":
-        return self
-
-    def __exit__(self, *exc: Any) -> None:
-        self.close()
 
     def __repr__(self) -> str:
         state = "closed" if self._core is None else f"{self._samples} samples"
