@@ -150,7 +150,7 @@ static void assert_selects_plant(const plant *p, uint64_t seed, const okid_mode_
     cfg.dt = (okid_real)p->dt;
     ambient_modes *am = calloc(1, sizeof *am);
     assert_non_null(am);
-    assert_int_equal(ambient_modes_find(&cfg, 0, count, y, crit, am), OKID_OK);
+    assert_int_equal(ambient_modes_find(&cfg, 0, NULL, count, y, crit, am), OKID_OK);
     assert_int_equal(am->num_runs, 3);
     assert_int_equal(am->num_modes, p->num_modes);
     for (int j = 0; j < p->num_modes; ++j) {
@@ -278,6 +278,84 @@ static void test_table_is_identify_at_each_order(void **state)
     free(y);
 }
 
+/* An identifier of m outputs at L, order 0, fed y in two uneven calls with a NaN sample (a gap) between. */
+static void *fed_identifier(okid_ambient *amb, int m, double dt, int L, size_t count, const okid_real *y)
+{
+    okid_ambient_config cfg;
+    assert_int_equal(okid_ambient_config_default(&cfg, m), OKID_OK);
+    cfg.dt = (okid_real)dt;
+    cfg.hankel_rows = L;
+    size_t bytes = 0;
+    assert_int_equal(okid_ambient_workspace_size(&cfg, &bytes), OKID_OK);
+    void *ws = aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15u) / 16u * 16u);
+    assert_non_null(ws);
+    assert_int_equal(okid_ambient_init(amb, &cfg, ws, bytes, NULL), OKID_OK);
+    const size_t first = count / 3;
+    okid_real nan_sample[MAX_DOFS];
+    for (int a = 0; a < m; ++a) nan_sample[a] = (okid_real)NAN;
+    assert_int_equal(okid_ambient_push_block(amb, first, y, (size_t)m, NULL), OKID_OK);
+    assert_int_equal(okid_ambient_push_block(amb, 1, nan_sample, (size_t)m, NULL), OKID_E_NONFINITE_SAMPLE);
+    assert_int_equal(okid_ambient_push_block(amb, count - first, y + first * (size_t)m, (size_t)m, NULL), OKID_OK);
+    return ws;
+}
+
+/*
+ * The table of a smaller Hankel size from a larger identifier's sums (okid_ambient_stabilization_compute_at())
+ * is the table of an identifier at that size, bit for bit: R(k) = S(k) / pairs(k) sums each lag alone
+ * in sample order whatever the number of lags, and the scales and ERA are the same. On the paper's
+ * two outputs (the register-tiled sums) and the five-mass chain (m r_ref = 25: the xGEMM sums),
+ * with a gap; L' = L is compute() itself.
+ */
+static void assert_tables_at_smaller_sizes(const plant *p, int L, const int *sizes, int num_sizes)
+{
+    const int m = p->dofs;
+    const size_t count = 6000;
+    okid_real *y = ambient_record(p, count, 9);
+    okid_ambient big;
+    void *ws = fed_identifier(&big, m, p->dt, L, count, y);
+    for (int j = 0; j < num_sizes; ++j) {
+        const int Ls = sizes[j], top = (Ls * m < 20 ? Ls * m : 20) / 2 * 2;
+        size_t bytes = 0, ob = 0;
+        assert_int_equal(okid_ambient_stabilization_workspace_size_at(&big, Ls, top, 2, &bytes), OKID_OK);
+        assert_int_equal(bytes, OKID_AMBIENT_STABILIZATION_WORKSPACE_BYTES(m, 0, Ls, top, 2));
+        void *tws = aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15u) / 16u * 16u);
+        okid_stabilization at, alone;
+        assert_int_equal(okid_ambient_stabilization_compute_at(&big, Ls, top, 2, NULL, tws, bytes, &at), OKID_OK);
+        okid_ambient small;
+        void *sws = fed_identifier(&small, m, p->dt, Ls, count, y);
+        assert_int_equal(okid_ambient_stabilization_workspace_size(&small, top, 2, &ob), OKID_OK);
+        assert_int_equal(ob, bytes);
+        void *otws = aligned_alloc(OKID_WORKSPACE_ALIGN, (ob + 15u) / 16u * 16u);
+        assert_int_equal(okid_ambient_stabilization_compute(&small, top, 2, NULL, otws, ob, &alone), OKID_OK);
+        assert_int_equal(at.num_orders, alone.num_orders);
+        assert_int_equal(at.rank_limit, alone.rank_limit);
+        const int modes = at.orders[at.num_orders - 1].first + at.orders[at.num_orders - 1].num_modes;
+        assert_int_equal(modes, alone.orders[alone.num_orders - 1].first + alone.orders[alone.num_orders - 1].num_modes);
+        for (int i = 0; i < modes; ++i) {
+            const okid_mode *a = &at.modes[i], *b = &alone.modes[i];
+            assert_true(a->frequency_hz == b->frequency_hz && a->damping_ratio == b->damping_ratio);
+            assert_true(a->mpc == b->mpc && a->emac == b->emac && at.stability[i] == alone.stability[i]);
+        }
+        free(otws);
+        free(sws);
+        free(tws);
+    }
+    free(ws);
+    free(y);
+}
+
+static void test_table_at_a_smaller_hankel_size(void **state)
+{
+    (void)state;
+    plant p;
+    paper_plant(&p);
+    const int paper_sizes[] = {13, 20, 27};
+    assert_tables_at_smaller_sizes(&p, 27, paper_sizes, 3);
+    chain_plant(&p);
+    const int chain_sizes[] = {4, 9};
+    assert_tables_at_smaller_sizes(&p, 9, chain_sizes, 2);
+}
+
 static void test_refusals(void **state)
 {
     (void)state;
@@ -303,9 +381,22 @@ static void test_refusals(void **state)
                      OKID_E_WORKSPACE_TOO_SMALL);
     const okid_stabilization_criteria bad = {0, (okid_real)0.05, (okid_real)0.98};
     assert_int_equal(okid_ambient_stabilization_compute(&amb, 40, 2, &bad, tws, bytes, &table), OKID_E_BAD_PARAMETER);
+    /* a smaller Hankel size: 1..L, its own order bound (L' min(m, r_ref)) and pairs at lag 2L' */
+    assert_int_equal(okid_ambient_stabilization_workspace_size_at(&amb, 0, 2, 2, &bytes), OKID_E_BAD_SIZE);
+    assert_int_equal(okid_ambient_stabilization_workspace_size_at(&amb, 21, 2, 2, &bytes), OKID_E_BAD_SIZE);
+    assert_int_equal(okid_ambient_stabilization_workspace_size_at(&amb, 5, 11, 2, &bytes), OKID_E_BAD_ORDER);
+    assert_int_equal(okid_ambient_stabilization_workspace_size_at(&amb, 5, 10, 2, &bytes), OKID_OK);
+    assert_int_equal(okid_ambient_stabilization_compute_at(&amb, 21, 10, 2, NULL, tws, bytes, &table), OKID_E_BAD_SIZE);
+    okid_real few[2 * 12] = {0};
+    for (int i = 0; i < 24; ++i) few[i] = (okid_real)((i * 7) % 5) - 2;
+    assert_int_equal(okid_ambient_push_block(&amb, 12, few, 2, NULL), OKID_OK); /* pairs up to lag 11 only */
+    assert_int_equal(okid_ambient_stabilization_workspace_size_at(&amb, 6, 10, 2, &bytes), OKID_OK); /* < (20, 40)'s */
+    assert_int_equal(okid_ambient_stabilization_compute_at(&amb, 6, 10, 2, NULL, tws, bytes, &table),
+                     OKID_E_NOT_ENOUGH_DATA);
     okid_ambient blank;
     memset(&blank, 0, sizeof blank);
     assert_int_equal(okid_ambient_stabilization_workspace_size(&blank, 20, 2, &bytes), OKID_E_NOT_INITIALIZED);
+    assert_int_equal(okid_ambient_stabilization_workspace_size_at(&blank, 20, 20, 2, &bytes), OKID_E_NOT_INITIALIZED);
     free(tws);
     free(ws);
 }
@@ -317,6 +408,7 @@ int main(void)
         cmocka_unit_test(test_paper_modes),
         cmocka_unit_test(test_chain_modes),
         cmocka_unit_test(test_close_modes),
+        cmocka_unit_test(test_table_at_a_smaller_hankel_size),
         cmocka_unit_test(test_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -181,12 +181,17 @@ int identify_ambient(const identify_options *o, record_reader *reader, const rec
     ambient_remove_mean(y, n, m); /* a mean is a constant, not a mode: the library expects none */
     double band_hz = 0;
     const int nref = cfg.num_references > 0 ? cfg.num_references : m;
+    auto_band band; /* estimated once: for L here and for the physical modes' choice below */
+    const auto_band *have_band = NULL;
     if (o->hankel_seconds > 0) {
         cfg.hankel_rows = clamp_count(o->hankel_seconds / dt, 1, OKID_MAX_HORIZON);
     } else if (o->given & AUTO_GIVEN_HANKEL) {
         cfg.hankel_rows = o->cfg.hankel_rows;
     } else {
-        cfg.hankel_rows = ambient_choose_hankel_rows(y, n, m, dt, cfg.order, nref, &band_hz);
+        (void)ambient_record_band(y, n, m, dt, &band);
+        have_band = &band;
+        band_hz = band.low_hz;
+        cfg.hankel_rows = ambient_band_hankel_rows(&band, n, m, dt, cfg.order, nref);
     }
     size_t bytes = 0;
     if (okid_ambient_workspace_size(&cfg, &bytes) != OKID_OK) {
@@ -215,7 +220,7 @@ int identify_ambient(const identify_options *o, record_reader *reader, const rec
     okid_status st = OKID_OK;
     if (am != NULL) {
         const int given = o->hankel_seconds > 0 || (o->given & AUTO_GIVEN_HANKEL);
-        st = ambient_modes_find(&cfg, given, n, y, NULL, am);
+        st = ambient_modes_find(&cfg, given, have_band, n, y, NULL, am);
         if (st == OKID_OK && (am->order != 0 || am->choice.windows[0] != cfg.hankel_rows)) {
             cfg.order = am->order;
             cfg.hankel_rows = am->choice.windows[0];

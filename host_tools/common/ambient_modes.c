@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* The physical modes of an output-only record over three Hankel sizes: sums, table, select, combine. */
+/* The physical modes of an output-only record over three Hankel sizes: the sums once, then per size a table and
+   a selection; combine. */
 #include "ambient_modes.h"
 
 #include <math.h>
@@ -23,25 +24,23 @@ static int references_of(const okid_ambient_config *cfg)
 }
 
 /*
- * L, when not given: one slowest period (ambient_choose_hankel_rows()), confirmed at two thirds
+ * L, when not given: one slowest period (ambient_band_hankel_rows()), confirmed at two thirds
  * and four thirds of it, as the input-output path confirms its three periods at two and four; the
  * selection's band from f5 / 3 (less than a cycle in the Hankel span below) to 0.8 Nyquist.
  */
-static void choose(const okid_ambient_config *cfg, int hankel_given, size_t n, const okid_real *y, ambient_choice *c)
+static void choose(const okid_ambient_config *cfg, int hankel_given, const auto_band *band, size_t n, ambient_choice *c)
 {
     const int m = cfg->num_outputs, nref = references_of(cfg);
     const double dt = (double)cfg->dt;
-    auto_band band;
     c->hankel_given = hankel_given;
-    c->no_band = auto_channel_band(y, n, m, dt, &band) != 0 || !(band.low_hz > 0);
-    c->band_low_hz = c->no_band ? 0 : band.low_hz;
-    c->band_high_hz = c->no_band ? 0 : band.high_hz;
+    c->no_band = !(band->low_hz > 0);
+    c->band_low_hz = band->low_hz;
+    c->band_high_hz = band->high_hz;
     if (hankel_given) {
         c->windows[0] = cfg->hankel_rows;
         c->num_windows = 1;
     } else {
-        double f5 = 0;
-        const int main = ambient_choose_hankel_rows(y, n, m, dt, 0, nref, &f5);
+        const int main = ambient_band_hankel_rows(band, n, m, dt, 0, nref);
         int most = ambient_hankel_rows_most(n, m);
         most = most > main ? most : main;
         c->windows[0] = main;
@@ -55,46 +54,68 @@ static void choose(const okid_ambient_config *cfg, int hankel_given, size_t n, c
     c->frequency_max_hz = 0.8 * 0.5 / dt;
 }
 
-/* One size: the sums of the record, the table of the even orders 2..min(max_order, L min(m, r_ref)), the selection. */
-static okid_status run_size(ambient_run *run, const okid_ambient_config *cfg, int L, int max_order, size_t n,
-                            const okid_real *y, const okid_mode_selection_criteria *criteria)
+/* The table's largest order at L: even, at most max_order and L min(m, r_ref); below 2: none. */
+static int table_top(const okid_ambient_config *cfg, int L, int max_order)
 {
     const int m = cfg->num_outputs, nref = references_of(cfg), side = m < nref ? m : nref;
-    int top = max_order < L * side ? max_order : L * side;
-    top -= top % 2;
-    if (top < 2) return OKID_E_BAD_ORDER;
-    run->cfg = *cfg;
-    run->cfg.hankel_rows = L;
-    run->cfg.order = top;  /* the identifier's workspace only holds the sums and the ERA scratch here */
-    run->cfg.segments = 0; /* the segments serve the reported model only */
-    run->cfg.segment_samples = 0;
+    const int top = max_order < L * side ? max_order : L * side;
+    return top - top % 2;
+}
+
+/* The record's sums at L block rows (the largest size), once (docs/ambient.md, "Physical modes"). */
+static okid_status sum_record(ambient_sums *sums, const okid_ambient_config *cfg, int L, int max_order, size_t n,
+                              const okid_real *y)
+{
+    sums->cfg = *cfg;
+    sums->cfg.hankel_rows = L;
+    sums->cfg.order = table_top(cfg, L, max_order); /* the workspace only holds the sums and the ERA scratch here */
+    if (sums->cfg.order < 2) return OKID_E_BAD_ORDER;
+    sums->cfg.segments = 0; /* the segments serve the reported model only */
+    sums->cfg.segment_samples = 0;
     size_t bytes = 0;
-    okid_status st = okid_ambient_workspace_size(&run->cfg, &bytes);
+    okid_status st = okid_ambient_workspace_size(&sums->cfg, &bytes);
     if (st != OKID_OK) return st;
-    if ((run->workspace = mode_windows_workspace(bytes)) == NULL) return OKID_E_WORKSPACE_TOO_SMALL;
-    st = okid_ambient_init(&run->amb, &run->cfg, run->workspace, bytes, NULL);
+    if ((sums->workspace = mode_windows_workspace(bytes)) == NULL) return OKID_E_WORKSPACE_TOO_SMALL;
+    st = okid_ambient_init(&sums->amb, &sums->cfg, sums->workspace, bytes, NULL);
     if (st == OKID_OK) {
-        st = okid_ambient_push_block(&run->amb, n, y, (size_t)m, NULL);
+        st = okid_ambient_push_block(&sums->amb, n, y, (size_t)sums->cfg.num_outputs, NULL);
         if (st == OKID_E_NONFINITE_SAMPLE) st = OKID_OK; /* gaps: no product spans them */
-    }
-    if (st == OKID_OK) st = okid_ambient_stabilization_workspace_size(&run->amb, top, 2, &bytes);
-    if (st == OKID_OK && (run->table_workspace = mode_windows_workspace(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
-    if (st == OKID_OK) {
-        st = okid_ambient_stabilization_compute(&run->amb, top, 2, NULL, run->table_workspace, bytes, &run->table);
-    }
-    if (st == OKID_OK) st = okid_mode_selection_workspace_size(top, 2, &bytes);
-    if (st == OKID_OK && (run->selection_workspace = mode_windows_workspace(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
-    if (st == OKID_OK) {
-        st = okid_select_modes(&run->table, m, criteria, run->selection_workspace, bytes, &run->selection, NULL);
     }
     return st;
 }
 
-okid_status ambient_modes_find(const okid_ambient_config *cfg, int hankel_given, size_t n, const okid_real *y,
-                               const okid_mode_selection_criteria *criteria, ambient_modes *out)
+/* One size: the table of the even orders 2..min(max_order, L min(m, r_ref)) from the sums, the selection. */
+static okid_status run_size(ambient_run *run, ambient_sums *sums, int L, int max_order,
+                            const okid_mode_selection_criteria *criteria)
+{
+    const int top = table_top(&sums->cfg, L, max_order);
+    if (top < 2) return OKID_E_BAD_ORDER;
+    size_t bytes = 0;
+    okid_status st = okid_ambient_stabilization_workspace_size_at(&sums->amb, L, top, 2, &bytes);
+    if (st == OKID_OK && (run->table_workspace = mode_windows_workspace(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
+    if (st == OKID_OK) {
+        st = okid_ambient_stabilization_compute_at(&sums->amb, L, top, 2, NULL, run->table_workspace, bytes,
+                                                   &run->table);
+    }
+    if (st == OKID_OK) st = okid_mode_selection_workspace_size(top, 2, &bytes);
+    if (st == OKID_OK && (run->selection_workspace = mode_windows_workspace(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
+    if (st == OKID_OK) {
+        st = okid_select_modes(&run->table, sums->cfg.num_outputs, criteria, run->selection_workspace, bytes,
+                               &run->selection, NULL);
+    }
+    return st;
+}
+
+okid_status ambient_modes_find(const okid_ambient_config *cfg, int hankel_given, const auto_band *band, size_t n,
+                               const okid_real *y, const okid_mode_selection_criteria *criteria, ambient_modes *out)
 {
     memset(out, 0, sizeof *out);
-    choose(cfg, hankel_given, n, y, &out->choice);
+    auto_band estimated;
+    if (band == NULL) {
+        (void)ambient_record_band(y, n, cfg->num_outputs, (double)cfg->dt, &estimated);
+        band = &estimated;
+    }
+    choose(cfg, hankel_given, band, n, &out->choice);
     if (criteria != NULL) {
         out->criteria = *criteria;
     } else {
@@ -104,9 +125,14 @@ okid_status ambient_modes_find(const okid_ambient_config *cfg, int hankel_given,
         out->criteria.frequency_max_hz = (okid_real)out->choice.frequency_max_hz;
     }
     out->num_runs = out->choice.num_windows;
+    int largest = 0;
+    for (int w = 0; w < out->num_runs; ++w) largest = out->choice.windows[w] > largest ? out->choice.windows[w] : largest;
+    const okid_status summed = sum_record(&out->sums, cfg, largest, out->choice.max_order, n, y);
     for (int w = 0; w < out->num_runs; ++w) {
-        out->runs[w].status = run_size(&out->runs[w], cfg, out->choice.windows[w], out->choice.max_order, n, y,
-                                       &out->criteria);
+        out->runs[w].status = summed != OKID_OK && table_top(cfg, out->choice.windows[w], out->choice.max_order) >= 2
+                                  ? summed
+                                  : run_size(&out->runs[w], &out->sums, out->choice.windows[w], out->choice.max_order,
+                                             &out->criteria);
     }
     if (out->runs[0].status == OKID_E_BAD_ORDER) {
         return OKID_OK; /* a Hankel matrix too small for one pair (L min(m, r_ref) < 2): no mode, the gap order */
@@ -224,8 +250,8 @@ void ambient_modes_json(FILE *out, const ambient_modes *am, const okid_ambient_r
 
 void ambient_modes_free(ambient_modes *am)
 {
+    free(am->sums.workspace);
     for (int w = 0; w < am->num_runs; ++w) {
-        free(am->runs[w].workspace);
         free(am->runs[w].table_workspace);
         free(am->runs[w].selection_workspace);
     }

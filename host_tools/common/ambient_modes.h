@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The physical modes of an output-only record (okid identify --inputs 0 without --order, and
- * okid.identify_ambient): for each Hankel size L of the choice, the correlations, their
- * stabilization table (okid_ambient_stabilization_compute()) and the selection of
+ * okid.identify_ambient): the record's correlations summed once at the largest Hankel size of the
+ * choice; for each size L, their stabilization table (okid_ambient_stabilization_compute_at()) and the selection of
  * okid/mode_selection.h; a mode is reported when the selections of two of the three sizes hold
  * it, and the model reported is the main size's at the lowest order whose poles hold every
  * reported mode: the rule auto_modes.h applies to input-output records (docs/ambient.md).
@@ -16,15 +16,21 @@
 #include "auto_modes.h" /* auto_mode */
 #include "okid/okid.h"
 
-/* One Hankel size's correlations, table and selection (each in its own heap workspace). */
+/* One Hankel size's table and selection (each in its own heap workspace), from the shared sums. */
 typedef struct ambient_run {
-    okid_ambient_config cfg;
-    void *workspace, *table_workspace, *selection_workspace;
-    okid_ambient amb;
+    void *table_workspace, *selection_workspace;
     okid_stabilization table;
     okid_mode_selection selection;
     okid_status status; /* OKID_OK when the selection is valid */
 } ambient_run;
+
+/* The record's correlation sums, once, at the largest Hankel size: every size's table reads them
+   (okid_ambient_stabilization_compute_at()). */
+typedef struct ambient_sums {
+    okid_ambient_config cfg;
+    void *workspace;
+    okid_ambient amb;
+} ambient_sums;
 
 /* What was chosen and why: the band, the sizes, the table's largest order, the selection's band. */
 typedef struct ambient_choice {
@@ -39,6 +45,7 @@ typedef struct ambient_choice {
 
 typedef struct ambient_modes {
     ambient_choice choice;
+    ambient_sums sums;
     ambient_run runs[3];
     int num_runs;
     okid_mode_selection_criteria criteria;
@@ -50,12 +57,14 @@ typedef struct ambient_modes {
 
 /*
  * Choose the sizes from the mean-removed record y (n samples of m values) unless cfg->hankel_rows
- * is given (hankel_given), run each, select and combine. cfg holds everything else (references,
- * dt, sensing); its order is ignored. criteria: NULL for the defaults with the band
- * [f5 / 3, 0.8 Nyquist]; else used as given. Returns OKID_OK, or the main run's failure.
+ * is given (hankel_given), sum the record once at the largest, table and select each size, and
+ * combine. band: the record's (ambient_record_band()) when the caller has estimated it, NULL to
+ * estimate it here. cfg holds everything else (references, dt, sensing); its order is ignored.
+ * criteria: NULL for the defaults with the band [f5 / 3, 0.8 Nyquist]; else used as given.
+ * Returns OKID_OK, or the main run's failure.
  */
-okid_status ambient_modes_find(const okid_ambient_config *cfg, int hankel_given, size_t n, const okid_real *y,
-                               const okid_mode_selection_criteria *criteria, ambient_modes *out);
+okid_status ambient_modes_find(const okid_ambient_config *cfg, int hankel_given, const auto_band *band, size_t n,
+                               const okid_real *y, const okid_mode_selection_criteria *criteria, ambient_modes *out);
 
 /* Why a pole of the reported model is not one of the reported modes, or NULL when it is. */
 const char *ambient_pole_verdict(const ambient_modes *am, const okid_mode *pole, int m);

@@ -4,7 +4,6 @@
 
 #include <math.h>
 
-#include "auto_settings.h"
 
 /* The means of channels 0..k-1 (k <= OKID_MAX_DIMENSION) of rows ld apart, each summed in double
    in sample order. */
@@ -49,18 +48,24 @@ int ambient_hankel_rows_most(size_t n, int m)
     return most < OKID_MAX_HORIZON ? most : OKID_MAX_HORIZON;
 }
 
-int ambient_choose_hankel_rows(const okid_real *y, size_t n, int m, double dt, int order, int nref, double *band_hz)
+int ambient_record_band(const okid_real *y, size_t n, int m, double dt, auto_band *band)
+{
+    if (auto_channel_band(y, n, m, dt, band) != 0 || !(band->low_hz > 0)) {
+        band->low_hz = band->high_hz = 0;
+        return 0;
+    }
+    return 1;
+}
+
+int ambient_band_hankel_rows(const auto_band *band, size_t n, int m, double dt, int order, int nref)
 {
     const int side = m < nref ? m : nref;
     const int fewest = order > 0 ? (order + side - 1) / side : 2;
     int most = ambient_hankel_rows_most(n, m);
     if (most < fewest) most = fewest;
-    auto_band band;
-    *band_hz = 0;
-    if (auto_channel_band(y, n, m, dt, &band) != 0 || !(band.low_hz > 0)) {
+    if (!(band->low_hz > 0)) {
         return 20 < fewest ? fewest : 20;
     }
-    *band_hz = band.low_hz;
-    const double v = floor(1.0 / (band.low_hz * dt) + 0.5);
+    const double v = floor(1.0 / (band->low_hz * dt) + 0.5);
     return v < fewest ? fewest : v > most ? most : (int)v;
 }

@@ -12,7 +12,7 @@ here before the extension so that no system LAPACK is needed.
 import scipy_openblas32 as _scipy_openblas32  # noqa: F401  (loads libscipy_openblas RTLD_GLOBAL first)
 
 from . import _core
-from ._ambient import AmbientResult, identify_ambient
+from ._ambient import AmbientIdentifier, AmbientProgress, AmbientResult, identify_ambient
 from ._config import DEFAULTS, OPTION_NAMES
 from ._errors import (BadOrderError, BadParameterError, BadSizeError, ConcurrentUseError, ConfigurationError,
                       DataRangeError, DecompositionError, InternalError, NonFiniteSampleError, NonFiniteSampleWarning,
@@ -29,7 +29,7 @@ from .plot import plot_stabilization
 __version__ = _core.VERSION
 
 __all__ = [
-    "identify", "identify_ambient", "AmbientResult", "Identifier", "Progress", "Result", "Mode", "SelectedMode",
+    "identify", "identify_ambient", "AmbientIdentifier", "AmbientProgress", "AmbientResult", "Identifier", "Progress", "Result", "Mode", "SelectedMode",
     "Pole", "WarningFlag", "Stabilization",
     "StabilizationOrder", "StabilityFlag", "model", "plot", "plot_stabilization", "DEFAULTS", "OPTION_NAMES", "Refinement",
     "RefinementWarning", "ResidualWarning", "ResidualInputCorrelatedWarning", "REFINE_DEFAULTS", "crlb", "CramerRaoBound", "read_record", "Record",

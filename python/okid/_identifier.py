@@ -21,6 +21,7 @@ from ._mode import Mode, Pole, SelectedMode, WarningFlag
 from ._progress import CALLER, ProgressArg, phase, reported, run_unchunked
 from ._refine import REFINE_DEFAULTS, REFINE_MODELS, check_refine_model, check_settings
 from ._result import Result
+from ._stays_here import StaysHere
 from .model import lift as _lift
 
 
@@ -52,7 +53,7 @@ def _sample(values: Any, channels: int, name: str) -> np.ndarray:
     return a
 
 
-class Identifier:
+class Identifier(StaysHere):
     """A streaming OKID/ERA identifier: push samples or blocks as they come, identify at any time.
 
     ``Identifier(num_inputs, num_outputs, dt, **options)`` takes the okid_config options by their C
@@ -61,6 +62,8 @@ class Identifier:
     release the GIL, so identifiers in different threads run in parallel. Usable as a context
     manager (the workspace is freed at exit).
     """
+
+    _HOLDS = ("the pushed samples", "pickle its Results, or push the same samples into an Identifier there")
 
     def __init__(self, num_inputs: int, num_outputs: int, dt: float, **options: Any):
         self._config = _config.build(num_inputs, num_outputs, dt, options)
@@ -79,17 +82,6 @@ class Identifier:
         self.num_inputs, self.num_outputs, self.dt = num_inputs, num_outputs, self._config["dt"]
         self._core, self._last = core, None
         return self
-
-    def __copy__(self) -> "Identifier":
-        raise TypeError("an okid.Identifier cannot be copied: the copy would share its C core (the pushed "
-                        "samples); create another Identifier and push the same samples into it")
-
-    def __deepcopy__(self, memo: Dict[int, Any]) -> "Identifier":
-        return self.__copy__()
-
-    def __reduce__(self) -> Tuple[Any, ...]:
-        raise TypeError("an okid.Identifier cannot be pickled: its C core (the pushed samples) stays in this "
-                        "process; pickle its Results, or push the same samples into an Identifier there")
 
     @property
     def config(self) -> Dict[str, Any]:
@@ -189,12 +181,6 @@ class Identifier:
         """Let go of the workspace: it is freed once no Result of this identifier refers to it
         (results keep it for stabilization()). Any later call raises ValueError."""
         self._core = None
-
-    def __enter__(self) -> "Identifier":
-        return self
-
-    def __exit__(self, *exc: Any) -> None:
-        self.close()
 
     def __repr__(self) -> str:
         return (f"Identifier(num_inputs={self.num_inputs}, num_outputs={self.num_outputs}, dt={self.dt!r}, "

@@ -6,6 +6,7 @@
 // means (the same values), and fed in chunks with the GIL released; okid/_ambient.py turns the status into an
 // exception and the dict into an okid.AmbientResult.
 #include <cstdio>  // before nanobind (binding.h says why)
+#include <atomic>
 #include <cstdlib>
 #include <memory>
 #include <string>
@@ -73,6 +74,54 @@ struct ModesFree {
     }
 };
 
+// The configuration of m outputs with these settings (the C names), checked: a status and issue.
+int build_config(int m, double dt, int hankel_rows, int order, const std::vector<int> &references, int sensing,
+                 int segments, int segment_samples, okid_ambient_config *cfg, okid_config_issue *issue)
+{
+    okid_ambient_config_default(cfg, m >= 1 ? m : 1);
+    cfg->num_outputs = m;
+    cfg->dt = (okid_real)dt;
+    cfg->hankel_rows = hankel_rows;
+    cfg->order = order;
+    cfg->sensing = (okid_sensing)sensing;
+    cfg->segments = segments;
+    cfg->segment_samples = segment_samples;
+    cfg->num_references = (int)references.size();
+    for (size_t l = 0; l < references.size() && l < (size_t)OKID_MAX_DIMENSION; ++l)
+        cfg->reference_channels[l] = references[l];
+    *issue = okid_config_issue{};
+    const int status = m >= 1 && m <= OKID_MAX_DIMENSION && references.size() <= (size_t)m
+                           ? (int)okid_ambient_config_check(cfg, issue)
+                           : (int)OKID_E_BAD_SIZE;
+    if (status == OKID_E_BAD_SIZE && issue->field == nullptr) {
+        *issue = okid_config_issue{"num_outputs", (double)m, 1, (double)OKID_MAX_DIMENSION};
+    }
+    return status;
+}
+
+// (status, field, value, min, max, rest): the refused setting for okid/_ambient.py's message.
+nb::tuple refusal(int status, const okid_config_issue &issue, nb::object rest)
+{
+    return nb::make_tuple(status, std::string(issue.field ? issue.field : ""), issue.value, issue.min, issue.max,
+                          rest);
+}
+
+// Multiply-adds per sample of the sums: the work chunk_rows() divides.
+double work_per_sample(const okid_ambient_config &cfg)
+{
+    const int nref = cfg.num_references > 0 ? cfg.num_references : cfg.num_outputs;
+    return (double)cfg.num_outputs * (double)nref * (2.0 * cfg.hankel_rows + 1.0);
+}
+
+// okid.AmbientIdentifier's core: one okid_ambient over its own workspace, fed block by block.
+struct AmbientCore {
+    okid_ambient_config cfg{};
+    std::unique_ptr<void, AlignedFree> workspace;
+    size_t bytes = 0;
+    okid_ambient amb{};
+    std::atomic<bool> busy{false};
+};
+
 }  // namespace
 
 void bind_ambient(nb::module_ &m)
@@ -93,25 +142,14 @@ void bind_ambient(nb::module_ &m)
             const size_t n = y.shape(0);
             const int mo = (int)y.shape(1);
             okid_ambient_config cfg;
-            okid_ambient_config_default(&cfg, mo);
-            cfg.dt = (okid_real)dt;
-            cfg.order = order;
-            cfg.sensing = (okid_sensing)sensing;
-            cfg.segments = segments;
-            cfg.segment_samples = segment_samples;
-            cfg.num_references = (int)references.size();
-            for (size_t l = 0; l < references.size() && l < (size_t)OKID_MAX_DIMENSION; ++l)
-                cfg.reference_channels[l] = references[l];
             okid_config_issue issue{};
-            cfg.hankel_rows = hankel_rows > 0 ? hankel_rows : 1; /* sizes only, to check the others first */
-            int status = mo >= 1 && mo <= OKID_MAX_DIMENSION && references.size() <= (size_t)mo
-                             ? okid_ambient_config_check(&cfg, &issue)
-                             : OKID_E_BAD_SIZE;
-            if (status == OKID_E_BAD_SIZE && issue.field == nullptr) {
-                issue = okid_config_issue{"num_outputs", (double)mo, 1, (double)OKID_MAX_DIMENSION};
-            }
+            /* L = 1: sizes only, to check the others first */
+            int status = build_config(mo, dt, hankel_rows > 0 ? hankel_rows : 1, order, references, sensing, segments,
+                                      segment_samples, &cfg, &issue);
             std::vector<okid_real> data;
             double band_hz = 0;
+            auto_band band{};
+            const auto_band *have_band = nullptr;
             /* with L and the order given nothing needs the whole mean-removed record: the means, then
                the record streamed through a small buffer (the same values as the copy, no copy) */
             const bool stream = hankel_rows > 0 && order > 0;
@@ -124,14 +162,15 @@ void bind_ambient(nb::module_ &m)
                 data.assign(y.data(), y.data() + n * (size_t)mo);
                 ambient_remove_mean(data.data(), n, mo);
                 const int refs = cfg.num_references > 0 ? cfg.num_references : mo;
-                cfg.hankel_rows = hankel_rows > 0 ? hankel_rows
-                                                  : ambient_choose_hankel_rows(data.data(), n, mo, dt, order, refs, &band_hz);
+                if (hankel_rows == 0) { /* the band once: for L here and for the physical modes' choice */
+                    (void)ambient_record_band(data.data(), n, mo, dt, &band);
+                    have_band = &band;
+                    band_hz = band.low_hz;
+                }
+                cfg.hankel_rows = hankel_rows > 0 ? hankel_rows : ambient_band_hankel_rows(&band, n, mo, dt, order, refs);
                 status = okid_ambient_config_check(&cfg, &issue);
             }
-            if (status != OKID_OK) {
-                return nb::make_tuple(status, std::string(issue.field ? issue.field : ""), issue.value, issue.min,
-                                      issue.max, nb::none());
-            }
+            if (status != OKID_OK) return refusal(status, issue, nb::none());
             /* without an order, the physical modes over three Hankel sizes (host_tools/common/ambient_modes.h) */
             std::unique_ptr<ambient_modes, ModesFree> am;
             if (order == 0) {
@@ -139,7 +178,7 @@ void bind_ambient(nb::module_ &m)
                 if (!am) throw std::bad_alloc();
                 {
                     nb::gil_scoped_release release;
-                    status = ambient_modes_find(&cfg, hankel_rows > 0, n, data.data(), nullptr, am.get());
+                    status = ambient_modes_find(&cfg, hankel_rows > 0, have_band, n, data.data(), nullptr, am.get());
                 }
                 if (status != OKID_OK) {
                     return nb::make_tuple(status, std::string(), 0.0, 0.0, 0.0, nb::none());
@@ -154,8 +193,7 @@ void bind_ambient(nb::module_ &m)
             if (!ws) throw std::bad_alloc();
             okid_ambient amb;
             status = okid_ambient_init(&amb, &cfg, ws.get(), bytes, nullptr);
-            const int nref = cfg.num_references > 0 ? cfg.num_references : mo;
-            const double work = (double)mo * (double)nref * (2.0 * cfg.hankel_rows + 1.0); /* per sample */
+            const double work = work_per_sample(cfg);
             if (status == OKID_OK && stream) {
                 const size_t rows = n < 4096 ? (n > 0 ? n : 1) : 4096; /* 16 batches of push_block */
                 std::vector<okid_real> buffer(rows * (size_t)mo);
@@ -207,6 +245,68 @@ void bind_ambient(nb::module_ &m)
         nb::arg("sensing"), nb::arg("segments"), nb::arg("segment_samples"), nb::arg("progress") = nb::none(),
         "Output-only identification of y (N, m): (status, field, value, min, max, result dict or None); "
         "field names the setting okid_ambient_config_check() refused.");
+    nb::class_<AmbientCore>(m, "AmbientCore")
+        .def(nb::init<>())
+        .def(
+            "init",
+            [](AmbientCore &self, int num_outputs, double dt, int hankel_rows, int order, std::vector<int> references,
+               int sensing, int segments, int segment_samples) {
+                okid_config_issue issue{};
+                okid_ambient_config cfg;
+                int st = build_config(num_outputs, dt, hankel_rows, order, references, sensing, segments,
+                                      segment_samples, &cfg, &issue);
+                if (st != OKID_OK) return refusal(st, issue, nb::none());
+                size_t bytes = 0;
+                okid_ambient_workspace_size(&cfg, &bytes);
+                std::unique_ptr<void, AlignedFree> ws(std::aligned_alloc(OKID_WORKSPACE_ALIGN, (bytes + 15) / 16 * 16));
+                if (!ws) throw std::bad_alloc();
+                st = okid_ambient_init(&self.amb, &cfg, ws.get(), bytes, nullptr);
+                if (st == OKID_OK) {
+                    self.cfg = cfg;
+                    self.workspace = std::move(ws);
+                    self.bytes = bytes;
+                }
+                return refusal(st, issue, nb::none());
+            },
+            "okid_ambient_init over a new workspace: (status, field, value, min, max, None).")
+        .def_prop_ro("workspace_bytes", [](const AmbientCore &self) { return self.bytes; })
+        .def(
+            "push_block",
+            [](AmbientCore &self, CBlock y, nb::object progress) {
+                UseGuard guard(self.busy);
+                if (!guard.acquired()) return nb::make_tuple(STATUS_BUSY, (size_t)0);
+                const size_t mo = y.shape(1);
+                size_t accepted = 0;
+                // in chunks: Ctrl-C raises between two (the samples pushed so far stay pushed)
+                const int s = feed_in_chunks(y.shape(0), chunk_rows(work_per_sample(self.cfg)), progress, 0,
+                                             y.shape(0), [&](size_t first, size_t count) {
+                    size_t taken = 0;
+                    const int st = okid_ambient_push_block(&self.amb, count, y.data() + first * mo, mo, &taken);
+                    accepted += taken;
+                    return st;
+                });
+                return nb::make_tuple(s, accepted);
+            },
+            nb::arg("y"), nb::arg("progress").none() = nb::none(),
+            "okid_ambient_push_block on a (count, m) C-contiguous block, no copy, in chunks: (status, accepted).")
+        .def("identify",
+             [](AmbientCore &self) {
+                 UseGuard guard(self.busy);
+                 if (!guard.acquired()) return nb::make_tuple(STATUS_BUSY, nb::none());
+                 okid_ambient_result res{};
+                 int st;
+                 {
+                     nb::gil_scoped_release release;
+                     st = okid_ambient_identify(&self.amb, &res);
+                 }
+                 if (st != OKID_OK) return nb::make_tuple(st, nb::none());
+                 return nb::make_tuple(st, result_dict(res, self.cfg.num_outputs, self.cfg.hankel_rows, 0.0));
+             },
+             "okid_ambient_identify: (status, result dict or None).")
+        .def("reset", [](AmbientCore &self) {
+            UseGuard guard(self.busy);
+            return guard.acquired() ? (int)okid_ambient_reset(&self.amb) : STATUS_BUSY;
+        });
 }
 
 }  // namespace okid_py

@@ -12,6 +12,7 @@
 #include <nanobind/ndarray.h>
 
 #include <algorithm>
+#include <atomic>
 #include <complex>
 #include <cstddef>
 #include <cstdlib>
@@ -32,6 +33,21 @@ using ComplexArray = nb::ndarray<nb::numpy, const std::complex<double>>;
 
 // Status of a call refused because another thread is using the same identifier.
 constexpr int STATUS_BUSY = 1000;
+
+// Refuses a second thread instead of letting two calls corrupt one identifier.
+class UseGuard {
+public:
+    explicit UseGuard(std::atomic<bool> &busy) : busy_(busy), acquired_(!busy.exchange(true)) {}
+    ~UseGuard()
+    {
+        if (acquired_) busy_.store(false);
+    }
+    bool acquired() const { return acquired_; }
+
+private:
+    std::atomic<bool> &busy_;
+    bool acquired_;
+};
 
 template <class T> nb::ndarray<nb::numpy, const T> owned_array(std::vector<T> &&values, std::initializer_list<size_t> shape)
 {

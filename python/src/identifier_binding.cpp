@@ -39,21 +39,6 @@ Workspace allocate_workspace(size_t bytes)
     return Workspace(p);
 }
 
-// Refuses a second thread instead of letting two calls corrupt one identifier.
-class UseGuard {
-public:
-    explicit UseGuard(std::atomic<bool> &busy) : busy_(busy), acquired_(!busy.exchange(true)) {}
-    ~UseGuard()
-    {
-        if (acquired_) busy_.store(false);
-    }
-    bool acquired() const { return acquired_; }
-
-private:
-    std::atomic<bool> &busy_;
-    bool acquired_;
-};
-
 // A matrix view copied to column-major storage with leading dimension rows.
 std::vector<okid_real> compact(okid_matrix m)
 {

@@ -566,7 +566,7 @@ def test_to_frame_and_stabilization():
 # top of the file or inside a function alike), so the graph has no cycle and no arrow back up.
 PACKAGE_LAYERS = {
     "_core": 0,
-    "_errors": 1, "_document": 1, "_progress": 1,
+    "_errors": 1, "_document": 1, "_progress": 1, "_stays_here": 1,
     "_config": 2, "model": 2, "_mode": 2,
     "_statespace": 3,
     "_refine": 4, "_record": 4, "_ambient": 4,

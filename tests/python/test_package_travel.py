@@ -132,6 +132,8 @@ def public_instances(record, result, refined, chosen, tmp_path_factory):
                comments="", fmt="%.17g")
     identifier = okid.Identifier(1, 2, DT, **SETTINGS)
     identifier.push(u, y)
+    ambient = okid.AmbientIdentifier(2, DT, hankel_rows=20, order=4)
+    ambient.push(y - y.mean(axis=0))
     return {
         "Result": [result, refined, chosen], "Mode": [result.modes[0], refined.refinement.modes[0]],
         "SelectedMode": [chosen.modes[0]], "Pole": [chosen.poles[0]],
@@ -141,11 +143,13 @@ def public_instances(record, result, refined, chosen, tmp_path_factory):
         "CramerRaoBound": [okid.crlb(u, DT, noise=0.05)], "Record": [okid.read_record(csv)],
         "Progress": [identifier.progress],
         "AmbientResult": [okid.identify_ambient(y, DT, hankel_rows=20, order=4, segments=4)],
+        "AmbientProgress": [ambient.progress],
     }
 
 
 #: public types that do not travel, and why
-NOT_PICKLABLE = {"Identifier": "its C core holds the pushed samples (TypeError, as copy.copy)"}
+NOT_PICKLABLE = {"Identifier": "its C core holds the pushed samples (TypeError, as copy.copy)",
+                 "AmbientIdentifier": "its C core holds the correlation sums (TypeError, as copy.copy)"}
 
 
 def _public_types():
@@ -184,6 +188,8 @@ def test_every_public_type_pickles_and_copies(public_instances):
     identifier = okid.Identifier(1, 2, DT, **SETTINGS)
     with pytest.raises(TypeError, match="cannot be pickled: its C core"):
         pickle.dumps(identifier)
+    with pytest.raises(TypeError, match="cannot be pickled: its C core"):
+        pickle.dumps(okid.AmbientIdentifier(2, DT))
 
 
 def test_every_public_result_with_save_loads_back_equal(public_instances, tmp_path):

@@ -238,6 +238,34 @@ okid_status okid_ambient_stabilization_compute(okid_ambient *amb, int max_order,
                                                const okid_stabilization_criteria *criteria, void *workspace,
                                                size_t bytes, okid_stabilization *out);
 
+/**
+ * okid_ambient_stabilization_workspace_size() for the table of a smaller Hankel matrix: L' block
+ * rows (and columns), 1..the identifier's L (okid_ambient_stabilization_compute_at()).
+ * OKID_AMBIENT_STABILIZATION_WORKSPACE_BYTES(m, r_ref, L', max_order, step) equals it.
+ * \param[in] hankel_rows L', 1..okid_ambient_config::hankel_rows of amb
+ * \param[in] max_order   largest order, 1..min(L' min(m, r_ref), OKID_MAX_ORDER)
+ * \return OKID_OK, OKID_E_NULL_POINTER, OKID_E_NOT_INITIALIZED, OKID_E_BAD_SIZE (hankel_rows, step, or
+ *         above SIZE_MAX), OKID_E_BAD_ORDER (max_order)
+ */
+okid_status okid_ambient_stabilization_workspace_size_at(const okid_ambient *amb, int hankel_rows, int max_order,
+                                                         int step, size_t *bytes);
+
+/**
+ * okid_ambient_stabilization_compute() of the block Hankel of R(1 .. 2L') for L' <= L: the sums
+ * hold lags 0..2L, and R(k) = S(k) / pairs(k) does not depend on how many lags are summed, so one
+ * identifier (one pass over the record, at the largest L) gives the table of every smaller Hankel
+ * size, bit for bit the table of an identifier initialised at L' over the same pushes (the same
+ * sums, scales and ERA; tests/test_ambient_modes.c). The ERA scratch is the identifier's (it holds
+ * L's, which is larger); the rest lives in the caller's workspace of
+ * okid_ambient_stabilization_workspace_size_at() bytes. hankel_rows = L is
+ * okid_ambient_stabilization_compute().
+ * \return those of okid_ambient_stabilization_compute(), OKID_E_NOT_ENOUGH_DATA meaning no pair at
+ *         lag 2L'; OKID_E_BAD_SIZE also for hankel_rows outside 1..L
+ */
+okid_status okid_ambient_stabilization_compute_at(okid_ambient *amb, int hankel_rows, int max_order, int step,
+                                                  const okid_stabilization_criteria *criteria, void *workspace,
+                                                  size_t bytes, okid_stabilization *out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -506,7 +506,7 @@ static int segment_spread(const okid_ambient *amb, okid_ambient_result_set_ *set
         if (okid_corr_pairs(sums, j, sums->lags) == 0) {
             continue;
         }
-        okid_corr_estimate(sums, j, seg->correlations);
+        okid_corr_estimate(sums, j, sums->lags, seg->correlations);
         int order = 0, count = 0;
         unsigned ignored = 0;
         if (okid_era_realize(&problem, &s->era, &out, &order, &ignored) != OKID_OK ||
@@ -549,7 +549,7 @@ okid_status okid_ambient_identify(okid_ambient *amb, okid_ambient_result *result
     okid_ambient_result_set_ *set = &amb->set_[next];
     ambient_scratch s;
     scratch_views(amb, &s, NULL);
-    okid_corr_estimate(sums, -1, set->correlations);
+    okid_corr_estimate(sums, -1, sums->lags, set->correlations);
     okid_status st = okid_ambient_scales_(amb, s.scales);
     if (st != OKID_OK) {
         return st;

@@ -1,10 +1,11 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /*
  * The stabilization diagram of an output-only identifier (okid/ambient.h): the correlations of
- * everything pushed, one ERA of their block Hankel at the largest order into the caller's
- * workspace (the identifier's ERA scratch for H and the SVD work, V' of the table's orders in the
- * caller's workspace), then the orders by nested
- * truncation exactly as okid_stabilization_compute() makes them (analysis/stabilization_internal.h).
+ * everything pushed, one ERA of their block Hankel (of the identifier's L block rows, or of fewer:
+ * R(0 .. 2L') are among the sums) at the largest order into the caller's workspace (the
+ * identifier's ERA scratch for H and the SVD work, V' of the table's orders in the caller's
+ * workspace), then the orders by nested truncation exactly as okid_stabilization_compute() makes
+ * them (analysis/stabilization_internal.h).
  */
 #include "okid/ambient.h"
 
@@ -26,16 +27,22 @@ typedef struct amb_stab_views {
     unsigned *stability;
 } amb_stab_views;
 
-static uint64_t amb_stab_carve(const okid_ambient *amb, int max_order, int step, unsigned char *base,
+/* The Hankel rank limit at L block rows: L min(m, r_ref). */
+static int rank_bound(const okid_ambient *amb, int L)
+{
+    return L * (amb->sums_.m < amb->nref_ ? amb->sums_.m : amb->nref_);
+}
+
+static uint64_t amb_stab_carve(const okid_ambient *amb, int hankel_rows, int max_order, int step, unsigned char *base,
                                amb_stab_views *v)
 {
-    const uint64_t m = (uint64_t)amb->sums_.m, nref = (uint64_t)amb->nref_, L = (uint64_t)amb->cfg_.hankel_rows;
+    const uint64_t m = (uint64_t)amb->sums_.m, nref = (uint64_t)amb->nref_, L = (uint64_t)hankel_rows;
     const uint64_t n = (uint64_t)max_order;
     const uint64_t orders = OKID__STAB_ORDERS(max_order, step), modes = OKID__STAB_MODES(max_order, step);
     okid_carver c = {base, 0};
     v->correlations = okid_carve_reals(&c, m * nref * (2u * L + 1u));
     v->scales = okid_carve_reals(&c, nref + m);
-    v->sv = okid_carve_reals(&c, (uint64_t)amb->k_);
+    v->sv = okid_carve_reals(&c, (uint64_t)rank_bound(amb, hankel_rows));
     v->era_t = okid_carve_reals(&c, L * m * n);
     const uint64_t vt_rows = OKID__SVD_VT_ROWS(L * m, L * nref, n);
     v->era_vt = okid_carve_reals(&c, vt_rows * L * nref);
@@ -54,8 +61,8 @@ static uint64_t amb_stab_carve(const okid_ambient *amb, int max_order, int step,
     return c.used;
 }
 
-okid_status okid_ambient_stabilization_workspace_size(const okid_ambient *amb, int max_order, int step,
-                                                      size_t *bytes)
+okid_status okid_ambient_stabilization_workspace_size_at(const okid_ambient *amb, int hankel_rows, int max_order,
+                                                         int step, size_t *bytes)
 {
     if (amb == NULL || bytes == NULL) {
         return OKID_E_NULL_POINTER;
@@ -63,23 +70,34 @@ okid_status okid_ambient_stabilization_workspace_size(const okid_ambient *amb, i
     if (amb->magic_ != OKID_AMBIENT_MAGIC_) {
         return OKID_E_NOT_INITIALIZED;
     }
-    if (max_order < 1 || max_order > amb->k_ || max_order > OKID_MAX_ORDER) {
+    if (hankel_rows < 1 || hankel_rows > amb->cfg_.hankel_rows) {
+        return OKID_E_BAD_SIZE;
+    }
+    if (max_order < 1 || max_order > rank_bound(amb, hankel_rows) || max_order > OKID_MAX_ORDER) {
         return OKID_E_BAD_ORDER;
     }
     if (step < 1 || step > max_order) {
         return OKID_E_BAD_SIZE;
     }
     amb_stab_views dry;
-    return okid_carve_size(amb_stab_carve(amb, max_order, step, NULL, &dry), bytes);
+    return okid_carve_size(amb_stab_carve(amb, hankel_rows, max_order, step, NULL, &dry), bytes);
+}
+
+okid_status okid_ambient_stabilization_workspace_size(const okid_ambient *amb, int max_order, int step,
+                                                      size_t *bytes)
+{
+    return okid_ambient_stabilization_workspace_size_at(amb, amb != NULL && amb->magic_ == OKID_AMBIENT_MAGIC_ ? amb->cfg_.hankel_rows : 1, max_order, step,
+                                                        bytes);
 }
 
 /* ERA at order top into the views; the problem and scratch for the indicators' capture. */
-static okid_status realize_at(const okid_ambient *amb, int top, const amb_stab_views *v, okid_era_problem *problem,
-                              okid_era_scratch *era)
+static okid_status realize_at(const okid_ambient *amb, int L, int top, const amb_stab_views *v,
+                              okid_era_problem *problem, okid_era_scratch *era)
 {
-    const int m = amb->sums_.m, nref = amb->nref_, L = amb->cfg_.hankel_rows;
+    const int m = amb->sums_.m, nref = amb->nref_;
     *problem = (okid_era_problem){nref, m, nref, L, L, top, top, v->correlations, NULL, v->scales};
     okid_ambient_era_scratch_(amb, era);
+    era->ldh = L * m; /* H laid out as an identifier of L block rows lays it out (its region holds more) */
     era->t = v->era_t;
     era->vt = v->era_vt;
     era->ldvt = v->ldvt;
@@ -93,8 +111,16 @@ okid_status okid_ambient_stabilization_compute(okid_ambient *amb, int max_order,
                                                const okid_stabilization_criteria *criteria, void *workspace,
                                                size_t bytes, okid_stabilization *out)
 {
+    return okid_ambient_stabilization_compute_at(amb, amb != NULL && amb->magic_ == OKID_AMBIENT_MAGIC_ ? amb->cfg_.hankel_rows : 1, max_order, step,
+                                                 criteria, workspace, bytes, out);
+}
+
+okid_status okid_ambient_stabilization_compute_at(okid_ambient *amb, int hankel_rows, int max_order, int step,
+                                                  const okid_stabilization_criteria *criteria, void *workspace,
+                                                  size_t bytes, okid_stabilization *out)
+{
     size_t needed = 0;
-    okid_status st = okid_ambient_stabilization_workspace_size(amb, max_order, step, &needed);
+    okid_status st = okid_ambient_stabilization_workspace_size_at(amb, hankel_rows, max_order, step, &needed);
     if (st != OKID_OK) {
         return st;
     }
@@ -107,12 +133,13 @@ okid_status okid_ambient_stabilization_compute(okid_ambient *amb, int max_order,
         return st;
     }
     const okid_correlation_sums_ *sums = &amb->sums_;
-    if (okid_corr_pairs(sums, -1, sums->lags) == 0) {
+    const int L = hankel_rows, k = rank_bound(amb, L);
+    if (okid_corr_pairs(sums, -1, 2 * L) == 0) {
         return OKID_E_NOT_ENOUGH_DATA;
     }
     amb_stab_views v;
-    (void)amb_stab_carve(amb, max_order, step, (unsigned char *)workspace, &v);
-    okid_corr_estimate(sums, -1, v.correlations);
+    (void)amb_stab_carve(amb, L, max_order, step, (unsigned char *)workspace, &v);
+    okid_corr_estimate(sums, -1, 2 * L, v.correlations);
     st = okid_ambient_scales_(amb, v.scales);
     if (st != OKID_OK) {
         return st;
@@ -120,18 +147,18 @@ okid_status okid_ambient_stabilization_compute(okid_ambient *amb, int max_order,
     okid_era_problem problem;
     okid_era_scratch era;
     int top = max_order / step * step;
-    st = realize_at(amb, top, &v, &problem, &era);
+    st = realize_at(amb, L, top, &v, &problem, &era);
     /* the SVD ran before any rank refusal: the singular values are there for both */
-    const int rank_limit = st == OKID_OK || st == OKID_E_RANK_DEFICIENT ? okid_stab_hankel_rank_(v.sv, amb->k_) : 0;
+    const int rank_limit = st == OKID_OK || st == OKID_E_RANK_DEFICIENT ? okid_stab_hankel_rank_(v.sv, k) : 0;
     if (st == OKID_E_RANK_DEFICIENT) {
         top = (rank_limit < max_order ? rank_limit : max_order) / step * step;
-        st = top > 0 ? realize_at(amb, top, &v, &problem, &era) : OKID_E_RANK_DEFICIENT;
+        st = top > 0 ? realize_at(amb, L, top, &v, &problem, &era) : OKID_E_RANK_DEFICIENT;
     }
     if (st != OKID_OK) {
         return st;
     }
     okid_indicators_capture(&problem, &era, v.sv, top, v.obs_last, v.ctrl_last);
-    const okid_stab_realization_ rz = {top, sums->m, amb->nref_, amb->cfg_.hankel_rows, amb->cfg_.hankel_rows,
+    const okid_stab_realization_ rz = {top, sums->m, amb->nref_, L, L,
                                        amb->cfg_.dt, amb->cfg_.sensing, v.a, v.g, v.c, v.obs_last, v.ctrl_last};
     const okid_stab_table_views_ tv = {&v.modal, &v.ind, v.orders, v.modes, v.shapes, v.stability};
     int count = 0;
@@ -146,7 +173,7 @@ okid_status okid_ambient_stabilization_compute(okid_ambient *amb, int max_order,
     }
     out->num_orders = count;
     out->rank_limit = rank_limit;
-    out->noise_free = rank_limit < amb->k_;
+    out->noise_free = rank_limit < k;
     out->orders = v.orders;
     out->modes = v.modes;
     out->stability = v.stability;

@@ -124,23 +124,24 @@ OKID__CORR_CLONES static void tiled_products(int m, int nref, int lags, int p, c
     }
 }
 
-/* out(:, k nref .. k nref + nref - 1) += Y R_k' for the p pending samples, k = 0 .. lags (out: m x
-   nref (lags + 1), leading dimension m). The history's zeros stand for lags held by no sample. */
-static void batch_products(const okid_correlation_sums_ *s, int p, okid_real *out)
+/* out(:, k nref .. k nref + nref - 1) += Y R_k' for the p pending samples, k = 0 .. lags <= s->lags
+   (out: m x nref (lags + 1), leading dimension m); each lag's sum alone, in sample order, so the
+   same bits for any lags. The history's zeros stand for lags held by no sample. */
+static void batch_products(const okid_correlation_sums_ *s, int p, int lags, okid_real *out)
 {
-    const int m = s->m, nref = s->nref, lags = s->lags;
+    const int m = s->m, nref = s->nref;
 #if !OKID_LINALG_EIGEN
     if (m * nref > OKID__CORR_GEMM_MIN) {
         const int ldy = s->yblock != NULL ? s->batch : s->ldh;
         for (int k = 0; k <= lags; ++k) {
-            (void)okid_la_add_product_tn(m, nref, p, batch_output(s, 0), ldy, s->hist + lags - k, s->ldh,
+            (void)okid_la_add_product_tn(m, nref, p, batch_output(s, 0), ldy, s->hist + s->lags - k, s->ldh,
                                          out + (size_t)k * (size_t)m * (size_t)nref, m);
         }
         return;
     }
 #endif
     for (int l = 0; l < nref; ++l) {
-        const okid_real *rl = s->hist + (size_t)l * (size_t)s->ldh + (size_t)lags;
+        const okid_real *rl = s->hist + (size_t)l * (size_t)s->ldh + (size_t)s->lags;
         int a = 0;
         for (; a + 2 <= m; a += 2) {
             tiled_products(m, nref, lags, p, batch_output(s, a), batch_output(s, a + 1), rl, out + (size_t)l * (size_t)m + (size_t)a);
@@ -158,7 +159,7 @@ static void batch_flush(okid_correlation_sums_ *s)
     if (p == 0) {
         return;
     }
-    batch_products(s, p, s->sums + (size_t)s->batch_segment * segment_reals(s));
+    batch_products(s, p, lags, s->sums + (size_t)s->batch_segment * segment_reals(s));
     uint64_t *pairs = s->pairs + (size_t)s->batch_segment * (size_t)(lags + 1);
     for (int k = 0; k <= lags; ++k) { /* sample i of the batch pairs at lag k when k <= held + i */
         const int first = k > s->held ? k - s->held : 0;
@@ -325,7 +326,7 @@ uint64_t okid_corr_pairs(const okid_correlation_sums_ *s, int segment, int k)
     return total;
 }
 
-void okid_corr_estimate(const okid_correlation_sums_ *s, int segment, okid_real *r)
+void okid_corr_estimate(const okid_correlation_sums_ *s, int segment, int lags, okid_real *r)
 {
     const size_t block = (size_t)s->nref * (size_t)s->m, reals = segment_reals(s);
     const int first = segment >= 0 ? segment : 0, last = segment >= 0 ? segment : s->segments - 1;
@@ -333,11 +334,11 @@ void okid_corr_estimate(const okid_correlation_sums_ *s, int segment, okid_real 
     const int pending = pending_pairs(s, segment, 0) > 0;
 #if OKID__AMB_BATCH > 1
     if (pending) {
-        okid_zero_matrix(s->m, s->nref * (s->lags + 1), r, s->m);
-        batch_products(s, s->pending, r);
+        okid_zero_matrix(s->m, s->nref * (lags + 1), r, s->m);
+        batch_products(s, s->pending, lags, r);
     }
 #endif
-    for (int k = 0; k <= s->lags; ++k) {
+    for (int k = 0; k <= lags; ++k) {
         const uint64_t pairs = okid_corr_pairs(s, segment, k);
         const okid_real inv = pairs > 0 ? 1 / (okid_real)pairs : 0;
         for (size_t i = (size_t)k * block; i < (size_t)(k + 1) * block; ++i) {

@@ -37,9 +37,10 @@ void okid_corr_batch_add(okid_correlation_sums_ *s, const okid_real *y);
 void okid_corr_batch_gap(okid_correlation_sums_ *s);
 void okid_corr_batch_end(okid_correlation_sums_ *s);
 
-/* R(k) = S(k) / pairs(k), k = 0 .. lags, of one segment (0 .. segments - 1) or, with segment -1, of
-   the whole record, into r (m x nref (lags + 1), leading dimension m); 0 where a lag has no pair. */
-void okid_corr_estimate(const okid_correlation_sums_ *s, int segment, okid_real *r);
+/* R(k) = S(k) / pairs(k), k = 0 .. lags (lags <= s->lags: each lag's sum does not depend on how
+   many are kept), of one segment (0 .. segments - 1) or, with segment -1, of the whole record, into
+   r (m x nref (lags + 1), leading dimension m); 0 where a lag has no pair. */
+void okid_corr_estimate(const okid_correlation_sums_ *s, int segment, int lags, okid_real *r);
 
 /* Products summed at lag k, over every segment (segment -1) or in one. */
 uint64_t okid_corr_pairs(const okid_correlation_sums_ *s, int segment, int k);
