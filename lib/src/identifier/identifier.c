@@ -16,6 +16,7 @@
 #include "pipeline/markov.h"
 #include "pipeline/modal_internal.h"
 #include "pipeline/sample_buffer.h"
+#include "pipeline/toeplitz_gram.h"
 #include "quality/diagnostics.h"
 #include "quality/modal_indicators_internal.h"
 
@@ -207,6 +208,20 @@ okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspa
     return OKID_OK;
 }
 
+/* c (w x w, upper) decays by lambda^rows and gains the Gram of the rows phi (the correlation
+   form): from the rows' Toeplitz structure without forgetting (LAPACK backend), else by xSYRK of
+   the rows weighed in place (weights break the shift structure; docs/design.md "Toeplitz block Gram"). */
+static okid_status accumulate_gram(const okid_identifier *id, int rows, okid_real *phi, okid_real *c)
+{
+    const okid_dims_ *d = &id->dims_;
+#if !OKID_LINALG_EIGEN
+    if (id->forgetting_ >= 1) {
+        return okid_toeplitz_gram(d->r, d->m, d->p, rows, phi, d->block_rows, c, d->w, id->at_.fold_t);
+    }
+#endif
+    return okid_lsq_accumulate(d->w, c, d->w, rows, phi, d->block_rows, id->forgetting_);
+}
+
 /* Fold the pending rows (push): the scales from them first if still unknown (OKID_SCALING_AUTO),
    then into R, or into the instruments' cross-product M; the block is empty afterwards. */
 static okid_status fold_pending(okid_identifier *id)
@@ -236,7 +251,7 @@ static okid_status fold_pending(okid_identifier *id)
         okid_iv_cross_product(0, d->nz, d->w, rows, v->iv_block, ld, v->block, ld, decay, v->iv_m, d->nz, v->iv_m,
                               d->nz);
     } else if (d->correlation) {
-        st = okid_lsq_accumulate(d->w, v->r, d->w, rows, v->block, ld, id->forgetting_);
+        st = accumulate_gram(id, rows, v->block, v->r);
     } else {
         st = okid_lsq_fold(d->w, v->r, d->w, rows, v->block, ld, id->forgetting_, d->block_tile, v->fold_t,
                            v->fold_work);
@@ -402,7 +417,7 @@ static okid_status identify_factor(const okid_identifier *id, const okid_real *s
         okid_copy_matrix(w, w, v->r, w, v->factor, w);
         *factor = v->factor;
         const okid_lsq_scratch lsq = {v->lsq_scale, v->lsq_column, v->lsq_perm, v->lsq_work};
-        const okid_status st = okid_lsq_accumulate(w, v->factor, w, rows, phi, ld, id->forgetting_);
+        const okid_status st = accumulate_gram(id, rows, phi, v->factor);
         return st != OKID_OK ? st : okid_lsq_correlation_factor(d->q, d->m, v->factor, w, &lsq);
     }
     if (rows == 0) {

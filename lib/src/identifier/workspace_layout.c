@@ -248,12 +248,23 @@ uint64_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsign
             v->iv_chunk = okid_carve_reals(&c, (uint64_t)d->block_rows * w);
         }
     }
+    /* the correlation form's Toeplitz Gram: its first block row (OKID__TOEPLITZ_GRAM_REALS), used
+       at push and identify, so not in a phase; it takes fold_t's place (the QR fold is not used) */
+    okid_real *gram_row = NULL;
+#if !OKID_LINALG_EIGEN
+    if (d->correlation) {
+        gram_row = okid_carve_reals(&c, (r + m) * w);
+    }
+#endif
     const uint64_t phases = c.used;
     uint64_t end = phases;
 
     /* the folds: push's, and identify's of the pending rows (a copy of them) into the factor */
     v->fold_t = okid_carve_reals(&c, (uint64_t)d->block_tile * w);
     v->fold_work = okid_carve_reals(&c, (uint64_t)d->block_tile * w);
+    if (gram_row != NULL) {
+        v->fold_t = gram_row;
+    }
     v->pending = (d->block_rows > 1) ? okid_carve_reals(&c, (uint64_t)d->block_rows * w) : NULL;
     end = MAX(end, c.used);
 
