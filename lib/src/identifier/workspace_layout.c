@@ -253,7 +253,7 @@ uint64_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsign
     okid_real *gram_row = NULL;
 #if !OKID_LINALG_EIGEN
     if (d->correlation) {
-        gram_row = okid_carve_reals(&c, (r + m) * w);
+        gram_row = okid_carve_reals(&c, (r + m + 2u) * w);
     }
 #endif
     const uint64_t phases = c.used;

@@ -18,7 +18,7 @@
  * c (w x w, upper triangle, leading dimension ldc; w = (r + m)(p + 1)) += rows' rows for the
  * nrows x w regressor rows (leading dimension ldrows, only read). Rows need not be consecutive:
  * each run in which every row is the previous one shifted by a sample (checked exactly, so a gap
- * or any other break starts a new run) is summed on its own. work: (r + m) x w reals
+ * or any other break starts a new run) is summed on its own. work: (r + m + 2) x w reals
  * (OKID__TOEPLITZ_GRAM_REALS). LAPACK backend only (xGEMM for the first block row).
  */
 okid_status okid_toeplitz_gram(int r, int m, int p, int nrows, const okid_real *rows, int ldrows, okid_real *c,
