@@ -86,7 +86,7 @@ static int build_rows(const gram_case *gc, uint64_t seed, okid_real *block)
 static void check_case(const gram_case *gc)
 {
     const int n = gc->r + gc->m, w = n * (gc->p + 1);
-    static okid_real block[MAX_ROWS * MAX_W], c[MAX_W * MAX_W], work[(MAX_N + 2) * MAX_W];
+    static okid_real block[MAX_ROWS * MAX_W], c[MAX_W * MAX_W], work[(MAX_N + 2) * MAX_W + 1];
     static long double exact[MAX_W * MAX_W], size[MAX_W * MAX_W];
     int channel[MAX_W], lag[MAX_W];
     probe_layout(gc->r, gc->m, gc->p, channel, lag);
@@ -161,7 +161,7 @@ static void test_gram_against_explicit_sum(void **state)
 static void test_bad_arguments(void **state)
 {
     (void)state;
-    okid_real rows[4] = {0}, c[4] = {0}, work[8] = {0};
+    okid_real rows[4] = {0}, c[4] = {0}, work[9] = {0};
     assert_int_equal(okid_toeplitz_gram(1, 1, 0, 2, rows, 1, c, 2, work), OKID_E_BACKEND_ARGUMENT); /* ld < rows */
     assert_int_equal(okid_toeplitz_gram(1, 1, 0, 1, rows, 1, c, 1, work), OKID_E_BACKEND_ARGUMENT); /* ldc < w */
     assert_int_equal(okid_toeplitz_gram(1, 1, 0, 0, rows, 1, c, 2, work), OKID_OK);

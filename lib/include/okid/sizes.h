@@ -203,17 +203,17 @@
                  : 0u)
 
 /* The correlation form factors a copy of [Phi Y]'[Phi Y] at identify: the copy of R that
-   block_rows > 1 has anyway, else w x w more. LAPACK backend: the Toeplitz Gram's first block
-   row and a block's first and last row too, (r + m + 2) x w reals (toeplitz_gram.h; the Eigen
-   backend sums the Gram by dot products). */
+   block_rows > 1 has anyway, else w x w more. LAPACK backend: the Toeplitz Gram's open run and a
+   scratch run for identify's pending rows, OKID__TOEPLITZ_RUN_REALS each (toeplitz_gram.h; the
+   Eigen backend sums the Gram by dot products). */
 #if OKID_LINALG_EIGEN
-#define OKID__TOEPLITZ_GRAM_REALS(r, m, p) (0u * OKID__W(r, m, p))
+#define OKID__TOEPLITZ_RUN_REALS(r, m, p) (0u * OKID__W(r, m, p))
 #else
-#define OKID__TOEPLITZ_GRAM_REALS(r, m, p) ((OKID__Z(r) + OKID__Z(m) + 2u) * OKID__W(r, m, p))
+#define OKID__TOEPLITZ_RUN_REALS(r, m, p) ((OKID__Z(r) + OKID__Z(m) + 2u) * OKID__W(r, m, p) + 1u)
 #endif
 #define OKID__CORRELATION_BYTES(r, m, p, block_rows, estimator)                                                   \
     ((estimator) == 2 ? (OKID__NB(r, m, p, block_rows) <= 1u ? OKID__RB(OKID__W(r, m, p) * OKID__W(r, m, p)) : 0u) \
-                            + OKID__RB(OKID__TOEPLITZ_GRAM_REALS(r, m, p))                                        \
+                            + OKID__RB(2u * OKID__TOEPLITZ_RUN_REALS(r, m, p))                                    \
                       : 0u)
 
 /* OKID_WORKSPACE_BYTES before the saturation. */
