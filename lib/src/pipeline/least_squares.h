@@ -61,7 +61,8 @@ int okid_lsq_equilibrated_rank(int q, int nrhs, okid_real *s, int ldr, okid_real
 /*
  * min(rank, limit) of the same s at tol, s overwritten: okid_lsq_equilibrated_rank()'s decision
  * for "is the rank above limit - 1?" without its full O(q^3) pivoted solve where the condition
- * estimate cannot decide (okid_triangular_rank(): the same pivoted steps, stopped at limit).
+ * estimate cannot decide (okid_triangular_rank(): the same pivoted steps, stopped at limit; the
+ * Eigen backend, the firmware's, keeps the full solve and its instruction counts).
  */
 int okid_lsq_equilibrated_rank_up_to(int q, okid_real *s, int ldr, okid_real tol, int limit,
                                      const okid_lsq_scratch *scratch);
