@@ -234,29 +234,29 @@ okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspa
 }
 
 /* The correlation form at push: the rows' Gram into c (upper), by the Toeplitz run or xSYRK. */
-static okid_status accumulate_gram(const okid_identifier *id, int rows, okid_real *phi, okid_real *c)
+static okid_status accumulate_gram(const okid_identifier *id, int w, int rows, okid_real *phi, int ld, okid_real *c)
 {
     const okid_dims_ *d = &id->dims_;
     okid_real *run = toeplitz_run(id);
     if (run != NULL) {
-        return okid_toeplitz_fold(d->r, d->m, d->p, rows, phi, d->block_rows, run, c, d->w);
+        return okid_toeplitz_fold(d->r, d->m, d->p, rows, phi, ld, run, c, w);
     }
-    return okid_lsq_accumulate(d->w, c, d->w, rows, phi, d->block_rows, id->forgetting_);
+    return okid_lsq_accumulate(w, c, w, rows, phi, ld, id->forgetting_);
 }
 
 /* The correlation form at identify: c (a copy of R) gets the open run's Gram and the pending rows'. */
-static okid_status complete_gram(const okid_identifier *id, int rows, okid_real *phi, okid_real *c)
+static okid_status complete_gram(const okid_identifier *id, int w, int rows, okid_real *phi, int ld, okid_real *c)
 {
-    const okid_dims_ *d = &id->dims_;
 #if !OKID_LINALG_EIGEN
+    const okid_dims_ *d = &id->dims_;
     const okid_real *run = toeplitz_run(id);
     if (run != NULL) {
         okid_real *scratch = toeplitz_scratch(id);
-        okid_toeplitz_close(d->r, d->m, d->p, run, c, d->w, scratch);
-        return okid_toeplitz_gram(d->r, d->m, d->p, rows, phi, d->block_rows, c, d->w, scratch);
+        okid_toeplitz_close(d->r, d->m, d->p, run, c, w, scratch);
+        return okid_toeplitz_gram(d->r, d->m, d->p, rows, phi, ld, c, w, scratch);
     }
 #endif
-    return okid_lsq_accumulate(d->w, c, d->w, rows, phi, d->block_rows, id->forgetting_);
+    return okid_lsq_accumulate(w, c, w, rows, phi, ld, id->forgetting_);
 }
 
 /* Fold the pending rows (push): the scales from them first if still unknown (OKID_SCALING_AUTO),
@@ -288,7 +288,7 @@ static okid_status fold_pending(okid_identifier *id)
         okid_iv_cross_product(0, d->nz, d->w, rows, v->iv_block, ld, v->block, ld, decay, v->iv_m, d->nz, v->iv_m,
                               d->nz);
     } else if (d->correlation) {
-        st = accumulate_gram(id, rows, v->block, v->r);
+        st = accumulate_gram(id, d->w, rows, v->block, ld, v->r);
     } else {
         st = okid_lsq_fold(d->w, v->r, d->w, rows, v->block, ld, id->forgetting_, d->block_tile, v->fold_t,
                            v->fold_work);
@@ -454,7 +454,7 @@ static okid_status identify_factor(const okid_identifier *id, const okid_real *s
         okid_copy_matrix(w, w, v->r, w, v->factor, w);
         *factor = v->factor;
         const okid_lsq_scratch lsq = {v->lsq_scale, v->lsq_column, v->lsq_perm, v->lsq_work};
-        const okid_status st = complete_gram(id, rows, phi, v->factor);
+        const okid_status st = complete_gram(id, w, rows, phi, ld, v->factor);
         return st != OKID_OK ? st : okid_lsq_correlation_factor(d->q, d->m, v->factor, w, &lsq);
     }
     if (rows == 0) {

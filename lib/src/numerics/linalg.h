@@ -31,9 +31,8 @@ okid_status okid_la_accumulate_rows(int n, okid_real *c, int ldc, int nrows, con
 
 /*
  * c (m x n, leading dimension ldc) += a' b for a (k x m, leading dimension lda) and b (k x n,
- * leading dimension ldb): xGEMM ('T', 'N') with LAPACK; the Eigen backend by dot products (it links,
- * but neither the output correlations' batches nor the Toeplitz Gram run there: its callers keep
- * their sample-by-sample and xSYRK-equivalent sums).
+ * leading dimension ldb): xGEMM ('T', 'N'). LAPACK backend only (the output correlations' batches;
+ * the Eigen backend sums them sample by sample).
  */
 okid_status okid_la_add_product_tn(int m, int n, int k, const okid_real *a, int lda, const okid_real *b, int ldb,
                                    okid_real *c, int ldc);

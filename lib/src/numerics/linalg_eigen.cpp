@@ -250,22 +250,6 @@ extern "C" okid_status okid_la_accumulate_rows(int n, okid_real *c, int ldc, int
     return OKID_OK;
 }
 
-extern "C" okid_status okid_la_add_product_tn(int m, int n, int k, const okid_real *a, int lda, const okid_real *b,
-                                              int ldb, okid_real *c, int ldc)
-{
-    if (m < 0 || n < 0 || k < 0 || lda < (k > 1 ? k : 1) || ldb < (k > 1 ? k : 1) || ldc < (m > 1 ? m : 1)) {
-        return OKID_E_BACKEND_ARGUMENT;
-    }
-    MatrixMap cm = map(c, m, n, ldc);
-    const MatrixMap am = map(const_cast<okid_real *>(a), k, m, lda), bm = map(const_cast<okid_real *>(b), k, n, ldb);
-    for (int j = 0; j < n; ++j) { /* dot products: no temporary, no heap */
-        for (int i = 0; i < m; ++i) {
-            cm(i, j) += am.col(i).dot(bm.col(j));
-        }
-    }
-    return OKID_OK;
-}
-
 extern "C" okid_status okid_la_cholesky_rows(int q, int n, okid_real *c, int ldc)
 {
     if (q < 0 || n < q || ldc < (n > 1 ? n : 1)) {

@@ -92,21 +92,16 @@ int okid_lsq_equilibrated_rank(int q, int nrhs, okid_real *s, int ldr, okid_real
     }
     return okid_triangular_lstsq(q, nrhs, s, ldr, b, ldb, tol, scratch->perm, scratch->work);
 }
-#endif
 
 int okid_lsq_equilibrated_rank_up_to(int q, okid_real *s, int ldr, okid_real tol, int limit,
                                      const okid_lsq_scratch *scratch)
 {
-#if OKID_LINALG_EIGEN /* the firmware's code and instruction counts as before: the full solve */
-    const int rank = okid_triangular_lstsq(q, 0, s, ldr, NULL, q, tol, scratch->perm, scratch->work);
-    return rank < limit ? rank : limit;
-#else
     if (conditioned_full_rank(q, 0, s, ldr, NULL, q, tol, scratch)) {
         return limit < q ? limit : q;
     }
     return okid_triangular_rank(q, s, ldr, tol, limit, scratch->perm, scratch->work);
-#endif
 }
+#endif
 
 okid_status okid_lsq_correlation_factor(int q, int m, okid_real *c, int ldc, const okid_lsq_scratch *scratch)
 {

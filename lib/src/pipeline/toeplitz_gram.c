@@ -5,6 +5,8 @@
 #include "numerics/dense.h"
 #include "numerics/linalg.h"
 
+#if !OKID_LINALG_EIGEN /* xGEMM: the LAPACK backend only (the firmware archive stays as it was) */
+
 /* The row column holding channel s (inputs 0..r-1, then outputs) at lag l, sample_buffer.h's order:
    [u(k) | u(k-1) .. u(k-p) | y(k-1) .. y(k-p) | y(k)]. */
 static int column(int r, int m, int p, int s, int l)
@@ -183,3 +185,4 @@ okid_status okid_toeplitz_gram(int r, int m, int p, int nrows, const okid_real *
     }
     return st;
 }
+#endif
