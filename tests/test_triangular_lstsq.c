@@ -3,7 +3,8 @@
  * okid_triangular_lstsq (the rank-revealing solve of the regressor factor, in R's unused
  * triangle) against the backend's dense xGELSY (LAPACK, or the Eigen backend's Householder port)
  * on the same triangular factors: the same rank, the same minimum-norm solution; the solution
- * orthogonal to the known null space; and nothing written outside the row-stored triangle.
+ * orthogonal to the known null space; and nothing written outside the row-stored triangle. The
+ * rank stopped at a limit (okid_triangular_rank) against the full one.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -88,8 +89,21 @@ static int solve_both(const okid_real *r, const okid_real *b, okid_real rcond, o
     for (int k = 0; k < N * NRHS; ++k) {
         assert_within(fabs((double)x[k] - (double)xd[k]), tol * (1 + fabs((double)xd[k])));
     }
-    /* without right-hand sides (the rank checks): the same rank */
+    /* without right-hand sides (the rank checks): the same rank; okid_triangular_rank: min(rank,
+       limit) for limits below, at and above it (the regressor diagnostics' "rank above k?") */
+    okid_real copy[N * LDA];
+    for (int k = 0; k < N * LDA; ++k) {
+        copy[k] = tri0[k];
+    }
     assert_int_equal(okid_triangular_lstsq(N, 0, tri0, LDA, NULL, N, rcond, perm, tri_work), rank);
+    const int limits[4] = {1, rank - 1, rank, N};
+    for (int k = 0; k < 4; ++k) {
+        for (int e = 0; e < N * LDA; ++e) {
+            tri0[e] = copy[e];
+        }
+        const int expected = limits[k] < rank ? limits[k] : rank;
+        assert_int_equal(okid_triangular_rank(N, tri0, LDA, rcond, limits[k], perm, tri_work), expected);
+    }
     return rank;
 }
 

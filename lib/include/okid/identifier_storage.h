@@ -40,7 +40,8 @@ typedef struct okid_views_ {
                            correlation form always: its Cholesky factor), else NULL */
     okid_real *pending; /* those rows, scaled and weighted (block_rows > 1) */
     okid_real *iv_pending, *iv_chunk; /* the instrument rows likewise, and a block of rows of M (instruments) */
-    okid_real *fold_t, *fold_work;
+    okid_real *fold_t, *fold_work; /* the QR fold's T tile and work; with the correlation form (LAPACK)
+                                      fold_t: the Toeplitz Gram's open run, then identify's scratch run */
     okid_real *lsq_scale, *lsq_column, *lsq_work; /* the solves of okid_lsq_solve() and the diagnostics */
     int *lsq_perm;
     okid_real *era_h, *era_vt, *era_t, *era_scale, *era_work; /* era_h, era_vt: NULL when in the factor's triangle */

@@ -203,9 +203,18 @@
                  : 0u)
 
 /* The correlation form factors a copy of [Phi Y]'[Phi Y] at identify: the copy of R that
-   block_rows > 1 has anyway, else w x w more. */
-#define OKID__CORRELATION_BYTES(r, m, p, block_rows, estimator) \
-    ((estimator) == 2 && OKID__NB(r, m, p, block_rows) <= 1u ? OKID__RB(OKID__W(r, m, p) * OKID__W(r, m, p)) : 0u)
+   block_rows > 1 has anyway, else w x w more. LAPACK backend: the Toeplitz Gram's open run and a
+   scratch run for identify's pending rows, OKID__TOEPLITZ_RUN_REALS each (toeplitz_gram.h; the
+   Eigen backend sums the Gram by dot products). */
+#if OKID_LINALG_EIGEN
+#define OKID__TOEPLITZ_RUN_REALS(r, m, p) (0u * OKID__W(r, m, p))
+#else
+#define OKID__TOEPLITZ_RUN_REALS(r, m, p) ((OKID__Z(r) + OKID__Z(m) + 2u) * OKID__W(r, m, p) + 1u)
+#endif
+#define OKID__CORRELATION_BYTES(r, m, p, block_rows, estimator)                                                   \
+    ((estimator) == 2 ? (OKID__NB(r, m, p, block_rows) <= 1u ? OKID__RB(OKID__W(r, m, p) * OKID__W(r, m, p)) : 0u) \
+                            + OKID__RB(2u * OKID__TOEPLITZ_RUN_REALS(r, m, p))                                    \
+                      : 0u)
 
 /* OKID_WORKSPACE_BYTES before the saturation. */
 #define OKID__WORKSPACE_BYTES64(r, m, p, alpha, beta, order, block_rows, combined)                         \

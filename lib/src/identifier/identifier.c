@@ -16,6 +16,7 @@
 #include "pipeline/markov.h"
 #include "pipeline/modal_internal.h"
 #include "pipeline/sample_buffer.h"
+#include "pipeline/toeplitz_gram.h"
 #include "quality/diagnostics.h"
 #include "quality/modal_indicators_internal.h"
 
@@ -140,6 +141,27 @@ static void restart_history(okid_identifier *id, int zero_history)
     id->dec_phase_ = 0;
 }
 
+/* The correlation form's Toeplitz Gram (LAPACK backend, no forgetting): its open run and identify's
+   scratch run in fold_t; NULL elsewhere (weights break the shift structure: the rows are weighed
+   in place and folded by xSYRK; docs/design.md "Toeplitz block Gram"). */
+static okid_real *toeplitz_run(const okid_identifier *id)
+{
+#if OKID_LINALG_EIGEN
+    (void)id;
+    return NULL;
+#else
+    return id->dims_.correlation && id->forgetting_ >= 1 ? id->at_.fold_t : NULL;
+#endif
+}
+
+#if !OKID_LINALG_EIGEN
+static okid_real *toeplitz_scratch(const okid_identifier *id)
+{
+    const okid_dims_ *d = &id->dims_;
+    return id->at_.fold_t + (size_t)(d->r + d->m + 2) * (size_t)d->w + 1u;
+}
+#endif
+
 static void clear_samples(okid_identifier *id)
 {
     const int w = id->dims_.w;
@@ -148,6 +170,10 @@ static void clear_samples(okid_identifier *id)
         okid_zero_matrix(id->dims_.nz, w, id->at_.iv_m, id->dims_.nz);
     }
     restart_history(id, id->cfg_.zero_initial_state);
+    okid_real *run = toeplitz_run(id);
+    if (run != NULL) {
+        okid_toeplitz_restart(id->dims_.r, id->dims_.m, id->dims_.p, run);
+    }
     id->scales_known_ = 0;
     id->block_fill_ = 0;
     id->samples_ = 0;
@@ -207,6 +233,32 @@ okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspa
     return OKID_OK;
 }
 
+/* The correlation form at push: the rows' Gram into c (upper), by the Toeplitz run or xSYRK. */
+static okid_status accumulate_gram(const okid_identifier *id, int w, int rows, okid_real *phi, int ld, okid_real *c)
+{
+    const okid_dims_ *d = &id->dims_;
+    okid_real *run = toeplitz_run(id);
+    if (run != NULL) {
+        return okid_toeplitz_fold(d->r, d->m, d->p, rows, phi, ld, run, c, w);
+    }
+    return okid_lsq_accumulate(w, c, w, rows, phi, ld, id->forgetting_);
+}
+
+/* The correlation form at identify: c (a copy of R) gets the open run's Gram and the pending rows'. */
+static okid_status complete_gram(const okid_identifier *id, int w, int rows, okid_real *phi, int ld, okid_real *c)
+{
+#if !OKID_LINALG_EIGEN
+    const okid_dims_ *d = &id->dims_;
+    const okid_real *run = toeplitz_run(id);
+    if (run != NULL) {
+        okid_real *scratch = toeplitz_scratch(id);
+        okid_toeplitz_close(d->r, d->m, d->p, run, c, w, scratch);
+        return okid_toeplitz_gram(d->r, d->m, d->p, rows, phi, ld, c, w, scratch);
+    }
+#endif
+    return okid_lsq_accumulate(w, c, w, rows, phi, ld, id->forgetting_);
+}
+
 /* Fold the pending rows (push): the scales from them first if still unknown (OKID_SCALING_AUTO),
    then into R, or into the instruments' cross-product M; the block is empty afterwards. */
 static okid_status fold_pending(okid_identifier *id)
@@ -236,7 +288,7 @@ static okid_status fold_pending(okid_identifier *id)
         okid_iv_cross_product(0, d->nz, d->w, rows, v->iv_block, ld, v->block, ld, decay, v->iv_m, d->nz, v->iv_m,
                               d->nz);
     } else if (d->correlation) {
-        st = okid_lsq_accumulate(d->w, v->r, d->w, rows, v->block, ld, id->forgetting_);
+        st = accumulate_gram(id, d->w, rows, v->block, ld, v->r);
     } else {
         st = okid_lsq_fold(d->w, v->r, d->w, rows, v->block, ld, id->forgetting_, d->block_tile, v->fold_t,
                            v->fold_work);
@@ -402,7 +454,7 @@ static okid_status identify_factor(const okid_identifier *id, const okid_real *s
         okid_copy_matrix(w, w, v->r, w, v->factor, w);
         *factor = v->factor;
         const okid_lsq_scratch lsq = {v->lsq_scale, v->lsq_column, v->lsq_perm, v->lsq_work};
-        const okid_status st = okid_lsq_accumulate(w, v->factor, w, rows, phi, ld, id->forgetting_);
+        const okid_status st = complete_gram(id, w, rows, phi, ld, v->factor);
         return st != OKID_OK ? st : okid_lsq_correlation_factor(d->q, d->m, v->factor, w, &lsq);
     }
     if (rows == 0) {

@@ -248,12 +248,23 @@ uint64_t okid_layout_carve(const okid_dims_ *d, int combined, int scaled, unsign
             v->iv_chunk = okid_carve_reals(&c, (uint64_t)d->block_rows * w);
         }
     }
+    /* the correlation form's Toeplitz Gram: the open run (persistent) and identify's scratch run,
+       OKID__TOEPLITZ_RUN_REALS each; they take fold_t's place (the QR fold is not used) */
+    okid_real *gram_runs = NULL;
+#if !OKID_LINALG_EIGEN
+    if (d->correlation) {
+        gram_runs = okid_carve_reals(&c, 2u * ((r + m + 2u) * w + 1u));
+    }
+#endif
     const uint64_t phases = c.used;
     uint64_t end = phases;
 
     /* the folds: push's, and identify's of the pending rows (a copy of them) into the factor */
     v->fold_t = okid_carve_reals(&c, (uint64_t)d->block_tile * w);
     v->fold_work = okid_carve_reals(&c, (uint64_t)d->block_tile * w);
+    if (gram_runs != NULL) {
+        v->fold_t = gram_runs;
+    }
     v->pending = (d->block_rows > 1) ? okid_carve_reals(&c, (uint64_t)d->block_rows * w) : NULL;
     end = MAX(end, c.used);
 

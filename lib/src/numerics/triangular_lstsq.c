@@ -53,13 +53,14 @@ static okid_real trailing_norm2(const okid_real *a, int lda, int i, int j)
 /*
  * Pivoted triangular QR (xLAQP2's order: the column of largest remaining norm next) and its
  * numerical rank by incremental condition estimation (xGELSY), column by column, stopping at the
- * first column the estimate rejects: rows 0..rank-1 of the factor and of Q' b are then final.
+ * first column the estimate rejects (rows 0..rank-1 of the factor and of Q' b are then final) or
+ * after limit columns (returns limit: the rank is at least that; the steps before are the same).
  */
-static int pivoted_rank(int n, okid_real *a, int lda, int nrhs, okid_real *b, int ldb, okid_real rcond, int *perm,
-                        okid_real *xmin, okid_real *xmax)
+static int pivoted_rank(int n, okid_real *a, int lda, int nrhs, okid_real *b, int ldb, okid_real rcond, int limit,
+                        int *perm, okid_real *xmin, okid_real *xmax)
 {
     okid_real smin = 0, smax = 0;
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < limit; ++i) {
         int pvt = i;
         okid_real best = trailing_norm2(a, lda, i, i);
         for (int j = i + 1; j < n; ++j) {
@@ -102,7 +103,7 @@ static int pivoted_rank(int n, okid_real *a, int lda, int nrhs, okid_real *b, in
         smin = lo.sest;
         smax = hi.sest;
     }
-    return n;
+    return limit;
 }
 
 /*
@@ -149,7 +150,7 @@ int okid_triangular_lstsq(int n, int nrhs, okid_real *a, int lda, okid_real *b, 
     for (int j = 0; j < n; ++j) {
         perm[j] = j;
     }
-    const int rank = pivoted_rank(n, a, lda, nrhs, b, ldb, rcond, perm, xmin, xmax);
+    const int rank = pivoted_rank(n, a, lda, nrhs, b, ldb, rcond, n, perm, xmin, xmax);
     const int tail = n - rank;
     /* [T11 T12] = [T 0] Z with Z = Z(0) ... Z(rank-1) (xTZRZF): z vectors into T12's rows. */
     for (int i = rank - 1; i >= 0 && tail > 0; --i) {
@@ -184,3 +185,13 @@ int okid_triangular_lstsq(int n, int nrhs, okid_real *a, int lda, okid_real *b, 
     }
     return rank;
 }
+
+#if !OKID_LINALG_EIGEN /* its one caller is the LAPACK backend's (least_squares.c) */
+int okid_triangular_rank(int n, okid_real *a, int lda, okid_real rcond, int limit, int *perm, okid_real *work)
+{
+    for (int j = 0; j < n; ++j) {
+        perm[j] = j;
+    }
+    return pivoted_rank(n, a, lda, 0, NULL, 1, rcond, limit < n ? limit : n, perm, work, work + n);
+}
+#endif

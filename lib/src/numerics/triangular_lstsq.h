@@ -23,4 +23,11 @@
 int okid_triangular_lstsq(int n, int nrhs, okid_real *a, int lda, okid_real *b, int ldb, okid_real rcond, int *perm,
                           okid_real *work);
 
+/*
+ * min(rank, limit) of the same a at rcond, by the same pivoted steps stopped after limit columns:
+ * enough to tell whether the rank exceeds a bound at O(n^2 limit) instead of O(n^3), and the same
+ * decision (the steps before are identical). a is overwritten; perm and work as above.
+ */
+int okid_triangular_rank(int n, okid_real *a, int lda, okid_real rcond, int limit, int *perm, okid_real *work);
+
 #endif

@@ -71,18 +71,35 @@ okid_status okid_lsq_accumulate(int w, okid_real *c, int ldc, int nrows, okid_re
  * at least 10 q tol means rank q, and the triangular solve gives the same unique solution.
  */
 #if !OKID_LINALG_EIGEN
+/* 1 when the condition estimate shows rank q (b then solved), 0 when the rank-revealing solve must decide. */
+static int conditioned_full_rank(int q, int nrhs, okid_real *s, int ldr, okid_real *b, int ldb, okid_real tol,
+                                 const okid_lsq_scratch *scratch)
+{
+    int solved = 0;
+    if (q >= OKID__FAST_SOLVE_MIN) {
+        const okid_status st = okid_la_solve_conditioned(q, nrhs, s, ldr, b, ldb, (okid_real)10 * (okid_real)q * tol,
+                                                         &solved, scratch->work, scratch->perm);
+        solved = st == OKID_OK && solved;
+    }
+    return solved;
+}
+
 int okid_lsq_equilibrated_rank(int q, int nrhs, okid_real *s, int ldr, okid_real *b, int ldb, okid_real tol,
                                const okid_lsq_scratch *scratch)
 {
-    if (q >= OKID__FAST_SOLVE_MIN) {
-        int solved = 0;
-        const okid_status st = okid_la_solve_conditioned(q, nrhs, s, ldr, b, ldb, (okid_real)10 * (okid_real)q * tol,
-                                                         &solved, scratch->work, scratch->perm);
-        if (st == OKID_OK && solved) {
-            return q;
-        }
+    if (conditioned_full_rank(q, nrhs, s, ldr, b, ldb, tol, scratch)) {
+        return q;
     }
     return okid_triangular_lstsq(q, nrhs, s, ldr, b, ldb, tol, scratch->perm, scratch->work);
+}
+
+int okid_lsq_equilibrated_rank_up_to(int q, okid_real *s, int ldr, okid_real tol, int limit,
+                                     const okid_lsq_scratch *scratch)
+{
+    if (conditioned_full_rank(q, 0, s, ldr, NULL, q, tol, scratch)) {
+        return limit < q ? limit : q;
+    }
+    return okid_triangular_rank(q, s, ldr, tol, limit, scratch->perm, scratch->work);
 }
 #endif
 

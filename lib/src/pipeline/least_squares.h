@@ -59,6 +59,24 @@ int okid_lsq_equilibrated_rank(int q, int nrhs, okid_real *s, int ldr, okid_real
 #endif
 
 /*
+ * min(rank, limit) of the same s at tol, s overwritten: okid_lsq_equilibrated_rank()'s decision
+ * for "is the rank above limit - 1?" without its full O(q^3) pivoted solve where the condition
+ * estimate cannot decide (okid_triangular_rank(): the same pivoted steps, stopped at limit). The
+ * Eigen backend (the firmware's) keeps the full solve, its code and instruction counts.
+ */
+#if OKID_LINALG_EIGEN
+static inline int okid_lsq_equilibrated_rank_up_to(int q, okid_real *s, int ldr, okid_real tol, int limit,
+                                                   const okid_lsq_scratch *scratch)
+{
+    (void)limit;
+    return okid_triangular_lstsq(q, 0, s, ldr, NULL, q, tol, scratch->perm, scratch->work);
+}
+#else
+int okid_lsq_equilibrated_rank_up_to(int q, okid_real *s, int ldr, okid_real tol, int limit,
+                                     const okid_lsq_scratch *scratch);
+#endif
+
+/*
  * The factor okid_lsq_solve() needs, from the correlation matrix c (q + m columns, upper
  * triangle, overwritten): [R11 R12] by Cholesky (okid_la_cholesky_rows), R22 zero (no solve
  * reads it). The guard, after SLICOT IB01MD's ALG = 'C': OKID_E_DECOMPOSITION_FAILED when C11 is

@@ -78,7 +78,7 @@ okid_status okid_diagnose_regressor(int q, int nu, okid_real *r, int ldr, okid_r
     /* Noise lifts the regressor's rank past the model's r (p + 1) + n at any tolerance; (near)
        noise-free data keeps it there even at the looser tolerance sqrt(tol). */
     okid_real *s = okid_lsq_equilibrated_copy(r, ldr, q, scratch->scale);
-    const int loose_rank = okid_lsq_equilibrated_rank(q, 0, s, ldr, NULL, q, gap, scratch);
+    const int loose_rank = okid_lsq_equilibrated_rank_up_to(q, s, ldr, gap, model_rank + 1, scratch);
     if (loose_rank <= model_rank) {
         *warnings |= OKID_W_OBSERVER_ORDER_ABOVE_MINIMUM;
     }
