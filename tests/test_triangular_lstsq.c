@@ -96,6 +96,7 @@ static int solve_both(const okid_real *r, const okid_real *b, okid_real rcond, o
         copy[k] = tri0[k];
     }
     assert_int_equal(okid_triangular_lstsq(N, 0, tri0, LDA, NULL, N, rcond, perm, tri_work), rank);
+#if !OKID_LINALG_EIGEN /* okid_triangular_rank is the LAPACK backend's (least_squares.c's diagnostics) */
     const int limits[4] = {1, rank - 1, rank, N};
     for (int k = 0; k < 4; ++k) {
         for (int e = 0; e < N * LDA; ++e) {
@@ -104,6 +105,9 @@ static int solve_both(const okid_real *r, const okid_real *b, okid_real rcond, o
         const int expected = limits[k] < rank ? limits[k] : rank;
         assert_int_equal(okid_triangular_rank(N, tri0, LDA, rcond, limits[k], perm, tri_work), expected);
     }
+#else
+    (void)copy;
+#endif
     return rank;
 }
 
