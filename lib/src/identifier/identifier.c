@@ -144,17 +144,12 @@ static void restart_history(okid_identifier *id, int zero_history)
 /* The correlation form's Toeplitz Gram (LAPACK backend, no forgetting): its open run and identify's
    scratch run in fold_t; NULL elsewhere (weights break the shift structure: the rows are weighed
    in place and folded by xSYRK; docs/design.md "Toeplitz block Gram"). */
+#if !OKID_LINALG_EIGEN
 static okid_real *toeplitz_run(const okid_identifier *id)
 {
-#if OKID_LINALG_EIGEN
-    (void)id;
-    return NULL;
-#else
     return id->dims_.correlation && id->forgetting_ >= 1 ? id->at_.fold_t : NULL;
-#endif
 }
 
-#if !OKID_LINALG_EIGEN
 static okid_real *toeplitz_scratch(const okid_identifier *id)
 {
     const okid_dims_ *d = &id->dims_;
@@ -170,10 +165,12 @@ static void clear_samples(okid_identifier *id)
         okid_zero_matrix(id->dims_.nz, w, id->at_.iv_m, id->dims_.nz);
     }
     restart_history(id, id->cfg_.zero_initial_state);
+#if !OKID_LINALG_EIGEN /* compiled out, not only unreached: the Eigen archive has no Toeplitz Gram */
     okid_real *run = toeplitz_run(id);
     if (run != NULL) {
         okid_toeplitz_restart(id->dims_.r, id->dims_.m, id->dims_.p, run);
     }
+#endif
     id->scales_known_ = 0;
     id->block_fill_ = 0;
     id->samples_ = 0;
@@ -236,11 +233,13 @@ okid_status okid_init(okid_identifier *id, const okid_config *cfg, void *workspa
 /* The correlation form at push: the rows' Gram into c (upper), by the Toeplitz run or xSYRK. */
 static okid_status accumulate_gram(const okid_identifier *id, int w, int rows, okid_real *phi, int ld, okid_real *c)
 {
+#if !OKID_LINALG_EIGEN
     const okid_dims_ *d = &id->dims_;
     okid_real *run = toeplitz_run(id);
     if (run != NULL) {
         return okid_toeplitz_fold(d->r, d->m, d->p, rows, phi, ld, run, c, w);
     }
+#endif
     return okid_lsq_accumulate(w, c, w, rows, phi, ld, id->forgetting_);
 }
 
