@@ -56,6 +56,16 @@ static int inverse_step(int n, okid_matrix a, int transpose, double complex lamb
     return 0;
 }
 
+/* re + i im, as CMPLX, which glibc leaves undefined for clang (the fuzz build): a complex has the
+   representation of two reals (C11 6.2.5), so the parts are copied in, exactly, whatever their values. */
+static double complex complex_of(double re, double im)
+{
+    const double parts[2] = {re, im};
+    double complex z;
+    memcpy(&z, parts, sizeof z);
+    return z;
+}
+
 /*
  * The right eigenvector v (A v = lambda v) and the left one z (z^T A = lambda z^T) of the simple
  * eigenvalue lambda, scaled so that z^T v = 1: two steps of inverse iteration each from a start
@@ -69,7 +79,7 @@ static int eigenvectors(int n, okid_matrix a, double complex lambda, double comp
         for (int i = 0; i < n; ++i) scale += fabs((double)okid_matrix_at(a, i, j));
     }
     const double tiny = 1e-14 * (scale + cabs(lambda));
-    for (int i = 0; i < n; ++i) v[i] = z[i] = CMPLX(1.0 / (i + 1), 0.5 / (n - i));
+    for (int i = 0; i < n; ++i) v[i] = z[i] = complex_of(1.0 / (i + 1), 0.5 / (n - i));
     for (int step = 0; step < 2; ++step) {
         if (inverse_step(n, a, 0, lambda, tiny, m, v) != 0 || inverse_step(n, a, 1, lambda, tiny, m, z) != 0) return -1;
     }
@@ -199,7 +209,7 @@ int refine_selection_start(const auto_identification *ai, refine_selection *out)
     for (int k = 0; ok && k < c; ++k) {
         const okid_mode *pole = &res->modes[kept[k]];
         double complex *v = scratch + (size_t)n * n, *z = v + n;
-        ok = eigenvectors(n, res->A, CMPLX((double)pole->eigenvalue.re, fabs((double)pole->eigenvalue.im)), scratch, v,
+        ok = eigenvectors(n, res->A, complex_of((double)pole->eigenvalue.re, fabs((double)pole->eigenvalue.im)), scratch, v,
                           z) == 0;
         /* P = v z^T + conj(v z^T) = R L with R = [Re v, Im v], L = [2 Re z^T; -2 Im z^T]: L R = I, L A R the pair's block */
         for (int i = 0; ok && i < n; ++i) {
