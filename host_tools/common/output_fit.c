@@ -10,7 +10,6 @@
 
 struct output_fit {
     int n, r, m, defined;
-    okid_simulator sim;
     okid_real *a, *b, *c, *d, *x, *tmp, *yhat;
     size_t count;
     double mean[OKID_MAX_DIMENSION], spread[OKID_MAX_DIMENSION], error[OKID_MAX_DIMENSION];
@@ -55,8 +54,44 @@ output_fit *output_fit_begin(const okid_result *res)
     f->tmp = f->x + n;
     f->yhat = f->tmp + n;
     compact(res->A, f->a), compact(res->B, f->b), compact(res->C, f->c), compact(res->D, f->d);
-    if (okid_simulator_init(&f->sim, n, r, m, f->a, f->b, f->c, f->d, f->x, f->tmp) != OKID_OK) f->defined = 0;
+    memset(f->x, 0, sizeof(okid_real) * (size_t)n); /* from rest */
+    if (n < 1 || m < 1 || r < 0) f->defined = 0;
     return f;
+}
+
+/*
+ * The model's response to len samples from the state f->x, into f->yhat (m a sample), f->x moved
+ * on; -1 at a non-finite input. A loop of its own, not okid_simulate(): that one makes four xGEMM
+ * calls a sample, whose overhead and one-column kernels were a third of okid.identify's time on a
+ * 24-channel, 60 000-sample record (0.20 s of 0.89 s; this loop: docs/benchmarks.md "Large
+ * records"). The sums run in a fixed order, so a record fed in any blocks gives the same bits.
+ */
+static int simulate_block(output_fit *f, size_t len, const okid_real *u)
+{
+    const int n = f->n, r = f->r, m = f->m;
+    const okid_real *a = f->a, *b = f->b, *c = f->c, *d = f->d;
+    okid_real *x = f->x, *next = f->tmp;
+    for (size_t k = 0; k < len; ++k) {
+        const okid_real *uk = u + k * (size_t)r;
+        okid_real *yk = f->yhat + k * (size_t)m;
+        for (int l = 0; l < r; ++l) {
+            if (!isfinite(uk[l])) return -1;
+        }
+        for (int i = 0; i < m; ++i) yk[i] = 0;
+        for (int i = 0; i < n; ++i) next[i] = 0;
+        for (int j = 0; j < n; ++j) { /* column by column: the inner loops run down contiguous columns */
+            const okid_real xj = x[j], *cj = c + (size_t)j * (size_t)m, *aj = a + (size_t)j * (size_t)n;
+            for (int i = 0; i < m; ++i) yk[i] += cj[i] * xj;
+            for (int i = 0; i < n; ++i) next[i] += aj[i] * xj;
+        }
+        for (int l = 0; l < r; ++l) {
+            const okid_real ul = uk[l], *dl = d + (size_t)l * (size_t)m, *bl = b + (size_t)l * (size_t)n;
+            for (int i = 0; i < m; ++i) yk[i] += dl[i] * ul;
+            for (int i = 0; i < n; ++i) next[i] += bl[i] * ul;
+        }
+        memcpy(x, next, sizeof(okid_real) * (size_t)n);
+    }
+    return 0;
 }
 
 void output_fit_push(output_fit *f, size_t count, const okid_real *u, const okid_real *y)
@@ -65,7 +100,7 @@ void output_fit_push(output_fit *f, size_t count, const okid_real *u, const okid
     for (size_t k0 = 0; f->defined && k0 < count; k0 += FIT_BLOCK) {
         const size_t len = count - k0 < FIT_BLOCK ? count - k0 : FIT_BLOCK;
         const okid_real *uk = u + k0 * (size_t)f->r, *yk = y + k0 * (size_t)m;
-        if (okid_simulate(&f->sim, len, uk, (size_t)f->r, f->yhat, (size_t)m) != OKID_OK) {
+        if (simulate_block(f, len, uk) != 0) {
             f->defined = 0; /* a non-finite input */
             break;
         }
