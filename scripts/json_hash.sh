@@ -34,6 +34,11 @@ for record in paper noisy disp chain; do
     runs+=("$record|--order 4 --block-rows 7 --zero-initial-state")
     runs+=("$record|--order 4 --stabilization 10")
     runs+=("$record|--order 4 --refine --observer-order 20")
+    # the correlation form: the Toeplitz Gram, and xSYRK (forgetting keeps it)
+    runs+=("$record|--order 4 --estimator correlation" "$record|--order 4 --estimator correlation --forgetting-factor 0.999")
+    # output-only (@OUTPUTS: the record's sensor columns, every one but t and force)
+    runs+=("$record|--inputs 0 --outputs @OUTPUTS" "$record|--inputs 0 --outputs @OUTPUTS --order 4 --hankel-rows 20"
+           "$record|--inputs 0 --outputs @OUTPUTS --order 4 --hankel-rows 20 --segments 4")
 done
 # chain: six states
 runs+=("chain|--order 6 --refine --observer-order 20" "chain|--order 6 --realization combined --scaling auto")
@@ -41,6 +46,8 @@ runs+=("chain|--order 6 --refine --observer-order 20" "chain|--order 6 --realiza
 all=""
 for run in "${runs[@]}"; do
     record=${run%%|*}; args=${run#*|}
+    outputs=$(head -1 "$dir/$record.csv" | tr -d '\r' | tr ',' '\n' | grep -vx -e t -e force | paste -sd,)
+    args=${args//@OUTPUTS/$outputs}
     rc=0
     # shellcheck disable=SC2086
     out=$("$cli" identify --json $args "$dir/$record.csv" 2>&1) || rc=$?
