@@ -16,7 +16,7 @@ enum {
 };
 
 /* The twiddles of a len-point FFT, cos and sin of -2 pi j / len for j < len / 2 (computed once a
-   band, not once a butterfly group: 11 stages x 1024 cos and sin per 2048-point FFT were two thirds
+   band, not once a butterfly group: 11 stages x 1024 cos and sin per 2048-point FFT were most
    of the band's time). The stage of size s uses j = k len / s: -2 pi / len is -2 pi / s divided by
    a power of two, exactly, so each angle and its cos and sin are the bits the stage computed itself. */
 static void fft_twiddles(int len, double *cos_t, double *sin_t)

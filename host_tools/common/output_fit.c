@@ -62,7 +62,7 @@ output_fit *output_fit_begin(const okid_result *res)
 /*
  * The model's response to len samples from the state f->x, into f->yhat (m a sample), f->x moved
  * on; -1 at a non-finite input. A loop of its own, not okid_simulate(): that one makes four xGEMM
- * calls a sample, whose overhead and one-column kernels were a third of okid.identify's time on a
+ * calls a sample, whose overhead and one-column kernels were a fifth of okid.identify's time on a
  * 24-channel, 60 000-sample record (0.20 s of 0.89 s; this loop: docs/benchmarks.md "Large
  * records"). The sums run in a fixed order, so a record fed in any blocks gives the same bits.
  */
