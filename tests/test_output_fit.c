@@ -2,8 +2,10 @@
 /*
  * The fit of each output (host_tools/common/output_fit.h) against closed forms: a static gain
  * y = D u explains its output exactly (100 %), an output of pure noise not at all (about 0 %, the
- * warning), and a first-order system fed in several blocks gives the same fit as in one.
+ * warning), and a first-order system fed in several blocks gives the same fit as in one; a
+ * 6-state, 2-input, 3-output model's fit against the one computed from the library's simulator.
  */
+#include <float.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -115,12 +117,76 @@ static void test_undefined_fits(void **state)
     assert_int_equal(output_fit_record(&sm.res, N, u, y, fit, &warning), -1);
 }
 
+/* output_fit's own simulation loop against okid_simulate() (four xGEMM calls a sample): a stable
+   6-state model with 2 inputs and 3 outputs, its outputs the simulator's response plus a known
+   disturbance e. The fit from the simulator's response is computed here in full; the two differ by
+   the simulations' round-off alone. */
+static void test_fit_matches_the_library_simulator(void **state)
+{
+    (void)state;
+    enum { n = 6, r = 2, m = 3, LEN = 3000 };
+    static okid_real a[n * n], b[n * r], c[m * n], d[m * r], x[n], tmp[n], u[LEN * r], yhat[LEN * m], y[LEN * m];
+    for (int j = 0; j < n; ++j) { /* three damped rotations, radius 0.9-0.96, lightly coupled */
+        for (int i = 0; i < n; ++i) a[i + j * n] = (okid_real)(0.01 * wobble(i + n * j, 1));
+    }
+    for (int q = 0; q < 3; ++q) {
+        const double radius = 0.9 + 0.03 * q, angle = 0.3 + 0.5 * q;
+        a[2 * q + 2 * q * n] = a[2 * q + 1 + (2 * q + 1) * n] = (okid_real)(radius * cos(angle));
+        a[2 * q + (2 * q + 1) * n] = (okid_real)(radius * sin(angle));
+        a[2 * q + 1 + 2 * q * n] = (okid_real)(-radius * sin(angle));
+    }
+    for (int i = 0; i < n * r; ++i) b[i] = wobble(i, 2);
+    for (int i = 0; i < m * n; ++i) c[i] = wobble(i, 3);
+    for (int i = 0; i < m * r; ++i) d[i] = (okid_real)(0.1 * wobble(i, 4));
+    for (int i = 0; i < LEN * r; ++i) u[i] = wobble(i, 5);
+    okid_simulator sim;
+    assert_int_equal(okid_simulator_init(&sim, n, r, m, a, b, c, d, x, tmp), OKID_OK);
+    assert_int_equal(okid_simulate(&sim, LEN, u, r, yhat, m), OKID_OK);
+    double error[m] = {0}, mean[m] = {0}, spread[m] = {0}, scale = 0;
+    for (int k = 0; k < LEN; ++k) {
+        for (int i = 0; i < m; ++i) {
+            const double e = 0.1 * (double)wobble(k * m + i, 6 + i);
+            y[k * m + i] = (okid_real)((double)yhat[k * m + i] + e);
+            mean[i] += (double)y[k * m + i] / LEN;
+        }
+    }
+    for (int k = 0; k < LEN; ++k) {
+        for (int i = 0; i < m; ++i) {
+            const double v = (double)y[k * m + i], e = v - (double)yhat[k * m + i];
+            error[i] += e * e, spread[i] += (v - mean[i]) * (v - mean[i]);
+            scale = fmax(scale, fabs(v));
+        }
+    }
+    small_model unused;
+    small_model_init(&unused, 0, 0, 0, 0, 0);
+    okid_result res = unused.res;
+    res.order = n;
+    res.A = (okid_matrix){a, n, n, n}, res.B = (okid_matrix){b, n, r, n};
+    res.C = (okid_matrix){c, m, n, m}, res.D = (okid_matrix){d, m, r, m};
+    double fit[m];
+    unsigned warning;
+    assert_int_equal(output_fit_record(&res, LEN, u, y, fit, &warning), 0);
+    /* Each simulated output differs by the round-off of two sums of n + r terms, carried through A
+       (radius <= 0.96: at most 1 / (1 - 0.96) = 25 steps' worth): |dyhat| <= 2 (n + r) u 25 |y|max
+       with u the unit round-off; the fit moves by 100 |dyhat| sqrt(LEN) / |y - mean| at most. A
+       factor 10 above that bound covers the input's round-off into y in float. */
+    const double unit = (sizeof(okid_real) == sizeof(float) ? (double)FLT_EPSILON : DBL_EPSILON) / 2;
+    for (int i = 0; i < m; ++i) {
+        const double expected = 100.0 * (1.0 - sqrt(error[i]) / sqrt(spread[i]));
+        const double bound = 10 * 100.0 * 2 * (n + r) * unit * 25 * scale * sqrt((double)LEN) / sqrt(spread[i]);
+        assert_true(expected > 50 && expected < 99); /* the disturbance is a real part of each output */
+        assert_true(fabs(fit[i] - expected) <= bound);
+    }
+    assert_int_equal(warning, 0u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_static_gain_explains_everything_and_noise_nothing),
         cmocka_unit_test(test_blocks_give_the_one_push_fit),
         cmocka_unit_test(test_undefined_fits),
+        cmocka_unit_test(test_fit_matches_the_library_simulator),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
