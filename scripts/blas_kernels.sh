@@ -66,32 +66,27 @@ for b in "${backends[@]}"; do
 done
 ((${#skipped[@]} == 0)) || echo "skipped (this CPU lacks their instructions): ${skipped[*]}"
 
-# One run per (suite, backend), two at a time on two cores; each test program writes its checks'
-# worst err / tol to the run's tolerance log when it exits.
+# One run per (suite, backend), as many at a time as there are cores (a new one starts when any
+# ends); each test program writes its checks' worst err / tol to the run's tolerance log when it exits.
 run() {
     local suite=$1 backend=$2 name=$1@$2
     # shellcheck disable=SC2086
     env ${env_of[$backend]} OKID_TOLERANCE_LOG="$PWD/$out/$name.tsv" \
         ctest --test-dir "$suite" -R "$tests" --output-on-failure > "$out/$name.log" 2>&1
 }
-jobs=()
+pids=(); names=()
 for suite in "${suites[@]}"; do
-    for backend in "${backends[@]}"; do jobs+=("$suite $backend"); done
-done
-failed=0
-batch=$(nproc)
-for ((start = 0; start < ${#jobs[@]}; start += batch)); do
-    pids=(); names=()
-    for job in "${jobs[@]:start:batch}"; do
-        read -r suite backend <<< "$job"
+    for backend in "${backends[@]}"; do
+        while (($(jobs -rp | wc -l) >= $(nproc))); do wait -n || true; done
         run "$suite" "$backend" & pids+=($!); names+=("$suite@$backend")
     done
-    for i in "${!pids[@]}"; do
-        if wait "${pids[$i]}"; then status=ok; else status=FAILED; failed=1; fi
-        summary=$(grep -E 'tests passed|tests failed' "$out/${names[$i]}.log" | tail -1)
-        echo "${names[$i]}: $status ($summary)"
-        [[ $status == ok ]] || cat "$out/${names[$i]}.log"
-    done
+done
+failed=0
+for i in "${!pids[@]}"; do   # `wait PID` gives each one's status, also after `wait -n` reaped it
+    if wait "${pids[$i]}"; then status=ok; else status=FAILED; failed=1; fi
+    summary=$(grep -E 'tests passed|tests failed' "$out/${names[$i]}.log" | tail -1)
+    echo "${names[$i]}: $status ($summary)"
+    [[ $status == ok ]] || cat "$out/${names[$i]}.log"
 done
 python3 scripts/tolerance_report.py "$out" > build/tolerance-report.md
 echo "closest to their tolerances (all of them: build/tolerance-report.md):"

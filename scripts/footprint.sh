@@ -41,29 +41,63 @@ configure_variant() {
     fi
 }
 
-declare -A figure
-for preset in "${presets[@]}"; do
-    dir=build-$preset
+# Phase 1, the builds: each preset and its variants (-O2, the M55 without MVE). Most of a build's
+# time is one translation unit (the Eigen backend) on one core, so two builds run side by side.
+variants_of() {  # preset: its build "dir:label" entries, the preset's own first
+    local dir=build-$1
+    echo "$dir:-Os"
+    [[ $O2_PRESETS == *" $1 "* ]] && echo "$dir-o2:-O2"
+    [[ $1 == cortex-m55 ]] && echo "$dir-nomve:-Os without MVE"
+    return 0
+}
+build_preset() {  # preset: configures (when needed) and builds it and its variants
+    local preset=$1 dir=build-$1
     [[ -f $dir/build.ninja ]] || cmake --preset "$preset" >/dev/null
     cmake --build --preset "$preset" >/dev/null
-    machine=$(cache $dir OKID_QEMU_MACHINE)
-    real=$(cache $dir OKID_REAL)
-    size_tool=$(cache $dir CMAKE_NM); size_tool=${size_tool%-nm}-size
-    figure[$preset.real]=$real
-
-    variants=("$dir:-Os")
     if [[ $O2_PRESETS == *" $preset "* ]]; then
         configure_variant "$preset" "$dir-o2" -DCMAKE_BUILD_TYPE=Release \
             "-DCMAKE_C_FLAGS_RELEASE=-O2 -DNDEBUG" "-DCMAKE_CXX_FLAGS_RELEASE=-O2 -DNDEBUG"
-        variants+=("$dir-o2:-O2")
+        cmake --build "$dir-o2" --target okid okid_cost_report >/dev/null
     fi
     if [[ $preset == cortex-m55 ]]; then   # the same core without Helium: scalar FPU only
         configure_variant "$preset" "$dir-nomve" "-DOKID_TARGET_CPU_FLAGS=-mcpu=cortex-m55+nomve -mfloat-abi=hard"
-        variants+=("$dir-nomve:-Os without MVE")
+        cmake --build "$dir-nomve" --target okid okid_cost_report >/dev/null
     fi
-    for variant in "${variants[@]:1}"; do
-        cmake --build "${variant%%:*}" --target okid okid_cost_report >/dev/null
+}
+# pool WIDTH COMMAND ARGS...: runs COMMAND ARG for each ARG, WIDTH at a time; fails if any failed
+# (`wait PID` gives each one's status, also of one that `wait -n` already reaped)
+pool() {
+    local width=$1 cmd=$2 failed=0 pids=() pid; shift 2
+    for arg in "$@"; do
+        while (($(jobs -rp | wc -l) >= width)); do wait -n || true; done
+        "$cmd" "$arg" &
+        pids+=($!)
     done
+    for pid in "${pids[@]}"; do wait "$pid" || failed=1; done
+    return $failed
+}
+pool 2 build_preset "${presets[@]}"
+
+# Phase 2, the cost reports under QEMU (one host thread each, deterministic): all side by side.
+cost_runs=()
+for preset in "${presets[@]}"; do
+    while read -r variant; do cost_runs+=("$preset:${variant%%:*}"); done < <(variants_of "$preset")
+done
+cost_run() {  # preset:build-dir
+    local machine; machine=$(cache "build-${1%%:*}" OKID_QEMU_MACHINE)
+    run_cost "$machine" "${1#*:}/bench/firmware/okid_cost_report" > "${1#*:}/cost_report.txt"
+}
+pool "$(nproc)" cost_run "${cost_runs[@]}"
+
+# Phase 3, the report of each preset in turn.
+declare -A figure
+for preset in "${presets[@]}"; do
+    dir=build-$preset
+    real=$(cache $dir OKID_REAL)
+    machine=$(cache $dir OKID_QEMU_MACHINE)
+    size_tool=$(cache $dir CMAKE_NM); size_tool=${size_tool%-nm}-size
+    figure[$preset.real]=$real
+    mapfile -t variants < <(variants_of "$preset")
 
     echo "=== $preset ($machine, $real) ==="
     read -r flash ram < <(archive_size "$size_tool" $dir/lib/libokid.a)
@@ -82,9 +116,7 @@ for preset in "${presets[@]}"; do
     "$size_tool" $dir/examples/firmware/okid_firmware | sed 's/^/okid_firmware (Berkeley, text includes rodata): /'
 
     for variant in "${variants[@]}"; do
-        build=${variant%%:*} label=${variant#*:}
-        run_cost "$machine" $build/bench/firmware/okid_cost_report > $build/cost_report.txt
-        sed "s/^/cost $label: /" $build/cost_report.txt
+        sed "s/^/cost ${variant#*:}: /" "${variant%%:*}/cost_report.txt"
     done
     get() { awk -v k="$1" '$1 == k { print $2 }' "$2/cost_report.txt"; }
     figure[$preset.workspace]=$(get block_rows_1.workspace_bytes $dir)
