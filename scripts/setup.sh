@@ -57,19 +57,34 @@ if [[ ! -x .venv/bin/python ]]; then
 fi
 stamp=.venv/.requirements.sha256
 want=$(cat host_tools/requirements.txt | sha256sum | cut -d' ' -f1)
-if [[ ! -f $stamp || $(cat "$stamp") != "$want" ]]; then
-    echo "setup: installing Python packages into .venv"
-    .venv/bin/python -m pip install -q --upgrade pip
-    .venv/bin/python -m pip install -q -r host_tools/requirements.txt
-    echo "$want" > "$stamp"
-fi
 # The okid package (pyproject.toml: the C core, its binding, okid.tools and the console scripts),
 # rebuilt when a file it is built from changes.
 package_stamp=.venv/.okid-package.sha256
-want=$(find pyproject.toml CMakeLists.txt cmake lib python host_tools/cli host_tools/common -type f -not -name '*.pyc' -print0 \
+package_want=$(find pyproject.toml CMakeLists.txt cmake lib python host_tools/cli host_tools/common -type f -not -name '*.pyc' -print0 \
        | sort -z | xargs -0 sha256sum | sha256sum | cut -d' ' -f1)
-if [[ ! -f $package_stamp || $(cat "$package_stamp") != "$want" ]]; then
-    echo "setup: building and installing the okid Python package into .venv"
-    .venv/bin/python -m pip install -q .
-    echo "$want" > "$package_stamp"
+need_requirements=0 need_package=0
+[[ -f $stamp && $(cat "$stamp") == "$want" ]] || need_requirements=1
+[[ -f $package_stamp && $(cat "$package_stamp") == "$package_want" ]] || need_package=1
+if ((need_requirements)); then .venv/bin/python -m pip install -q --upgrade pip; fi
+# The package's wheel compiles (in pip's own build environment, not in .venv) while the requirements
+# download and install: the two overlap; the wheel goes into .venv once both are done.
+if ((need_package)); then
+    echo "setup: building the okid Python package"
+    wheel_dir=$(mktemp -d)
+    trap 'rm -rf "$wheel_dir"' EXIT
+    .venv/bin/python -m pip wheel -q --no-deps -w "$wheel_dir" . > "$wheel_dir/build.log" 2>&1 &
+    wheel_pid=$!
+fi
+if ((need_requirements)); then
+    echo "setup: installing Python packages into .venv"
+    .venv/bin/python -m pip install -q -r host_tools/requirements.txt
+    echo "$want" > "$stamp"
+fi
+if ((need_package)); then
+    wait "$wheel_pid" || { cat "$wheel_dir/build.log"; echo "setup: building the okid Python package failed" >&2; exit 1; }
+    echo "setup: installing the okid Python package into .venv"
+    # the same version may be installed already: pip would then keep it, not this build
+    .venv/bin/python -m pip uninstall -q -y okid 2>/dev/null || true
+    .venv/bin/python -m pip install -q "$wheel_dir"/okid-*.whl
+    echo "$package_want" > "$package_stamp"
 fi
