@@ -47,22 +47,23 @@ variants_of() {  # preset: its build "dir:label" entries, the preset's own first
     local dir=build-$1
     echo "$dir:-Os"
     [[ $O2_PRESETS == *" $1 "* ]] && echo "$dir-o2:-O2"
-    [[ $1 == cortex-m55 ]] && echo "$dir-nomve:-Os without MVE"
+    [[ $1 == cortex-m55 ]] && echo "$dir-nomve:-Os without MVE"  # the same core without Helium
     return 0
 }
-build_preset() {  # preset: configures (when needed) and builds it and its variants
-    local preset=$1 dir=build-$1
-    [[ -f $dir/build.ninja ]] || cmake --preset "$preset" >/dev/null
+build_preset() {  # preset: configures (when needed) and builds it and its variants (variants_of)
+    local preset=$1 variant dir
+    [[ -f build-$preset/build.ninja ]] || cmake --preset "$preset" >/dev/null
     cmake --build --preset "$preset" >/dev/null
-    if [[ $O2_PRESETS == *" $preset "* ]]; then
-        configure_variant "$preset" "$dir-o2" -DCMAKE_BUILD_TYPE=Release \
-            "-DCMAKE_C_FLAGS_RELEASE=-O2 -DNDEBUG" "-DCMAKE_CXX_FLAGS_RELEASE=-O2 -DNDEBUG"
-        cmake --build "$dir-o2" --target okid okid_cost_report >/dev/null
-    fi
-    if [[ $preset == cortex-m55 ]]; then   # the same core without Helium: scalar FPU only
-        configure_variant "$preset" "$dir-nomve" "-DOKID_TARGET_CPU_FLAGS=-mcpu=cortex-m55+nomve -mfloat-abi=hard"
-        cmake --build "$dir-nomve" --target okid okid_cost_report >/dev/null
-    fi
+    while read -r variant; do
+        dir=${variant%%:*}
+        case $dir in
+            *-o2) configure_variant "$preset" "$dir" -DCMAKE_BUILD_TYPE=Release \
+                      "-DCMAKE_C_FLAGS_RELEASE=-O2 -DNDEBUG" "-DCMAKE_CXX_FLAGS_RELEASE=-O2 -DNDEBUG" ;;
+            *-nomve) configure_variant "$preset" "$dir" \
+                         "-DOKID_TARGET_CPU_FLAGS=-mcpu=cortex-m55+nomve -mfloat-abi=hard" ;;  # scalar FPU only
+        esac
+        cmake --build "$dir" --target okid okid_cost_report >/dev/null
+    done < <(variants_of "$preset" | tail -n +2)
 }
 # pool WIDTH COMMAND ARGS...: runs COMMAND ARG for each ARG, WIDTH at a time; fails if any failed
 # (`wait PID` gives each one's status, also of one that `wait -n` already reaped)
