@@ -12,11 +12,17 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc)
 
-# Each step's header also reports how long the previous one took (CI has 90 minutes for all of it).
-step_name=""; step_start=$SECONDS
+# Each step's header also reports how long the previous one took (CI has 90 minutes for all of it)
+# and the CPU time its processes used: CPU/wall below the core count is room for more parallelism.
+# `times` runs in this shell itself (not in $(...): a subshell's children start at zero).
+times_file=$(mktemp); trap 'rm -f "$times_file"' EXIT
+step_name=""; step_start=$SECONDS; step_cpu=0
 step() {
-    if [[ -n $step_name ]]; then echo "--- $step_name: $((SECONDS - step_start)) s"; fi
-    step_name=$*; step_start=$SECONDS
+    local cpu
+    times > "$times_file"
+    cpu=$(awk 'NR == 2 { n = 0; for (i = 1; i <= 2; i++) { split($i, t, "m"); n += t[1] * 60 + t[2] } printf "%d", n }' "$times_file")
+    if [[ -n $step_name ]]; then echo "--- $step_name: $((SECONDS - step_start)) s (CPU $((cpu - step_cpu)) s)"; fi
+    step_name=$*; step_start=$SECONDS; step_cpu=$cpu
     echo; echo "=== $* ==="
 }
 
