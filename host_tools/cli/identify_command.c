@@ -481,11 +481,24 @@ static int identify_and_refine(const identify_options *o, okid_config *cfg, reco
             free(u), free(y);
             return rc;
         }
-        if (sel.order > 0) {
-            start = &sel.start;
-            *cfg = ai.cfg;
-            cfg->order = 0; /* "config": the order as given; "chosen" says how */
+        if (sel.order == 0) {
+            /* nothing physical to start from: the library's order on a real record is a model of the
+               noise (Hayward at its own dt: order 408, hours of passes), and from it the refinement
+               splits modes (docs/refinement.md); refuse at once and say what to do */
+            const int k = ai.cfg.decimation > 1 ? ai.cfg.decimation : 1;
+            rc = cli_error(EXIT_DATA, "--refine without --order: the mode selection keeps no physical mode on the "
+                           "record the refinement fits (dt = %g s, decimation %d): %s, so there is no start to refine; "
+                           "without --refine the decimation is chosen from the data and may find them; to refine anyway "
+                           "give --order N (2 per mode) and --observer-seconds/--hankel-seconds",
+                           (double)ai.cfg.dt * k, k, sel.reason);
+            refine_selection_free(&sel);
+            auto_identification_free(&ai);
+            free(u), free(y);
+            return rc;
         }
+        start = &sel.start;
+        *cfg = ai.cfg;
+        cfg->order = 0; /* "config": the order as given; "chosen" says how */
     }
     const int automatic = o->refine_cfg.refine_model == (okid_refine_model)REFINE_MODEL_AUTO;
     identify_options oe = *o, inn = *o;

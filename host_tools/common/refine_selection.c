@@ -170,8 +170,7 @@ int refine_selection_start(const auto_identification *ai, refine_selection *out)
     const int n = res->order, r = res->B.cols, m = res->C.rows;
     out->selection_order = n;
     if (am == NULL || am->num_modes == 0) {
-        none(out, "no physical mode selected: the library's order (the largest singular-value gap) and the start "
-                  "search, as with an order given");
+        none(out, "no physical mode selected");
         return 0;
     }
     int *taken = calloc((size_t)(n > 0 ? n : 1), sizeof *taken);
@@ -187,7 +186,7 @@ int refine_selection_start(const auto_identification *ai, refine_selection *out)
     }
     free(taken);
     if (physical == 0) {
-        none(out, "no pole of the selection's model holds a physical mode: the library's order and the start search");
+        none(out, "no pole of the selection's model holds a physical mode");
         return 0;
     }
     const int k2 = 2 * c;
@@ -239,8 +238,7 @@ int refine_selection_start(const auto_identification *ai, refine_selection *out)
                  "frequency gate of a physical mode (a split); real poles left out", physical, c - physical, n);
     } else {
         refine_selection_free(out);
-        none(out, "a physical mode's eigenvectors could not be computed (a defective eigenvalue): the library's order "
-                  "and the start search");
+        none(out, "a physical mode's eigenvectors could not be computed (a defective eigenvalue)");
     }
     free(scratch), free(right), free(left), free(work);
     return 0;

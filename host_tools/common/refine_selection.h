@@ -35,7 +35,7 @@ typedef struct refine_selection {
 /*
  * The order and start from ai's physical modes (ai from auto_identify() with the order chosen).
  * Returns 0; out->order is 0 (and out->reason says why) when no mode was selected or a mode's
- * eigenvectors could not be computed: the caller then refines at the library's order as before.
+ * eigenvectors could not be computed: there is no start, and the callers refuse to refine.
  * -1: out of memory.
  */
 int refine_selection_start(const auto_identification *ai, refine_selection *out);

@@ -343,11 +343,9 @@ def identify(u: Any, y: Any, dt: float, *,
     chosen = None
     if refine and options["order"] == 0:
         # okid identify --refine without --order: the order and start from the physical-mode selection
-        # (host_tools/common/refine_selection.c); none kept: the library's order as before, and "chosen" says so
-        selected, chosen = _refined_from_selection(config, given, ub, yb, r, m, dt, options, max_passes,
-                                                   step_tolerance, refine_model, progress)
-        if selected is not None:
-            return selected
+        # (host_tools/common/refine_selection.c); none kept: NotAvailableError, as the CLI refuses
+        return _refined_from_selection(config, given, ub, yb, r, m, dt, options, max_passes, step_tolerance,
+                                       refine_model, progress)
     search = None
     if refine and not horizons_given:
         # okid identify --refine's own start search (host_tools/common/start_search.c), each start
@@ -404,16 +402,21 @@ def _chosen(member: str) -> MappingProxyType:
 
 
 def _refined_from_selection(config, given, ub, yb, r, m, dt, options, max_passes, step_tolerance, refine_model,
-                            progress) -> Tuple[Optional[Result], Optional[MappingProxyType]]:
+                            progress) -> Result:
     """refine=True without order (okid identify --refine without --order): the selection on this record
-    (its decimation kept), its model truncated to the pairs kept (refine_selection.h), refined from there:
-    (the refined Result with ``chosen``, None) or, when no pair was kept, (None, ``chosen`` with the reason)."""
-    status, order, _reason, member, settings, start, model = _core.refine_selection(
+    (its decimation kept), its model truncated to the pairs kept (refine_selection.h), refined from there,
+    with ``chosen``. No pair kept: NotAvailableError (no start; the CLI's refusal and advice)."""
+    status, order, reason, member, settings, start, model = _core.refine_selection(
         config, given | _core.AUTO_GIVEN_DECIMATION, ub, yb)
     check(status, "identify (the physical-mode selection of refine=True without order)")
     chosen = _chosen(member)
     if order == 0:
-        return None, chosen
+        decimation = max(int(options.get("decimation", 1)), 1)
+        raise error_for(E_NOT_AVAILABLE,
+            f"refine=True without order: the mode selection keeps no physical mode on the record the refinement "
+            f"fits (dt = {float(dt) * decimation:g} s, decimation {decimation}): {reason}, so there is no start to "
+            f"refine; without refine the decimation is chosen from the data and may find them; to refine anyway give "
+            f"order (2 per mode) and observer_seconds/hankel_seconds")
     code = settings.pop("estimator")  # least_squares after the correlation form's fallback
     options = dict(options, **settings, estimator=next(k for k, v in _config.ENUMS["estimator"].items() if v == code))
     identifier = Identifier._adopt(r, m, dt, options, model[0])
@@ -423,7 +426,7 @@ def _refined_from_selection(config, given, ub, yb, r, m, dt, options, max_passes
                         config=MappingProxyType({**selection.config, "order": 0}))
     refined = truncated._refine(ub, yb, max_passes, step_tolerance, stacklevel=CALLER + 1, progress=progress,
                                 refine_model=refine_model)
-    return replace(refined, chosen=chosen), None
+    return replace(refined, chosen=chosen)
 
 
 def _identify_choosing_the_model(u: Any, y: Any, dt: Any, settings: Dict[str, Any]) -> Result:

@@ -475,3 +475,14 @@ def test_refine_without_order_takes_the_mode_selection(record):
         assert np.allclose([getattr(md, key) for md in res.modes], [md[key] for md in out["modes"]], rtol=1e-12, atol=0)
     assert np.allclose([md.frequency_hz for md in res.start.modes], [md["frequency_hz"] for md in out["start"]["modes"]],
                        rtol=1e-12, atol=0)
+
+
+def test_refine_without_a_selected_mode_raises():
+    """refine=True without order where the mode selection keeps no physical mode on the record the
+    refinement fits (GWS 261 at its own dt, as test_refine_cli's refusal): NotAvailableError with the
+    CLI's advice, not minutes of refining the library's order."""
+    data = np.loadtxt(Path(os.environ.get("OKID_REAL_DATA", ROOT / "tests" / "data" / "real")) / "gws_building_261.csv",
+                      delimiter=",", skiprows=1)
+    u, y = data[:, 1:3], data[:, 3:6]
+    with pytest.raises(okid.NotAvailableError, match="keeps no physical mode.*decimation 1.*give order"):
+        okid.identify(u, y, 0.005, refine=True)

@@ -4,6 +4,7 @@ system (numpy in tests/python/reference.py, never through the library), their st
 warning when the refinement stops early, and the refusal with decimation."""
 import json
 import os
+import pathlib
 import subprocess
 
 import numpy as np
@@ -86,6 +87,20 @@ def test_timing_covers_the_refinement(record):
 def test_refine_with_decimation_is_refused(record):
     proc = run("identify", "--order", 4, "--refine", "--decimation", 2, record)
     assert proc.returncode == 2 and "--refine with --decimation 2" in proc.stderr
+
+
+REAL = pathlib.Path(os.environ.get("OKID_REAL_DATA", pathlib.Path(__file__).resolve().parents[2] / "tests" / "data" / "real"))
+
+
+def test_refine_without_a_selected_mode_is_refused_at_once():
+    """GWS 261 at its own dt (0.005 s): the mode selection keeps no physical mode there (it needs the
+    decimation the data choose, which the refinement cannot fit), so --refine without --order has no
+    start. It refuses in seconds with the way out, instead of refining the library's order for minutes
+    (200 s before, a split mode; Hayward's order 408 did not end)."""
+    proc = run("identify", "--inputs", 2, "--outputs", 3, "--refine", REAL / "gws_building_261.csv")
+    assert proc.returncode == 1 and proc.stdout == "", proc.stdout[-2000:] + proc.stderr[-2000:]
+    assert "keeps no physical mode" in proc.stderr and "dt = 0.005 s, decimation 1" in proc.stderr
+    assert "--order N" in proc.stderr and "without --refine" in proc.stderr
 
 
 def test_settings_out_of_range(record):
