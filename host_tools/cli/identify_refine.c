@@ -80,10 +80,12 @@ typedef struct start_record {
 static int refine_start(void *context, const okid_result *start, int *state, double *cost)
 {
     const start_record *rec = context;
+    identify_options capped = *rec->o;
+    capped.refine_cfg.max_passes = start_search_passes(capped.refine_cfg.max_passes);
     okid_refiner rf;
     okid_refine_result out;
     void *rf_ws = NULL;
-    const int rc = identify_refine(rec->o, start, rec->n, rec->u, rec->y, 1, &rf, &rf_ws, &out);
+    const int rc = identify_refine(&capped, start, rec->n, rec->u, rec->y, 1, &rf, &rf_ws, &out);
     if (rc == 0) {
         *state = (int)out.state;
         *cost = (double)out.cost;

@@ -273,7 +273,7 @@ void bind_refine(nb::module_ &m)
             okid_config cfg = config_from_dict(config);
             StartRecord rec{};
             okid_refine_config_default(&rec.cfg);
-            rec.cfg.max_passes = max_passes;
+            rec.cfg.max_passes = start_search_passes(max_passes); // each start's cap (start_search.h)
             rec.cfg.step_tolerance = (okid_real)step_tolerance;
             rec.cfg.refine_model = (okid_refine_model)refine_model;
             rec.sensing = cfg.sensing;
