@@ -411,7 +411,7 @@ def _refined_from_selection(config, given, ub, yb, r, m, dt, options, max_passes
     check(status, "identify (the physical-mode selection of refine=True without order)")
     chosen = _chosen(member)
     if order == 0:
-        decimation = max(int(options.get("decimation", 1)), 1)
+        decimation = max(int(options.get("decimation") or 1), 1)
         raise error_for(E_NOT_AVAILABLE,
             f"refine=True without order: the mode selection keeps no physical mode on the record the refinement "
             f"fits (dt = {float(dt) * decimation:g} s, decimation {decimation}): {reason}, so there is no start to "
