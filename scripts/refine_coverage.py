@@ -7,7 +7,7 @@ scaled to --unmeasured x the measured force's RMS and added (the chain is linear
 adds an offset and a ramp to output 2; then white output noise of --noise x each output's RMS;
 then `okid identify --order 4 --refine --refine-model M --json` (the start search included). Prints per quantity
 (f1, f2, zeta1, zeta2) the RMS error, the RMS stated sigma and the +-2 sigma coverage against the
-exact modes (`okid crlb` prints them), and how often the residual warnings fired.
+exact modes (`okid crlb` prints them), and how often the residual and mode-split warnings fired.
 
     .venv/bin/python scripts/refine_coverage.py --case unmeasured --records 50
     .venv/bin/python scripts/refine_coverage.py --case white --records 200      # false alarms
@@ -126,7 +126,7 @@ def study(args):
     truth = exact_modes(args)
     err, sig, flags = [], [], {"not_white": 0, "not_explained": 0, "sandwich": 0, "converged": 0,
                                 "passes": [], "records": 0, "chose_innovation": 0, "input_correlated": 0,
-                                "input_correlated_outputs": np.zeros(2, dtype=int), "reasons": {}}
+                                "input_correlated_outputs": np.zeros(2, dtype=int), "reasons": {}, "mode_split": 0}
     outputs_flagged = np.zeros(2, dtype=int)
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "record.csv")
@@ -149,6 +149,7 @@ def study(args):
             # OKID_W_RESIDUAL_INPUT_CORRELATED (1 << 13): counted before the modes, which order 2 lacks
             flags["input_correlated"] += bool(d["warning_bits"] & (1 << 13))
             flags["input_correlated_outputs"] += [bool(o["warning_bits"] & (1 << 13)) for o in tests]
+            flags["mode_split"] += bool(d["warning_bits"] & (1 << 15))  # OKID_W_MODE_SPLIT
             pairs = [m for m in d["modes"] if m["is_pair"]][:2]
             if len(pairs) < 2:
                 flags["not_white"] += bool(d["warning_bits"] & (1 << 9))
@@ -181,6 +182,7 @@ def main():
           f"{outputs_flagged.tolist()}), output not explained {flags['not_explained']}, sandwich stds {flags['sandwich']}")
     print(f"  residual correlated with the input {flags['input_correlated']} (per output "
           f"{flags['input_correlated_outputs'].tolist()})")
+    print(f"  one mode split in two {flags['mode_split']}")
     if args.refine_model == "auto":
         print(f"  refine_model auto chose the innovation form in {flags['chose_innovation']} of {flags['records']}"
               f" (reasons {flags['reasons']})")

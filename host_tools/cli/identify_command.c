@@ -203,7 +203,10 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
             return cli_error(EXIT_DATA, "stabilization failed: %s", okid_status_str(s));
         }
     }
-    if (refined != NULL) warn_residual_tests(refined, cfg->num_outputs, cc->output_names, cc->input_names);
+    if (refined != NULL) {
+        warn_residual_tests(refined, cfg->num_outputs, cc->output_names, cc->input_names);
+        warn_mode_split(refined, cfg->num_outputs);
+    }
     if (o->json) {
         if (refined != NULL) { /* the refined model is the result; OKID/ERA's is its "start" */
             json_result_header(stdout, cfg, res, cc->input_names, cc->output_names, o->timing ? elapsed : -1);

@@ -77,7 +77,7 @@ typedef struct start_record {
     const okid_real *u, *y;
 } start_record;
 
-static int refine_start(void *context, const okid_result *start, int *state, double *cost)
+static int refine_start(void *context, const okid_result *start, int *state, double *cost, unsigned *warnings)
 {
     const start_record *rec = context;
     identify_options capped = *rec->o;
@@ -89,6 +89,7 @@ static int refine_start(void *context, const okid_result *start, int *state, dou
     if (rc == 0) {
         *state = (int)out.state;
         *cost = (double)out.cost;
+        *warnings = out.warnings;
     }
     free(rf_ws);
     return rc;
@@ -103,20 +104,73 @@ void identify_choose_start(const identify_options *o, okid_config *cfg, size_t n
 
 void print_start_search(const start_search *search)
 {
-    printf("\nstart of the refinement chosen from the data (lowest cost after refining each):\n");
+    printf("\nstart of the refinement chosen from the data (lowest cost after refining each, a start whose "
+           "model splits a mode last):\n");
     printf("    p  Hankel  state            cost\n");
     for (int i = 0; i < search->count; ++i) {
         const start_candidate *c = &search->candidates[i];
-        printf("%5d  %6d  %-15s  %.8g%s\n", c->observer_order, c->hankel_blocks,
+        printf("%5d  %6d  %-15s  %.8g%s%s\n", c->observer_order, c->hankel_blocks,
                c->state >= 0 ? json_refine_state_name((okid_refine_state)c->state) : c->identified ? "refine failed" : "identify failed",
-               c->cost, i == search->best ? "  <- chosen" : "");
+               c->cost, c->split ? "  (splits a mode)" : "", i == search->best ? "  <- chosen" : "");
     }
+}
+
+void warn_mode_split(const okid_refine_result *rr, int m)
+{
+    if (!(rr->warnings & OKID_W_MODE_SPLIT)) return;
+    const okid_mode *a = &rr->modes[rr->split_modes[0]], *b = &rr->modes[rr->split_modes[1]];
+    fprintf(stderr, "okid: warning: the refined pairs %.4g Hz (damping %.3g) and %.4g Hz (damping %.3g) are one mode "
+            "split in two (MAC %.3f of their sensor shapes; docs/refinement.md, \"One mode split in two\"): order %d "
+            "is higher than the record supports there; give a lower --order (2 per mode) or leave the order to the "
+            "mode selection\n", (double)a->frequency_hz, (double)a->damping_ratio, (double)b->frequency_hz,
+            (double)b->damping_ratio, (double)okid_mac(a->sensor_shape, b->sensor_shape, m), rr->order);
+}
+
+/*
+ * Output i's cross-correlation test on one line however many inputs failed it (a lifted record has
+ * K r inputs): the input with the largest statistic in full, then how many others and their names.
+ */
+static void warn_input_correlated(const okid_refine_result *rr, int m, int i, const char *label,
+                                  const char *const *input_names)
+{
+    const int r = rr->B.cols;
+    const okid_real bound = (okid_real)OKID_REFINE_INPUT_CORRELATION_BOUND;
+    int worst = -1, others = 0;
+    for (int j = 0; j < r; ++j) {
+        const okid_real s = rr->input_correlation[(size_t)i + (size_t)m * (size_t)j];
+        if (!(s > bound)) continue;
+        if (worst >= 0) ++others;
+        if (worst < 0 || s > rr->input_correlation[(size_t)i + (size_t)m * (size_t)worst]) worst = j;
+    }
+    if (worst < 0) return;
+    char iname[64];
+    snprintf(iname, sizeof iname, "%d", worst + 1);
+    const size_t at = (size_t)i + (size_t)m * (size_t)worst;
+    fprintf(stderr, "okid: warning: output %s: the refined residual is correlated with input %s (cross-correlation "
+            "up to %.3g against the band %.3g over lags 0..%d, statistic %.3g above %.4g)",
+            label, input_names != NULL ? input_names[worst] : iname, (double)rr->max_input_correlation[at],
+            (double)rr->input_correlation_band[at], OKID_REFINE_LAGS - 1, (double)rr->input_correlation[at],
+            OKID_REFINE_INPUT_CORRELATION_BOUND);
+    if (others > 0) {
+        fprintf(stderr, " and with %d more input%s (", others, others > 1 ? "s" : "");
+        int listed = 0;
+        for (int j = 0; j < r; ++j) {
+            if (j == worst || !(rr->input_correlation[(size_t)i + (size_t)m * (size_t)j] > bound)) continue;
+            if (listed == 6) {
+                fputs(", ...", stderr);
+                break;
+            }
+            snprintf(iname, sizeof iname, "%d", j + 1);
+            fprintf(stderr, "%s%s", listed++ ? ", " : "", input_names != NULL ? input_names[j] : iname);
+        }
+        fputc(')', stderr);
+    }
+    fputs(": the model misses some of the input's dynamics (too low an order, a wrong D)\n", stderr);
 }
 
 void warn_residual_tests(const okid_refine_result *rr, int m, const char *const *output_names,
                          const char *const *input_names)
 {
-    const int r = rr->B.cols;
     for (int i = 0; i < m; ++i) {
         const unsigned w = rr->output_warnings[i];
         char name[64];
@@ -128,18 +182,7 @@ void warn_residual_tests(const okid_refine_result *rr, int m, const char *const 
                     "an order; the stds are the sandwich ones\n", label, (double)rr->whiteness[i],
                     OKID_REFINE_WHITENESS_BOUND, (double)rr->max_autocorrelation[i], (double)rr->autocorrelation_band);
         }
-        for (int j = 0; (w & OKID_W_RESIDUAL_INPUT_CORRELATED) && j < r; ++j) {
-            const size_t at = (size_t)i + (size_t)m * (size_t)j;
-            if (!(rr->input_correlation[at] > (okid_real)OKID_REFINE_INPUT_CORRELATION_BOUND)) continue;
-            char iname[64];
-            snprintf(iname, sizeof iname, "%d", j + 1);
-            fprintf(stderr, "okid: warning: output %s: the refined residual is correlated with input %s (cross-correlation "
-                    "up to %.3g against the band %.3g over lags 0..%d, statistic %.3g above %.4g): the model misses "
-                    "some of the input's dynamics (too low an order, a wrong D)\n", label,
-                    input_names != NULL ? input_names[j] : iname, (double)rr->max_input_correlation[at],
-                    (double)rr->input_correlation_band[at], OKID_REFINE_LAGS - 1, (double)rr->input_correlation[at],
-                    OKID_REFINE_INPUT_CORRELATION_BOUND);
-        }
+        if (w & OKID_W_RESIDUAL_INPUT_CORRELATED) warn_input_correlated(rr, m, i, label, input_names);
         if (w & OKID_W_OUTPUT_NOT_EXPLAINED) {
             fprintf(stderr, "okid: warning: output %s: the refined model explains %.3g %% of it (below %.3g %%): a drift, "
                     "an offset, a force nobody measured or a sensor the model does not describe\n", label,

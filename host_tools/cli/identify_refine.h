@@ -33,5 +33,7 @@ void print_refinement(const okid_refine_result *rr, int m, const char *const *ou
    cross-correlation test; the names may be NULL). */
 void warn_residual_tests(const okid_refine_result *rr, int m, const char *const *output_names,
                          const char *const *input_names);
+/* One line on stderr when two refined pairs are one mode split in two (OKID_W_MODE_SPLIT), naming both. */
+void warn_mode_split(const okid_refine_result *rr, int m);
 
 #endif

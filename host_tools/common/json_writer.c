@@ -457,6 +457,9 @@ static void json_residual_tests(FILE *out, const okid_refine_result *res, int m)
         fputc('}', out);
     }
     fprintf(out, "]},\n    \"std_covariance\": \"%s\",\n", covariance_name(res->covariance));
+    if (res->split_modes[0] >= 0) { /* OKID_W_MODE_SPLIT only: indices into "modes" */
+        fprintf(out, "    \"split_modes\": [%d, %d],\n", res->split_modes[0], res->split_modes[1]);
+    }
 }
 
 void json_refinement(FILE *out, const okid_refine_config *cfg, const okid_refine_result *res, int m)

@@ -18,6 +18,16 @@ static const int start_hankel_blocks[START_H] = {20, 50, 100};
 /* a thousandth of a log-likelihood unit is a tie: the earlier, cheaper start keeps it */
 static const double start_tie = 1e-3;
 
+/*
+ * c beats the best so far: a model that splits one mode in two (more pairs than the record holds
+ * there, which a lower cost does not make physical) loses to any that does not; otherwise the lower cost.
+ */
+static int better(const start_candidate *c, const start_candidate *best)
+{
+    if (best == NULL || c->split != best->split) return best == NULL || !c->split;
+    return c->cost < best->cost - start_tie;
+}
+
 /* OKID/ERA from one start, then its refinement: c says how far it got. Negative: stop the search. */
 static int try_start(const okid_config *trial, size_t n, const okid_real *u, const okid_real *y,
                       start_refine_fn refine, void *context, start_candidate *c)
@@ -34,9 +44,11 @@ static int try_start(const okid_config *trial, size_t n, const okid_real *u, con
         c->identified = 1;
         int state = -1;
         double cost = (double)NAN; /* NAN is a float (-Wdouble-promotion under zig cc) */
-        if ((rc = refine(context, &res, &state, &cost)) == 0) {
+        unsigned warnings = 0;
+        if ((rc = refine(context, &res, &state, &cost, &warnings)) == 0) {
             c->state = state;
             c->cost = cost;
+            c->split = (warnings & OKID_W_MODE_SPLIT) != 0;
         }
     }
     free(ws);
@@ -55,18 +67,19 @@ void start_search_run(okid_config *cfg, size_t n, const okid_real *u, const okid
             okid_config trial = *cfg;
             trial.observer_order = c->observer_order = start_observer_orders[i];
             trial.hankel_rows = trial.hankel_cols = c->hankel_blocks = start_hankel_blocks[j];
-            c->identified = 0;
+            c->identified = c->split = 0;
             c->state = -1;
             c->cost = (double)NAN;
             stop = try_start(&trial, n, u, y, refine, context, c) < 0;
             const int usable = c->state >= 0 && c->state != OKID_REFINE_DIVERGED && isfinite(c->cost);
-            if (usable && (search->best < 0 || c->cost < search->candidates[search->best].cost - start_tie)) {
+            if (usable && better(c, search->best < 0 ? NULL : &search->candidates[search->best])) {
                 search->best = search->count - 1;
             }
             /* two starts that end in the same optimum: the likely global one; stop before the costly starts */
             agree = 0;
             for (int k = 0; search->best >= 0 && k < search->count; ++k) {
-                agree += fabs(search->candidates[k].cost - search->candidates[search->best].cost) <= start_tie;
+                const start_candidate *b = &search->candidates[search->best], *o = &search->candidates[k];
+                agree += o->split == b->split && fabs(o->cost - b->cost) <= start_tie;
             }
         }
     }
@@ -90,6 +103,7 @@ void json_start_search(FILE *out, const start_search *search)
         }
         fputs(", \"cost\": ", out);
         json_number(out, c->cost);
+        if (c->split) fputs(", \"mode_split\": true", out); /* OKID_W_MODE_SPLIT; absent otherwise */
         fputc('}', out);
     }
     fputs("]}", out);

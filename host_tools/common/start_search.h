@@ -3,7 +3,8 @@
  * The start of the prediction-error refinement chosen from the data (okid identify --refine and
  * okid.identify(refine=True) without a horizon given; docs/refinement.md): OKID/ERA from each
  * (p, alpha = beta) of a grid, cheap first, each refined; the start whose refinement reaches the
- * lowest cost (the highest likelihood: same record, same order) wins. Written once here; the
+ * lowest cost (the highest likelihood: same record, same order) wins, among the starts whose
+ * refined model does not split one mode in two (OKID_W_MODE_SPLIT) when there are any. Written once here; the
  * caller refines (the CLI and the Python binding feed the refiner their own way).
  */
 #ifndef OKID_HOST_START_SEARCH_H
@@ -17,6 +18,7 @@
 enum { START_P = 4, START_H = 3 };
 typedef struct start_candidate {
     int observer_order, hankel_blocks, identified, state; /* state: okid_refine_state, -1 when not refined */
+    int split; /* its refinement has OKID_W_MODE_SPLIT: ranked after every start without */
     double cost;
 } start_candidate;
 typedef struct start_search {
@@ -37,8 +39,10 @@ static inline int start_search_passes(int max_passes)
 }
 
 /* The refinement of one start's OKID/ERA model over the record: 0 with its final state
-   (okid_refine_state) and cost, positive when it failed, negative to stop the search (Ctrl-C). */
-typedef int (*start_refine_fn)(void *context, const okid_result *start, int *state, double *cost);
+   (okid_refine_state), cost and warnings (okid_refine_result::warnings), positive when it failed,
+   negative to stop the search (Ctrl-C). */
+typedef int (*start_refine_fn)(void *context, const okid_result *start, int *state, double *cost,
+                               unsigned *warnings);
 
 /*
  * The grid over the record (n samples; u: r per sample, y: m per sample) with cfg's other

@@ -42,6 +42,7 @@ const char *okid_warning_str(unsigned warning_bit)
     case OKID_W_RESIDUAL_INPUT_CORRELATED: return "a refined output's residual is correlated with an input (the model misses some of the input's dynamics: too low an order, a wrong D)";
     case OKID_W_NO_OUTPUT_EXPLAINED: return "the model explains less than half of every output (fit below 50 %: pure noise, or an input that does not drive the outputs)";
     case OKID_W_NO_PHYSICAL_MODE: return "the automatic selection found no physical mode (no pole stays put across the orders): no mode reported";
+    case OKID_W_MODE_SPLIT: return "two refined pairs are one mode split in two (the same shape, frequencies not told apart): the order is higher than the record supports";
     default: return "unknown warning";
     }
 }

@@ -21,7 +21,7 @@ from ._errors import (BadOrderError, BadParameterError, BadSizeError, Concurrent
 from ._identifier import Identifier, Progress, identify
 from ._mode import Mode, Pole, SelectedMode, StabilityFlag, WarningFlag
 from ._record import Record, read_record
-from ._refine import REFINE_DEFAULTS, CramerRaoBound, Refinement, RefinementWarning, ResidualInputCorrelatedWarning, ResidualWarning, crlb
+from ._refine import REFINE_DEFAULTS, CramerRaoBound, ModeSplitWarning, Refinement, RefinementWarning, ResidualInputCorrelatedWarning, ResidualWarning, crlb
 from ._result import FORMAT, FORMAT_VERSION, Result, Stabilization, StabilizationOrder, load
 from . import model, plot
 from .plot import plot_stabilization
@@ -32,7 +32,7 @@ __all__ = [
     "identify", "identify_ambient", "AmbientIdentifier", "AmbientProgress", "AmbientResult", "Identifier", "Progress", "Result", "Mode", "SelectedMode",
     "Pole", "WarningFlag", "Stabilization",
     "StabilizationOrder", "StabilityFlag", "model", "plot", "plot_stabilization", "DEFAULTS", "OPTION_NAMES", "Refinement",
-    "RefinementWarning", "ResidualWarning", "ResidualInputCorrelatedWarning", "REFINE_DEFAULTS", "crlb", "CramerRaoBound", "read_record", "Record",
+    "RefinementWarning", "ModeSplitWarning", "ResidualWarning", "ResidualInputCorrelatedWarning", "REFINE_DEFAULTS", "crlb", "CramerRaoBound", "read_record", "Record",
     "RecordError", "load", "FORMAT", "FORMAT_VERSION",
     "OkidError", "ConfigurationError", "BadSizeError", "BadOrderError", "BadParameterError", "NotEnoughDataError",
     "NotPersistentlyExcitingError", "DecompositionError", "NotAvailableError", "NonFiniteSampleError", "DataRangeError",

@@ -89,6 +89,8 @@ class Refinement(_ModeArrays, StateSpaceModel, Travelling):
     output_warnings: Tuple[WarningFlag, ...]
     autocorrelation_band: float     #: 1.96 / sqrt(N), the 95 % band of each autocorrelation of a white residual
     std_covariance: str             #: "fisher", or "sandwich" when a residual is not white
+    #: MODE_SPLIT: the indices into modes of two pairs that are one mode split in two, else None
+    split_modes: Optional[Tuple[int, int]]
     modes: Tuple[Mode, ...]         #: okid.Mode with frequency_std, damping_std, ... set; sorted by frequency
 
     @property
@@ -194,6 +196,12 @@ class ResidualInputCorrelatedWarning(ResidualWarning):
     low an order, a wrong D)."""
 
 
+class ModeSplitWarning(RefinementWarning):
+    """Two refined pairs are one mode split in two (WarningFlag.MODE_SPLIT, Refinement.split_modes):
+    the same sensor shape and frequencies their gates or standard deviations do not tell apart; the
+    order is higher than the record supports there (docs/refinement.md, "One mode split in two")."""
+
+
 #: OKID_REFINE_INPUT_CORRELATION_BOUND (okid/refine.h)
 INPUT_CORRELATION_BOUND = 4.0556
 
@@ -224,17 +232,30 @@ def warn_if_stopped(refined: Refinement, stacklevel: int) -> None:
                           f"{refined.autocorrelation_band:.3g}): a force nobody measured, a drift or too low an order; "
                           f"the stds are the sandwich ones", ResidualWarning, stacklevel=stacklevel + 1)
         if w & WarningFlag.RESIDUAL_INPUT_CORRELATED:
-            for j in np.flatnonzero(np.asarray(refined.input_correlation)[i] > INPUT_CORRELATION_BOUND):
+            # one warning per output however many inputs failed (a lifted record has K r): the worst in full
+            stats = np.asarray(refined.input_correlation)[i]
+            failed = np.flatnonzero(stats > INPUT_CORRELATION_BOUND)
+            if failed.size:
+                j = int(failed[np.argmax(stats[failed])])
+                others = [int(k) + 1 for k in failed if k != j]
+                more = (f" and with {len(others)} more input{'s' if len(others) > 1 else ''} ("
+                        f"{', '.join(map(str, others[:6]))}{', ...' if len(others) > 6 else ''})") if others else ""
                 warnings.warn(f"output {i + 1}: the refined residual is correlated with input {j + 1} (cross-correlation "
                               f"up to {refined.max_input_correlation[i][j]:.3g} against the band "
                               f"{refined.input_correlation_band[i][j]:.3g} over lags 0..19, statistic "
-                              f"{refined.input_correlation[i][j]:.3g} above {INPUT_CORRELATION_BOUND:.4g}): the model "
-                              f"misses some of the input's dynamics (too low an order, a wrong D)",
+                              f"{refined.input_correlation[i][j]:.3g} above {INPUT_CORRELATION_BOUND:.4g}){more}: the "
+                              f"model misses some of the input's dynamics (too low an order, a wrong D)",
                               ResidualInputCorrelatedWarning, stacklevel=stacklevel + 1)
         if w & WarningFlag.OUTPUT_NOT_EXPLAINED:
             warnings.warn(f"output {i + 1}: the refined model explains {refined.fit_percent[i]:.3g} % of it (below "
                           f"50 %): a drift, an offset, a force nobody measured or a sensor the model does not "
                           f"describe", ResidualWarning, stacklevel=stacklevel + 1)
+    if refined.split_modes is not None:
+        a, b = (refined.modes[i] for i in refined.split_modes)
+        warnings.warn(f"the refined pairs {a.frequency_hz:.4g} Hz (damping {a.damping_ratio:.3g}) and "
+                      f"{b.frequency_hz:.4g} Hz (damping {b.damping_ratio:.3g}) are one mode split in two: order "
+                      f"{refined.order} is higher than the record supports there; give a lower order (2 per mode) "
+                      f"or leave the order to the mode selection", ModeSplitWarning, stacklevel=stacklevel + 1)
     if refined.state == "iteration_limit":
         warnings.warn(f"the refinement did not converge ({refined.message} after {refined.passes} passes): the modes "
                       f"are the best found; {iteration_limit_advice(refined.decrement, refined.step_tolerance, refined.iterations)}",

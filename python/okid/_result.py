@@ -391,6 +391,8 @@ _CLI_FALLBACKS: _document.Fallbacks = {
        for key in ("input_correlation", "max_input_correlation", "input_correlation_band")},
     # documents written before the innovation form: output error
     "Refinement.refine_model": lambda obj, outer: "output_error",
+    # "split_modes" is written only with OKID_W_MODE_SPLIT
+    "Refinement.split_modes": lambda obj, outer: None,
 }
 
 

@@ -83,7 +83,7 @@ struct StartRecord {
     std::exception_ptr error;
 };
 
-int refine_start(void *context, const okid_result *start, int *state, double *cost)
+int refine_start(void *context, const okid_result *start, int *state, double *cost, unsigned *warnings)
 {
     auto *rec = static_cast<StartRecord *>(context);
     const int n = start->order, r = start->B.cols, mo = start->C.rows;
@@ -109,6 +109,7 @@ int refine_start(void *context, const okid_result *start, int *state, double *co
     if (s != OKID_OK) return 1;
     *state = (int)out.state;
     *cost = (double)out.cost;
+    *warnings = out.warnings;
     return 0;
 }
 
@@ -171,6 +172,11 @@ struct RefineCore {
         f["output_warnings"] = output_warnings;
         f["autocorrelation_band"] = (double)out.autocorrelation_band;
         f["std_covariance"] = out.covariance == OKID_REFINE_COVARIANCE_SANDWICH ? "sandwich" : "fisher";
+        if (out.split_modes[0] >= 0) {
+            f["split_modes"] = nb::make_tuple(out.split_modes[0], out.split_modes[1]);
+        } else {
+            f["split_modes"] = nb::none();
+        }
         nb::list modes;
         for (int i = 0; i < out.num_modes; ++i) {
             const okid_mode_std &sd = out.mode_std[i];

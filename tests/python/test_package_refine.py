@@ -486,3 +486,28 @@ def test_refine_without_a_selected_mode_raises():
     u, y = data[:, 1:3], data[:, 3:6]
     with pytest.raises(okid.NotAvailableError, match="keeps no physical mode.*decimation 1.*give order"):
         okid.identify(u, y, 0.005, refine=True)
+
+
+def test_a_mode_split_in_two_warns():
+    """GWS 261 lifted by 8 at order 8 with fixed horizons (test_refine_cli's split case): a
+    ModeSplitWarning naming the pair, Refinement.split_modes and WarningFlag.MODE_SPLIT, the same
+    pair and figures as the CLI's JSON."""
+    path = Path(os.environ.get("OKID_REAL_DATA", ROOT / "tests" / "data" / "real")) / "gws_building_261.csv"
+    data = np.loadtxt(path, delimiter=",", skiprows=1)
+    with pytest.warns(okid.ModeSplitWarning, match=r"the refined pairs 4\.88 Hz .* and 4\.925 Hz .* one mode split"):
+        res = okid.identify(data[:, 1:3], data[:, 3:6], 0.005, order=8, decimation=8, decimation_method="lift",
+                            observer_order=20, hankel_rows=50, hankel_cols=50, refine=True)
+    ref = res.refinement
+    assert ref.split_modes == (1, 3) and ref.warnings & okid.WarningFlag.MODE_SPLIT
+    assert issubclass(okid.ModeSplitWarning, okid.RefinementWarning)
+    proc = cli("identify", "--inputs", 2, "--outputs", 3, "--order", 8, "--decimation", 8, "--decimation-method", "lift",
+               "--refine", "--observer-order", 20, "--hankel-rows", 50, "--hankel-cols", 50, "--json", path)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    doc = json.loads(proc.stdout)["refinement"]
+    assert tuple(doc["split_modes"]) == ref.split_modes
+    # the same refinement, the record summed in other chunks: round-off per pass, carried along 100
+    # Levenberg-Marquardt steps that do not converge here (3e-11 relative measured; 1e-8 leaves 300x)
+    for k in ref.split_modes:
+        assert ref.modes[k].frequency_hz == pytest.approx(doc["modes"][k]["frequency_hz"], rel=1e-8)
+    assert res.to_dict()["refinement"]["split_modes"] == doc["split_modes"]
+    assert tuple(okid.Result.from_dict(res.to_dict()).refinement.split_modes) == ref.split_modes

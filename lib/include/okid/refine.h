@@ -223,6 +223,11 @@ typedef struct okid_refine_result {
     /** okid_warning bits of the refined modes and of the residual tests (not the start model's) */
     unsigned warnings;
     /**
+     * OKID_W_MODE_SPLIT: indices into modes of the first two complex pairs found to be one mode split
+     * in two (okid_refine_modes_split()); -1, -1 when none
+     */
+    int split_modes[2];
+    /**
      * m values: the residual tests' okid_warning bits of each output (OKID_W_RESIDUAL_NOT_WHITE,
      * OKID_W_RESIDUAL_INPUT_CORRELATED: input_correlation says which inputs, OKID_W_OUTPUT_NOT_EXPLAINED)
      */

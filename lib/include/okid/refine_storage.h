@@ -33,6 +33,7 @@ struct okid_refiner {
     uint64_t samples_, pass_samples_, samples_used_;
     unsigned warnings_;
     int num_modes_;
+    int split_[2];              /* okid_refine_result::split_modes */
     /* workspace views */
     int *ptab_;                 /* 4 ints per parameter: kind, block, row, col */
     int *blk_;                  /* 4 ints per block: first state, size, eigenvalue parameter, fixed input */

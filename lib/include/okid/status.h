@@ -136,7 +136,15 @@ enum okid_warning {
      * The CLI and okid.identify() say the same with their "no physical mode found" line and an
      * empty modes list.
      */
-    OKID_W_NO_PHYSICAL_MODE = 1u << 14
+    OKID_W_NO_PHYSICAL_MODE = 1u << 14,
+    /**
+     * Refinement (okid_refine_result): two refined complex pairs are one mode split in two: the
+     * same sensor shape (MAC >= the mode selection's mac_min) and either inside the mode
+     * selection's clustering gates of each other or with frequencies their standard deviations
+     * cannot tell apart (okid_refine_modes_split()). The order is higher than the record supports
+     * there; okid_refine_result::split_modes says which pairs.
+     */
+    OKID_W_MODE_SPLIT = 1u << 15
 };
 
 /** A short, static, human-readable description of a status (never NULL, also for unknown codes). */

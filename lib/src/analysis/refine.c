@@ -221,6 +221,7 @@ okid_status okid_refine_init(okid_refiner *rf, const okid_refine_config *cfg, co
     rf->samples_ = rf->pass_samples_ = 0;
     rf->warnings_ = rf->test_warnings_ = 0;
     rf->num_modes_ = 0;
+    rf->split_[0] = rf->split_[1] = -1;
     rf->covariance_ = OKID_REFINE_COVARIANCE_FISHER;
     rf->score_ok_[0] = rf->score_ok_[1] = 0;
     rf->block_len_ = 0;
@@ -606,6 +607,7 @@ static void finish(okid_refiner *rf, okid_refine_state state)
         rf->num_modes_ = 0;
         rf->std_status_ = st;
     }
+    okid_refine_find_split(rf);
     rf->warnings_ |= rf->test_warnings_;
 }
 
@@ -785,6 +787,8 @@ okid_status okid_refine_get_result(const okid_refiner *rf, okid_refine_result *r
     result->dt = rf->dt_;
     result->samples = rf->samples_;
     result->warnings = rf->warnings_;
+    result->split_modes[0] = rf->split_[0];
+    result->split_modes[1] = rf->split_[1];
     result->std_status = rf->std_status_;
     result->output_warnings = rf->out_warn_;
     result->whiteness = rf->whiteness_;

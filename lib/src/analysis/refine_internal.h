@@ -50,6 +50,9 @@ int okid_refine_stable(okid_refiner *rf);
  */
 okid_status okid_refine_modes_and_std(okid_refiner *rf, int with_covariance);
 
+/* OKID_W_MODE_SPLIT and split_[] of the modes and stds okid_refine_modes_and_std() left (refine_split.c). */
+void okid_refine_find_split(okid_refiner *rf);
+
 /*
  * Solve (N + mu diag(N)) x = g for symmetric positive semi-definite N (upper triangle used,
  * np x np), through the Cholesky factor of its unit-diagonal scaling written to f (np x np) and
