@@ -470,6 +470,36 @@ def test_a_job_where_every_record_failed_exits_non_zero(data, cluster, tmp_path)
     assert proc.returncode == 3 and "1 of 4 records failed" in proc.stderr, proc
 
 
+def test_lifted_decimation_gives_okid_identify_s_rows(data, cluster, tmp_path):
+    """--decimation 2 --decimation-method lift on the shared cluster: each record's rows are
+    okid.identify(u, y, dt, decimation=2, decimation_method="lift")'s modes, bit for bit, at dt 2 dt;
+    lifting without the factor and on output-only records is refused in one line."""
+    options = {**OPTIONS, "decimation": 2, "decimation_method": "lift"}
+    out = tmp_path / "modes.parquet"
+    okid_fleet("identify", data["tiny"], "--out", out, "--scheduler", cluster.address, *CLI_OPTIONS,
+               "--decimation", "2", "--decimation-method", "lift", "--quiet")
+    table = fleet.read_modes(str(out))
+    folder = os.path.join(data["tiny"], "asset-000")
+    names = sorted(os.listdir(folder))
+    assert len(names) == 3 and table["record"].nunique() == 3
+    for name in names:
+        rec = np.loadtxt(os.path.join(folder, name), delimiter=",", skiprows=1)
+        dt = float(rec[1, 0] - rec[0, 0])
+        result = okid.identify(rec[:, 1:2], rec[:, 2:4], dt, **options)
+        rows = table[table["record"] == f"asset-000/{os.path.splitext(name)[0]}"]
+        assert (rows["status"] == "ok").all(), rows[["status", "message"]]
+        assert list(rows["frequency_hz"]) == [m.frequency_hz for m in result.modes]
+        assert list(rows["damping_ratio"]) == [m.damping_ratio for m in result.modes]
+        assert rows["dt"].iloc[0] == result.dt == pytest.approx(2 * dt, rel=1e-12)
+        assert json.loads(rows["config"].iloc[0])["decimation_method"] == "lift"
+    proc = okid_fleet("identify", data["tiny"], "--out", tmp_path / "x", "--decimation-method", "lift", check=False)
+    assert proc.returncode == 2 and "--decimation-method lift needs --decimation K" in proc.stderr
+    assert not (tmp_path / "x").exists()
+    proc = okid_fleet("identify", data["tiny"], "--out", tmp_path / "y", "--inputs", "0", "--decimation", "2",
+                      "--decimation-method", "lift", check=False)
+    assert proc.returncode == 2 and "not a setting of output-only records" in proc.stderr
+
+
 def _identify_frame(rows, outputs):
     return okid.identify(rows[["force"]].to_numpy(), rows[outputs].to_numpy(), float(rows["dt"].iloc[0]), **OPTIONS)
 

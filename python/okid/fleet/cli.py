@@ -33,6 +33,9 @@ def _add_okid_options(p: argparse.ArgumentParser) -> None:
         kind = type(default)
         g.add_argument(_flag(name), dest=name, type=kind, default=None, metavar=kind.__name__.upper(),
                        help=f"default {default}")
+    g.add_argument("--decimation-method", dest="decimation_method", choices=("filter", "lift"), default=None,
+                   help="with --decimation K: the anti-alias filter (default; biased) or lifting (exact: K r inputs "
+                   "at K dt; the rows' dt is K dt), as okid identify's")
     c = p.add_argument_group("channels (as okid identify)")
     c.add_argument("--inputs", default="1", help="input columns: a count or comma-separated names (default 1); 0: "
                    "output-only records, identified by okid.identify_ambient (--hankel-rows, --order, --sensing)")
@@ -143,7 +146,8 @@ def _identify(a) -> int:
     from .records import ChannelSpec, RecordError
     from .rows import check_options
 
-    options = {name: getattr(a, name) for name in okid.OPTION_NAMES if getattr(a, name) is not None}
+    options = {name: getattr(a, name) for name in (*okid.OPTION_NAMES, "decimation_method")
+               if getattr(a, name) is not None}
     if a.scheduler and a.scheduler_file:
         print("okid-fleet: --scheduler and --scheduler-file name the same thing: give one", file=sys.stderr)
         return EXIT_USAGE

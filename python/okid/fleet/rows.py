@@ -87,7 +87,11 @@ AMBIENT_OPTIONS: Tuple[str, ...] = ("hankel_rows", "order", "sensing")
 
 
 def check_options(options: Mapping[str, Any], channels: ChannelSpec) -> None:
-    """Refuse (ValueError, one line) the settings an output-only job cannot use."""
+    """Refuse (ValueError, one line) the settings an output-only job cannot use, and lifting
+    without the factor (okid.identify would refuse it for every record)."""
+    if options.get("decimation_method") == "lift" and "decimation" not in options:
+        raise ValueError("--decimation-method lift needs --decimation K (the lifting factor; lifting does not "
+                         "follow a decimation chosen from the data)")
     if channels.output_only:
         other = [name for name in options if name not in AMBIENT_OPTIONS]
         if other:
