@@ -24,7 +24,8 @@ static const double start_tie = 1e-3;
  */
 static int better(const start_candidate *c, const start_candidate *best)
 {
-    if (best == NULL || c->split != best->split) return best == NULL || !c->split;
+    if (best == NULL) return 1;
+    if (c->split != best->split) return !c->split;
     return c->cost < best->cost - start_tie;
 }
 

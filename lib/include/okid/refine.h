@@ -224,7 +224,7 @@ typedef struct okid_refine_result {
     unsigned warnings;
     /**
      * OKID_W_MODE_SPLIT: indices into modes of the first two complex pairs found to be one mode split
-     * in two (okid_refine_modes_split()); -1, -1 when none
+     * in two (the rule of OKID_W_MODE_SPLIT); -1, -1 when none
      */
     int split_modes[2];
     /**

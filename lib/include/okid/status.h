@@ -141,7 +141,7 @@ enum okid_warning {
      * Refinement (okid_refine_result): two refined complex pairs are one mode split in two: the
      * same sensor shape (MAC >= the mode selection's mac_min) and either inside the mode
      * selection's clustering gates of each other or with frequencies their standard deviations
-     * cannot tell apart (okid_refine_modes_split()). The order is higher than the record supports
+     * cannot tell apart (lib/src/analysis/refine_split.c). The order is higher than the record supports
      * there; okid_refine_result::split_modes says which pairs.
      */
     OKID_W_MODE_SPLIT = 1u << 15
