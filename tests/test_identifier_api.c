@@ -288,6 +288,70 @@ static void test_nonfinite_sample(void **state)
     assert_modes_match(&REF_PAPER, res.modes, res.num_modes, identify_tol(&REF_PAPER), IDENTIFY_MAC_MIN);
 }
 
+/*
+ * okid_push_block takes runs of finite samples as whole rows (the host's block path,
+ * identifier.c rows_at_once) and okid_push one sample at a time: the same rows, the same folds,
+ * the same bits, with a gap in the middle, for the QR fold and the correlation form, the automatic
+ * block and one of 7 rows (blocks that end inside a block call), scaling on and off.
+ */
+static void test_block_equals_samples(void **state)
+{
+    (void)state;
+    enum { N = 1500, GAP = 433 };
+    okid_real *u, *y; /* the paper's plant at 0.05 s, 2 % noise: a Gram the correlation form's guard takes */
+    test_paper_record(0.05, N, 5, 0.02, &u, &y);
+    y[2 * GAP + 1] = NAN; /* a gap: the window restarts, p samples refill it */
+    const int estimators[] = {OKID_ESTIMATOR_LEAST_SQUARES, OKID_ESTIMATOR_CORRELATION};
+    const int blocks[] = {0, 7};
+    const size_t cuts[] = {0, 1, 5, 300, GAP, GAP + 1, GAP + 7, 999, N};
+    for (int e = 0; e < 2; ++e) {
+        for (int b = 0; b < 2; ++b) {
+            for (int scaled = 0; scaled < 2; ++scaled) {
+                okid_config cfg;
+                okid_config_default(&cfg, 1, 2);
+                cfg.dt = (okid_real)0.05;
+                cfg.observer_order = 10;
+                cfg.order = 4;
+                cfg.estimator = (okid_estimator)estimators[e];
+                cfg.block_rows = blocks[b];
+                cfg.scaling = scaled ? OKID_SCALING_AUTO : OKID_SCALING_NONE;
+                size_t bytes = 0;
+                void *ws_one = test_workspace(&cfg, &bytes), *ws_block = test_workspace(&cfg, &bytes);
+                okid_identifier one, block;
+                assert_int_equal(okid_init(&one, &cfg, ws_one, bytes, NULL), OKID_OK);
+                assert_int_equal(okid_init(&block, &cfg, ws_block, bytes, NULL), OKID_OK);
+                for (size_t k = 0; k < N; ++k) {
+                    const okid_status st = okid_push(&one, u + k, y + 2 * k);
+                    assert_int_equal(st, k == GAP ? OKID_E_NONFINITE_SAMPLE : OKID_OK);
+                }
+                size_t taken = 0, accepted = 0;
+                for (size_t c = 0; c + 1 < sizeof cuts / sizeof cuts[0]; ++c) {
+                    const size_t a = cuts[c], n = cuts[c + 1] - a;
+                    const okid_status st = okid_push_block(&block, n, u + a, 1, y + 2 * a, 2, &accepted);
+                    assert_int_equal(st, a == GAP ? OKID_E_NONFINITE_SAMPLE : OKID_OK);
+                    taken += accepted;
+                }
+                assert_int_equal(taken, N - 1);
+                okid_progress p1, p2;
+                assert_int_equal(okid_get_progress(&one, &p1), OKID_OK);
+                assert_int_equal(okid_get_progress(&block, &p2), OKID_OK);
+                assert_int_equal(p1.samples, p2.samples);
+                assert_int_equal(p1.rows, p2.rows);
+                assert_int_equal(p1.rejected, p2.rejected);
+                okid_result r1, r2;
+                assert_int_equal(okid_identify(&one, &r1), OKID_OK);
+                assert_int_equal(okid_identify(&block, &r2), OKID_OK);
+                assert_same_result(&r1, &r2);
+                assert_memory_equal(r1.singular_values, r2.singular_values, sizeof(okid_real) * 4);
+                free(ws_one);
+                free(ws_block);
+            }
+        }
+    }
+    free(u);
+    free(y);
+}
+
 static void test_not_persistently_exciting(void **state)
 {
     fixture *f = *state;
@@ -363,6 +427,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_identify_midway_leaves_accumulation_intact, setup, teardown),
         cmocka_unit_test_setup_teardown(test_identify_before_enough_samples, setup, teardown),
         cmocka_unit_test_setup_teardown(test_nonfinite_sample, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_block_equals_samples, setup, teardown),
         cmocka_unit_test_setup_teardown(test_not_persistently_exciting, setup, teardown),
         cmocka_unit_test_setup_teardown(test_identify_twice_and_reset, setup, teardown),
         cmocka_unit_test(test_status_strings),

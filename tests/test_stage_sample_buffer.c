@@ -66,6 +66,40 @@ static void test_regressor_row_layout(void **state)
 }
 
 /* A record that starts at rest: the window is full at once and holds zeros. */
+/*
+ * The block path (okid_push_block's, okid_buffer_write_rows()): `count` rows at once, column by
+ * column, equal to count calls of okid_buffer_write_row() with the window appended between them,
+ * bit for bit (both copy the same values). Runs shorter than p (every lagged column partly from the
+ * window), equal to it and longer, with the window's ring wrapped at any head.
+ */
+static void test_rows_at_once_equal_row_by_row(void **state)
+{
+    (void)state;
+    enum { MOST = 9, LDB = 11, LDU = R + 1, LDY = M + 2 };
+    const int counts[] = {1, 2, P, P + 1, MOST};
+    for (int start = P; start < P + 4; ++start) {
+        for (size_t c = 0; c < sizeof counts / sizeof counts[0]; ++c) {
+            const int count = counts[c];
+            okid_real data[W * P], one[LDB * (Q + M)], block[LDB * (Q + M)];
+            okid_real u[MOST * LDU], y[MOST * LDY];
+            okid_ring_ window = {data, W, P, 0, 0};
+            okid_ring_restart(&window, 0);
+            for (int k = 0; k < start; ++k) push(&window, k); /* heads at every slot */
+            for (int t = 0; t < count; ++t) {
+                for (int i = 0; i < R; ++i) u[t * LDU + i] = u_of(start + t, i);
+                for (int a = 0; a < M; ++a) y[t * LDY + a] = y_of(start + t, a);
+            }
+            for (int e = 0; e < LDB * (Q + M); ++e) one[e] = block[e] = (okid_real)-999;
+            okid_buffer_write_rows(&window, R, count, u, LDU, y, LDY, block, LDB);
+            for (int t = 0; t < count; ++t) {
+                okid_buffer_write_row(&window, R, u + t * LDU, y + t * LDY, one + t, LDB);
+                okid_ring_append(&window, u + t * LDU, R, y + t * LDY, M);
+            }
+            assert_memory_equal(block, one, sizeof block); /* the rows below count untouched in both */
+        }
+    }
+}
+
 static void test_zero_history(void **state)
 {
     (void)state;
@@ -110,6 +144,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_regressor_row_layout),
+        cmocka_unit_test(test_rows_at_once_equal_row_by_row),
         cmocka_unit_test(test_zero_history),
         cmocka_unit_test(test_instrument_row),
     };

@@ -334,6 +334,51 @@ static okid_status decimate_sample(okid_identifier *id, const okid_real *u, cons
     return keep ? accept_sample(id, v, v + r) : OKID_OK;
 }
 
+#if !OKID_LINALG_EIGEN
+/*
+ * The block path of okid_push_block (host backend; the firmware's Eigen builds keep the per-sample
+ * path and its flash): once the window is full, without decimation or instruments, the next
+ * samples up to the end of the pending block are written as rows column by column
+ * (okid_buffer_write_rows()), the same values as sample by sample, so the same bits. How many
+ * samples of the `left` at u, y go at once: the finite ones before the first that is not (which
+ * push_one() then takes, the gap as before), 0 when the path does not apply.
+ */
+static int rows_at_once(const okid_identifier *id, size_t left, const okid_real *u, size_t ldu, const okid_real *y,
+                        size_t ldy)
+{
+    const okid_dims_ *d = &id->dims_;
+    if (d->decimation > 1 || d->nz > 0 || !okid_ring_full(&id->window_) || !okid_ring_full(&id->inputs_)) {
+        return 0;
+    }
+    const size_t room = (size_t)(d->block_rows - id->block_fill_);
+    const int most = (int)(left < room ? left : room);
+    int run = 0;
+    while (run < most && okid_all_finite(d->r, 1, u + (size_t)run * ldu, d->r) &&
+           okid_all_finite(d->m, 1, y + (size_t)run * ldy, d->m)) {
+        ++run;
+    }
+    return run;
+}
+
+/* accept_sample() of `run` finite samples that fit in the pending block: their rows, the window's
+   appends, the counters, the fold when the block is full. */
+static okid_status accept_rows(okid_identifier *id, int run, const okid_real *u, size_t ldu, const okid_real *y,
+                               size_t ldy)
+{
+    const okid_dims_ *d = &id->dims_;
+    okid_buffer_write_rows(&id->window_, d->r, run, u, ldu, y, ldy, id->at_.block + id->block_fill_,
+                           (size_t)d->block_rows);
+    for (int t = 0; t < run; ++t) {
+        okid_ring_append(&id->window_, u + (size_t)t * ldu, d->r, y + (size_t)t * ldy, d->m);
+        okid_ring_append(&id->inputs_, u + (size_t)t * ldu, d->r, NULL, 0);
+    }
+    id->samples_ += (uint64_t)run;
+    id->rows_ += (uint64_t)run;
+    id->block_fill_ += run;
+    return id->block_fill_ == d->block_rows ? fold_pending(id) : OKID_OK;
+}
+#endif
+
 static okid_status push_one(okid_identifier *id, const okid_real *u, const okid_real *y)
 {
     if (!okid_all_finite(id->dims_.r, 1, u, id->dims_.r) || !okid_all_finite(id->dims_.m, 1, y, id->dims_.m)) {
@@ -374,6 +419,19 @@ okid_status okid_push_block(okid_identifier *id, size_t count, const okid_real *
     okid_status result = OKID_OK;
     size_t taken = 0;
     for (size_t k = 0; k < count; ++k) {
+#if !OKID_LINALG_EIGEN
+        const int run = rows_at_once(id, count - k, u + k * ldu, ldu, y + k * ldy, ldy);
+        if (run > 0) {
+            const okid_status st = accept_rows(id, run, u + k * ldu, ldu, y + k * ldy, ldy);
+            if (st != OKID_OK) {
+                result = st; /* a backend failure: stop here */
+                break;
+            }
+            taken += (size_t)run;
+            k += (size_t)run - 1u;
+            continue;
+        }
+#endif
         const okid_status st = push_one(id, u + k * ldu, y + k * ldy);
         if (st == OKID_OK) {
             ++taken;

@@ -71,6 +71,40 @@ void okid_buffer_write_row(const okid_ring_ *window, int r, const okid_real *u, 
     }
 }
 
+/* Column of channel ch at lag j (0: the current sample) for `count` rows: the window's p samples
+   before the block for the first j rows, then the block's own (x: its first sample's channel ch,
+   stride ldx between samples). */
+static void copy_lagged_column(const okid_ring_ *window, int ch, int j, int count, const okid_real *x, size_t ldx,
+                               okid_real *dst)
+{
+    const int from_window = j < count ? j : count;
+    for (int t = 0; t < from_window; ++t) {
+        dst[t] = okid_ring_past(window, j - t)[ch];
+    }
+    for (int t = from_window; t < count; ++t) {
+        dst[t] = x[(size_t)(t - j) * ldx];
+    }
+}
+
+void okid_buffer_write_rows(const okid_ring_ *window, int r, int count, const okid_real *u, size_t ldu,
+                            const okid_real *y, size_t ldy, okid_real *block, size_t ld)
+{
+    const int m = window->width - r, p = window->depth;
+    const size_t past_y = (size_t)r * (size_t)(p + 1);
+    for (int i = 0; i < r; ++i) {
+        copy_lagged_column(window, i, 0, count, u + i, ldu, block + (size_t)i * ld);
+        for (int j = 1; j <= p; ++j) {
+            copy_lagged_column(window, i, j, count, u + i, ldu, block + (size_t)(r + (j - 1) * r + i) * ld);
+        }
+    }
+    for (int a = 0; a < m; ++a) {
+        for (int j = 1; j <= p; ++j) {
+            copy_lagged_column(window, r + a, j, count, y + a, ldy, block + (past_y + (size_t)((j - 1) * m + a)) * ld);
+        }
+        copy_lagged_column(window, r + a, 0, count, y + a, ldy, block + (past_y + (size_t)(p * m + a)) * ld);
+    }
+}
+
 void okid_buffer_predict(const okid_ring_ *window, int r, const okid_real *u, const okid_real *x, int ldx,
                          okid_real *y_hat)
 {

@@ -29,6 +29,13 @@ const okid_real *okid_ring_past(const okid_ring_ *ring, int j);
 void okid_buffer_write_row(const okid_ring_ *window, int r, const okid_real *u, const okid_real *y, okid_real *row,
                            size_t ld);
 
+/* okid_buffer_write_row() of `count` consecutive samples at once: u (count x r, sample k at u + k ldu)
+   and y (count x m, at y + k ldy) hold samples k .. k + count - 1, the window their p predecessors;
+   rows 0 .. count - 1 of block (stride ld between columns) get the same values, written column by
+   column (one contiguous run per column instead of one strided store per column and sample). */
+void okid_buffer_write_rows(const okid_ring_ *window, int r, int count, const okid_real *u, size_t ldu,
+                            const okid_real *y, size_t ldy, okid_real *block, size_t ld);
+
 /* y_hat = X' phi(k): the regressor row of (u, window) times the q x m solution x (leading dimension ldx). */
 void okid_buffer_predict(const okid_ring_ *window, int r, const okid_real *u, const okid_real *x, int ldx,
                          okid_real *y_hat);
