@@ -261,15 +261,26 @@ static void test_table_is_identify_at_each_order(void **state)
         void *ows = aligned_alloc(OKID_WORKSPACE_ALIGN, (ob + 15u) / 16u * 16u);
         assert_int_equal(okid_ambient_init(&one, &cfg, ows, ob, NULL), OKID_OK);
         assert_int_equal(okid_ambient_push_block(&one, count, y, 2, NULL), OKID_OK);
-        okid_ambient_result at;
+        okid_ambient_result at, own, via;
         assert_int_equal(okid_ambient_identify(&one, &at), OKID_OK);
         assert_int_equal(at.num_modes, o->num_modes);
+        /* at its own configured order, okid_ambient_identify_order() is okid_ambient_identify() */
+        assert_int_equal(okid_ambient_identify_order(&one, o->order, &own), OKID_OK);
+        assert_int_equal(own.order, at.order);
+        /* the order-0 identifier at order n: the table's order n, from the same sums */
+        assert_int_equal(okid_ambient_identify_order(&amb, o->order, &via), OKID_OK);
+        assert_int_equal(via.order, o->order);
+        assert_int_equal(via.num_modes, o->num_modes);
         for (int i = 0; i < o->num_modes; ++i) {
             const okid_mode *t = &table.modes[o->first + i];
             assert_relative(t->frequency_hz, at.modes[i].frequency_hz, tol, "frequency", i);
             assert_relative(t->damping_ratio, at.modes[i].damping_ratio, tol, "damping", i);
             assert_true(fabs((double)t->mpc - (double)at.modes[i].mpc) <= tol);
             assert_true(fabs((double)t->emac - (double)at.modes[i].emac) <= tol);
+            assert_true(own.modes[i].frequency_hz == at.modes[i].frequency_hz &&
+                        own.modes[i].damping_ratio == at.modes[i].damping_ratio);
+            assert_relative(t->frequency_hz, via.modes[i].frequency_hz, tol, "frequency at the order", i);
+            assert_relative(t->damping_ratio, via.modes[i].damping_ratio, tol, "damping at the order", i);
         }
         free(ows);
     }
@@ -393,8 +404,16 @@ static void test_refusals(void **state)
     assert_int_equal(okid_ambient_stabilization_workspace_size_at(&amb, 6, 10, 2, &bytes), OKID_OK); /* < (20, 40)'s */
     assert_int_equal(okid_ambient_stabilization_compute_at(&amb, 6, 10, 2, NULL, tws, bytes, &table),
                      OKID_E_NOT_ENOUGH_DATA);
+    /* identify at an order: 1..the workspace's largest (L min(m, r_ref) = 40 here), the sums unchanged */
+    okid_ambient_result res;
+    assert_int_equal(okid_ambient_identify_order(NULL, 4, &res), OKID_E_NULL_POINTER);
+    assert_int_equal(okid_ambient_identify_order(&amb, 4, NULL), OKID_E_NULL_POINTER);
+    assert_int_equal(okid_ambient_identify_order(&amb, 0, &res), OKID_E_BAD_ORDER);
+    assert_int_equal(okid_ambient_identify_order(&amb, 41, &res), OKID_E_BAD_ORDER);
+    assert_int_equal(okid_ambient_identify_order(&amb, 4, &res), OKID_E_NOT_ENOUGH_DATA); /* no pair at lag 40 */
     okid_ambient blank;
     memset(&blank, 0, sizeof blank);
+    assert_int_equal(okid_ambient_identify_order(&blank, 4, &res), OKID_E_NOT_INITIALIZED);
     assert_int_equal(okid_ambient_stabilization_workspace_size(&blank, 20, 2, &bytes), OKID_E_NOT_INITIALIZED);
     assert_int_equal(okid_ambient_stabilization_workspace_size_at(&blank, 20, 20, 2, &bytes), OKID_E_NOT_INITIALIZED);
     free(tws);

@@ -84,26 +84,59 @@ static okid_status sum_record(ambient_sums *sums, const okid_ambient_config *cfg
     return st;
 }
 
-/* One size: the table of the even orders 2..min(max_order, L min(m, r_ref)) from the sums, the selection. */
-static okid_status run_size(ambient_run *run, ambient_sums *sums, int L, int max_order,
+/* One Hankel size: the table of the even orders 2..min(max_order, L min(m, r_ref)) from amb's sums
+   (configured as cfg), the selection. */
+static okid_status run_size(ambient_run *run, okid_ambient *amb, const okid_ambient_config *cfg, int L, int max_order,
                             const okid_mode_selection_criteria *criteria)
 {
-    const int top = table_top(&sums->cfg, L, max_order);
+    const int top = table_top(cfg, L, max_order);
     if (top < 2) return OKID_E_BAD_ORDER;
     size_t bytes = 0;
-    okid_status st = okid_ambient_stabilization_workspace_size_at(&sums->amb, L, top, 2, &bytes);
+    okid_status st = okid_ambient_stabilization_workspace_size_at(amb, L, top, 2, &bytes);
     if (st == OKID_OK && (run->table_workspace = mode_windows_workspace(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
     if (st == OKID_OK) {
-        st = okid_ambient_stabilization_compute_at(&sums->amb, L, top, 2, NULL, run->table_workspace, bytes,
-                                                   &run->table);
+        st = okid_ambient_stabilization_compute_at(amb, L, top, 2, NULL, run->table_workspace, bytes, &run->table);
     }
     if (st == OKID_OK) st = okid_mode_selection_workspace_size(top, 2, &bytes);
     if (st == OKID_OK && (run->selection_workspace = mode_windows_workspace(bytes)) == NULL) st = OKID_E_WORKSPACE_TOO_SMALL;
     if (st == OKID_OK) {
-        st = okid_select_modes(&run->table, sums->cfg.num_outputs, criteria, run->selection_workspace, bytes,
+        st = okid_select_modes(&run->table, cfg->num_outputs, criteria, run->selection_workspace, bytes,
                                &run->selection, NULL);
     }
     return st;
+}
+
+/* The sizes' selections grouped into the reported modes and the reported model's order (the rule of
+   mode_windows.h), once the runs are done: OKID_OK, or the main run's failure. */
+static okid_status combine(ambient_modes *out, int m)
+{
+    if (out->runs[0].status == OKID_E_BAD_ORDER) {
+        return OKID_OK; /* a Hankel matrix too small for one pair (L min(m, r_ref) < 2): no mode, the gap order */
+    }
+    if (out->runs[0].status != OKID_OK) {
+        return out->runs[0].status;
+    }
+    /* group the sizes' modes: a mode of size w joins the first reported mode it matches */
+    int support[OKID_MAX_ORDER] = {0};
+    for (int w = 0; w < out->num_runs; ++w) {
+        if (out->runs[w].status == OKID_OK) {
+            mode_windows_add(&out->criteria, &out->runs[w].selection, w, m, out->modes, &out->num_modes, support);
+        }
+    }
+    mode_windows_keep(out->modes, &out->num_modes, out->num_runs > 1 ? 2 : 1); /* two of three sizes; one size alone */
+    mode_windows_order(&out->runs[0].table, &out->criteria, out->modes, out->num_modes, m, &out->order,
+                       &out->order_holds_all);
+    if (out->num_modes == 0) out->order = 0; /* no mode: the gap order */
+    return OKID_OK;
+}
+
+/* The library's selection criteria with the input-output path's damping limit and the choice's band. */
+static void default_criteria(const ambient_choice *c, okid_mode_selection_criteria *criteria)
+{
+    okid_mode_selection_criteria_default(criteria);
+    criteria->damping_max = (okid_real)AUTO_DAMPING_MAX; /* the input-output path's limit */
+    criteria->frequency_min_hz = (okid_real)c->frequency_min_hz;
+    criteria->frequency_max_hz = (okid_real)c->frequency_max_hz;
 }
 
 okid_status ambient_modes_find(const okid_ambient_config *cfg, int hankel_given, const auto_band *band, size_t n,
@@ -119,10 +152,7 @@ okid_status ambient_modes_find(const okid_ambient_config *cfg, int hankel_given,
     if (criteria != NULL) {
         out->criteria = *criteria;
     } else {
-        okid_mode_selection_criteria_default(&out->criteria);
-        out->criteria.damping_max = (okid_real)AUTO_DAMPING_MAX; /* the input-output path's limit */
-        out->criteria.frequency_min_hz = (okid_real)out->choice.frequency_min_hz;
-        out->criteria.frequency_max_hz = (okid_real)out->choice.frequency_max_hz;
+        default_criteria(&out->choice, &out->criteria);
     }
     out->num_runs = out->choice.num_windows;
     int largest = 0;
@@ -131,28 +161,27 @@ okid_status ambient_modes_find(const okid_ambient_config *cfg, int hankel_given,
     for (int w = 0; w < out->num_runs; ++w) {
         out->runs[w].status = summed != OKID_OK && table_top(cfg, out->choice.windows[w], out->choice.max_order) >= 2
                                   ? summed
-                                  : run_size(&out->runs[w], &out->sums, out->choice.windows[w], out->choice.max_order,
-                                             &out->criteria);
+                                  : run_size(&out->runs[w], &out->sums.amb, &out->sums.cfg, out->choice.windows[w],
+                                             out->choice.max_order, &out->criteria);
     }
-    if (out->runs[0].status == OKID_E_BAD_ORDER) {
-        return OKID_OK; /* a Hankel matrix too small for one pair (L min(m, r_ref) < 2): no mode, the gap order */
-    }
-    if (out->runs[0].status != OKID_OK) {
-        return out->runs[0].status;
-    }
-    /* group the sizes' modes: a mode of size w joins the first reported mode it matches */
-    const int m = cfg->num_outputs;
-    int support[OKID_MAX_ORDER] = {0};
-    for (int w = 0; w < out->num_runs; ++w) {
-        if (out->runs[w].status == OKID_OK) {
-            mode_windows_add(&out->criteria, &out->runs[w].selection, w, m, out->modes, &out->num_modes, support);
-        }
-    }
-    mode_windows_keep(out->modes, &out->num_modes, out->num_runs > 1 ? 2 : 1); /* two of three sizes; one size alone */
-    mode_windows_order(&out->runs[0].table, &out->criteria, out->modes, out->num_modes, m, &out->order,
-                       &out->order_holds_all);
-    if (out->num_modes == 0) out->order = 0; /* no mode: the gap order */
-    return OKID_OK;
+    return combine(out, cfg->num_outputs);
+}
+
+okid_status ambient_modes_of(okid_ambient *amb, const okid_ambient_config *cfg, ambient_modes *out)
+{
+    memset(out, 0, sizeof *out);
+    ambient_choice *c = &out->choice;
+    c->hankel_given = 1;
+    c->no_band = 1; /* a stream has no record to take the band from */
+    c->windows[0] = cfg->hankel_rows;
+    c->num_windows = 1;
+    c->max_order = AMBIENT_TABLE_ORDERS;
+    c->frequency_min_hz = 0;
+    c->frequency_max_hz = 0.8 * 0.5 / (double)cfg->dt;
+    default_criteria(c, &out->criteria);
+    out->num_runs = 1;
+    out->runs[0].status = run_size(&out->runs[0], amb, cfg, cfg->hankel_rows, c->max_order, &out->criteria);
+    return combine(out, cfg->num_outputs);
 }
 
 const char *ambient_pole_verdict(const ambient_modes *am, const okid_mode *pole, int m)

@@ -66,6 +66,16 @@ typedef struct ambient_modes {
 okid_status ambient_modes_find(const okid_ambient_config *cfg, int hankel_given, const auto_band *band, size_t n,
                                const okid_real *y, const okid_mode_selection_criteria *criteria, ambient_modes *out);
 
+/*
+ * The physical modes of a streaming identifier's sums (okid.AmbientIdentifier with order 0): amb,
+ * initialised with cfg (order 0, so that its workspace holds every order of the table), at its one
+ * Hankel size: the table of the even orders 2..min(60, L min(m, r_ref)) and the selection in the
+ * band [0, 0.8 Nyquist] (a stream has no record to take the 5 % frequency from, as in the
+ * identifier FMU). amb's sums and last result are unchanged; out->order is the order to identify
+ * at (okid_ambient_identify_order()), 0 when no mode was found. Returns OKID_OK or the table's failure.
+ */
+okid_status ambient_modes_of(okid_ambient *amb, const okid_ambient_config *cfg, ambient_modes *out);
+
 /* Why a pole of the reported model is not one of the reported modes, or NULL when it is. */
 const char *ambient_pole_verdict(const ambient_modes *am, const okid_mode *pole, int m);
 

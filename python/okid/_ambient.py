@@ -105,18 +105,7 @@ def identify_ambient(y: Any, dt: float, *, hankel_rows: int = 0, order: int = 0,
     if res["rejected_samples"]:
         _warnings.warn("samples with a NaN or Inf were skipped (a gap in the correlations)", NonFiniteSampleWarning,
                        stacklevel=2)
-    m = data.shape[1]
-    modes = modes_from_dicts(res["modes"])
-    poles = chosen = None
-    if res["auto_json"] is not None:
-        doc = json.loads("{" + res["auto_json"].lstrip().lstrip(",") + "}")
-        chosen = MappingProxyType({k: MappingProxyType(v) if isinstance(v, dict) else v
-                                   for k, v in doc["chosen"].items()})
-        poles = tuple(Pole(**{f.name: getattr(md, f.name) for f in fields(Mode)},
-                           verdict="rejected" if why else "physical", reason=why)
-                      for md, why in zip(modes, res["verdicts"]))
-        modes = tuple(SelectedMode(**d) for d in res["selected"])
-    return _result(res, modes, refs, m, poles, chosen)
+    return _result(res, refs, data.shape[1])
 
 
 def _references(references: Optional[Sequence[int]]) -> List[int]:
@@ -136,9 +125,19 @@ def _refuse(status: int, field: str, value: float, lo: float, hi: float, what: s
     check(status, what)
 
 
-def _result(res: Dict[str, Any], modes: Tuple[Mode, ...], refs: List[int], m: int, poles: Any = None,
-            chosen: Any = None) -> AmbientResult:
-    """The AmbientResult of the binding's result dict."""
+def _result(res: Dict[str, Any], refs: List[int], m: int) -> AmbientResult:
+    """The AmbientResult of the binding's result dict: with the order chosen (its "auto_json"), the
+    physical modes as modes, every pole of the model with its verdict and the choices."""
+    modes = modes_from_dicts(res["modes"])
+    poles = chosen = None
+    if res["auto_json"] is not None:
+        doc = json.loads("{" + res["auto_json"].lstrip().lstrip(",") + "}")
+        chosen = MappingProxyType({k: MappingProxyType(v) if isinstance(v, dict) else v
+                                   for k, v in doc["chosen"].items()})
+        poles = tuple(Pole(**{f.name: getattr(md, f.name) for f in fields(Mode)},
+                           verdict="rejected" if why else "physical", reason=why)
+                      for md, why in zip(modes, res["verdicts"]))
+        modes = tuple(SelectedMode(**d) for d in res["selected"])
     return AmbientResult(
         order=res["order"], A=res["A"], C=res["C"], G=res["G"], correlations=res["correlations"],
         singular_values=res["singular_values"], realization_condition=res["realization_condition"],
@@ -166,13 +165,18 @@ class AmbientIdentifier(StaysHere):
     [s]. The correlation sums of lags 0..2 hankel_rows live in a workspace of fixed size
     (``workspace_bytes``), the same for any number of samples pushed.
 
-    What identify_ambient does that a stream cannot: it removes each channel's mean from the whole
-    record first, and with ``hankel_rows=0`` or ``order=0`` chooses them from the record (the band,
-    the physical modes). Here the samples are summed as pushed, so they should have zero mean
-    (subtract a known offset, or high-pass them, before pushing); hankel_rows must be given (1..),
-    and order 0 is the library's choice, the largest gap of the Hankel singular values. With the
-    same record minus its mean, the same hankel_rows and order, identify() gives identify_ambient's
-    result. One identifier serves one thread at a time (a second raises okid.ConcurrentUseError);
+    With order 0 (the default) identify() gives the physical modes, as identify_ambient does with
+    hankel_rows given: the stabilization table of the even orders 2..min(60, hankel_rows m) of the
+    sums so far, the selection of docs/ambient.md, ``modes`` the physical modes (okid.SelectedMode),
+    ``poles`` every pole of the model at the lowest order that holds them with its verdict, and
+    ``chosen`` the order's reason; none found: the largest-gap model, no modes and
+    WarningFlag.NO_PHYSICAL_MODE. What identify_ambient does that a stream cannot: it removes each
+    channel's mean from the whole record first, chooses hankel_rows from the record's band when it
+    is 0 (here it must be given, 1..), checks the modes at two more Hankel sizes, and starts the
+    selection's band at a third of the record's 5 % frequency (here at 0 Hz, as the identifier
+    FMU). Here the samples are summed as pushed, so they should have zero mean (subtract a known
+    offset, or high-pass them, before pushing). With the same record minus its mean, the same
+    hankel_rows and a given order, identify() gives identify_ambient's result. One identifier serves one thread at a time (a second raises okid.ConcurrentUseError);
     push() and identify() release the GIL. Usable as a context manager (the workspace is freed).
     """
 
@@ -249,7 +253,7 @@ class AmbientIdentifier(StaysHere):
             raise error_for(status, f"{self._samples} samples pushed: no pair at lag 2 hankel_rows = "
                                     f"{2 * self.hankel_rows} yet (at least {2 * self.hankel_rows + 1} consecutive)")
         check(status, "identify")
-        return _result(res, modes_from_dicts(res["modes"]), self._refs, self.num_outputs)
+        return _result(res, self._refs, self.num_outputs)
 
     def reset(self) -> None:
         """Forget every sample (okid_ambient_reset()); the settings and the workspace stay."""

@@ -66,6 +66,22 @@ nb::dict selected_dict(const ambient_modes &am, int k, int m)
     return selected_mode_dict(*md.selected, am.runs[md.window].table.num_orders, md.windows, am.num_runs, m);
 }
 
+// The selection's JSON ("chosen", "modes", "poles"), its physical modes and the verdict of each pole of res, into
+// d; none found: OKID_W_NO_PHYSICAL_MODE in its warnings, as the identifier FMU sets it.
+void modes_into(nb::dict &d, const ambient_modes &am, const okid_ambient_result &res, int m)
+{
+    if (am.num_modes == 0) d["warnings"] = res.warnings | (unsigned)OKID_W_NO_PHYSICAL_MODE;
+    d["auto_json"] = write_to_string([&](FILE *out) { ambient_modes_json(out, &am, &res, m); });
+    nb::list selected, verdicts;
+    for (int k = 0; k < am.num_modes; ++k) selected.append(selected_dict(am, k, m));
+    for (int i = 0; i < res.num_modes; ++i) {
+        const char *why = ambient_pole_verdict(&am, &res.modes[i], m);
+        verdicts.append(why ? nb::cast(std::string(why)) : nb::none());
+    }
+    d["selected"] = selected;
+    d["verdicts"] = verdicts;
+}
+
 struct ModesFree {
     void operator()(ambient_modes *am) const noexcept
     {
@@ -228,17 +244,7 @@ void bind_ambient(nb::module_ &m)
             nb::dict d = result_dict(res, mo, cfg.hankel_rows, band_hz);
             d["rejected_samples"] = push_status == OKID_E_NONFINITE_SAMPLE;
             d["auto_json"] = nb::none();
-            if (am) {
-                d["auto_json"] = write_to_string([&](FILE *out) { ambient_modes_json(out, am.get(), &res, mo); });
-                nb::list selected, verdicts;
-                for (int k = 0; k < am->num_modes; ++k) selected.append(selected_dict(*am, k, mo));
-                for (int i = 0; i < res.num_modes; ++i) {
-                    const char *why = ambient_pole_verdict(am.get(), &res.modes[i], mo);
-                    verdicts.append(why ? nb::cast(std::string(why)) : nb::none());
-                }
-                d["selected"] = selected;
-                d["verdicts"] = verdicts;
-            }
+            if (am) modes_into(d, *am, res, mo);
             return nb::make_tuple((int)OKID_OK, std::string(), 0.0, 0.0, 0.0, d);
         },
         nb::arg("y"), nb::arg("dt"), nb::arg("hankel_rows"), nb::arg("order"), nb::arg("references"),
@@ -295,14 +301,32 @@ void bind_ambient(nb::module_ &m)
                  if (!guard.acquired()) return nb::make_tuple(STATUS_BUSY, nb::none());
                  okid_ambient_result res{};
                  int st;
+                 // order 0: the physical modes of the one Hankel size, then the model at the lowest
+                 // order that holds them, from the same sums (ambient_modes_of); else the given order
+                 std::unique_ptr<ambient_modes, ModesFree> am;
                  {
                      nb::gil_scoped_release release;
-                     st = okid_ambient_identify(&self.amb, &res);
+                     if (self.cfg.order == 0) {
+                         am.reset(static_cast<ambient_modes *>(std::calloc(1, sizeof(ambient_modes))));
+                         if (!am) throw std::bad_alloc();
+                         st = ambient_modes_of(&self.amb, &self.cfg, am.get());
+                         if (st == OKID_OK) {
+                             st = am->order > 0 ? okid_ambient_identify_order(&self.amb, am->order, &res)
+                                                : okid_ambient_identify(&self.amb, &res);
+                         }
+                     } else {
+                         st = okid_ambient_identify(&self.amb, &res);
+                     }
                  }
                  if (st != OKID_OK) return nb::make_tuple(st, nb::none());
-                 return nb::make_tuple(st, result_dict(res, self.cfg.num_outputs, self.cfg.hankel_rows, 0.0));
+                 const int mo = self.cfg.num_outputs;
+                 nb::dict d = result_dict(res, mo, self.cfg.hankel_rows, 0.0);
+                 d["auto_json"] = nb::none();
+                 if (am) modes_into(d, *am, res, mo);
+                 return nb::make_tuple(st, d);
              },
-             "okid_ambient_identify: (status, result dict or None).")
+             "okid_ambient_identify of the sums so far: (status, result dict or None); with order 0 the physical "
+             "modes of the one Hankel size and the model at the lowest order that holds them.")
         .def("reset", [](AmbientCore &self) {
             UseGuard guard(self.busy);
             return guard.acquired() ? (int)okid_ambient_reset(&self.amb) : STATUS_BUSY;

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 import okid
-from test_ambient import DT, ambient_record
+from test_ambient import DT, ambient_record, exact_modes
 
 L, ORDER = 20, 4
 
@@ -167,3 +167,55 @@ def test_a_read_only_block_is_pushed_as_is():
         warnings.simplefilter("error")
         assert amb.push(y) == 2000
     assert amb.identify().samples == 2000
+
+
+def test_order_zero_gives_the_physical_modes_of_identify_ambient():
+    """order 0 (the default): the physical modes of the one Hankel size, as identify_ambient gives them
+    with hankel_rows given, and the model at the lowest order that holds them (okid/ambient.h,
+    okid_ambient_identify_order: the same sums, no second pass). The two take their tables from
+    identifiers whose workspaces hold different largest orders (the stream's L m, the batch's 60
+    at most), so the realization's leading dimensions differ: a kernel whose path depends on them
+    moves the modes at round-off times the realization's condition (about 3 here), hence rtol 1e-9,
+    as test_ambient_modes allows the same comparison. The exact modes (NumPy's eigenvalues of the
+    continuous plant) are the independent check: within 2 % in frequency, the selection's own gate.
+    This record (20 000 samples at 0.05 s) holds the 0.50 Hz mode; the 1.05 Hz one (damped 33 %)
+    is selected by neither path at L = 20, 40 or 60 (measured), nor by identify_ambient's own L."""
+    y = integer_record()
+    whole = okid.identify_ambient(y, DT, hankel_rows=L)
+    amb = okid.AmbientIdentifier(2, DT, hankel_rows=L)
+    amb.push(y)
+    res = amb.identify()
+    assert all(isinstance(md, okid.SelectedMode) for md in res.modes)
+    assert len(res.modes) == len(whole.modes) >= 1
+    np.testing.assert_allclose([md.frequency_hz for md in res.modes], [md.frequency_hz for md in whole.modes],
+                               rtol=1e-9)
+    np.testing.assert_allclose([md.damping_ratio for md in res.modes], [md.damping_ratio for md in whole.modes],
+                               rtol=1e-9)
+    exact_f = np.array([f for f, _ in exact_modes()])
+    for md in res.modes:
+        f = exact_f[np.argmin(np.abs(exact_f - md.frequency_hz))]
+        assert abs(md.frequency_hz - f) <= 0.02 * f, (md.frequency_hz, f)
+    assert res.order == whole.order and res.A.shape == (res.order, res.order)
+    assert res.chosen["order"]["reason"] == whole.chosen["order"]["reason"]
+    assert res.chosen["hankel_rows"] == {"value": L, "chosen": False, "reason": "given"}
+    assert list(res.chosen["selection_band_hz"]) == [0, 0.8 * 0.5 / DT]  # a stream has no 5 % frequency
+    assert [p.verdict for p in res.poles].count("physical") == sum(1 for md in res.modes if md.is_pair)
+    assert not res.warnings & okid.WarningFlag.NO_PHYSICAL_MODE
+    given = okid.AmbientIdentifier(2, DT, hankel_rows=L, order=res.order)  # the order given: no selection
+    given.push(y)
+    fixed = given.identify()
+    assert fixed.poles is None and fixed.chosen is None
+    np.testing.assert_allclose(fixed.frequencies_hz, [p.frequency_hz for p in res.poles], rtol=1e-9)
+
+
+def test_no_physical_mode_says_so():
+    """A Hankel matrix too small for one pair (L = 1 with one reference: order 1 at most) selects
+    nothing: no modes, the largest-gap model's poles each with its verdict, and the warning flag."""
+    y = integer_record(samples=4000)
+    amb = okid.AmbientIdentifier(2, DT, hankel_rows=1, references=[0])
+    amb.push(y)
+    res = amb.identify()
+    assert res.modes == () and res.order == 1
+    assert res.warnings & okid.WarningFlag.NO_PHYSICAL_MODE
+    assert res.chosen["order"]["reason"] == "no physical mode: the largest singular-value gap"
+    assert all(p.verdict == "rejected" for p in res.poles)

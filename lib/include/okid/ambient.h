@@ -202,6 +202,18 @@ typedef struct okid_ambient_result {
 okid_status okid_ambient_identify(okid_ambient *amb, okid_ambient_result *result);
 
 /**
+ * okid_ambient_identify() at a given order, the configuration's order unchanged: after the
+ * physical modes of okid_ambient_stabilization_compute() and okid_select_modes(), the model at
+ * the lowest order that holds them, from the same sums (no second pass over the record). With the
+ * configuration's order 0 the workspace holds every order up to min(L min(m, r_ref),
+ * OKID_MAX_ORDER); with a given order, that order at most. order = the configuration's order
+ * (> 0) gives okid_ambient_identify()'s result bit for bit.
+ * \return those of okid_ambient_identify(); OKID_E_BAD_ORDER for order outside 1..the largest
+ *         the workspace holds (the sums and the last result unchanged)
+ */
+okid_status okid_ambient_identify_order(okid_ambient *amb, int order, okid_ambient_result *result);
+
+/**
  * Stabilization workspace bytes as a constant expression: m outputs, r_ref references (0 = m), L
  * block rows, the largest order and the order step. Equals okid_ambient_stabilization_workspace_size();
  * saturates at SIZE_MAX.

@@ -425,12 +425,12 @@ okid_status okid_ambient_scales_(const okid_ambient *amb, okid_real *scales)
     return channel_scales(&amb->sums_, rms, scales);
 }
 
-/* ERA, modes and indicators into set from its correlations; the scratch is s. */
-static okid_status realize_modes(const okid_ambient *amb, okid_ambient_result_set_ *set, const ambient_scratch *s,
-                                 unsigned *warnings, int *order, int *num_modes)
+/* ERA at `requested` (0: the largest gap), modes and indicators into set from its correlations; the scratch is s. */
+static okid_status realize_modes(const okid_ambient *amb, int requested, okid_ambient_result_set_ *set,
+                                 const ambient_scratch *s, unsigned *warnings, int *order, int *num_modes)
 {
     const int m = amb->sums_.m, nref = amb->nref_, L = amb->cfg_.hankel_rows;
-    const okid_era_problem problem = {nref, m, nref, L, L, amb->cfg_.order, amb->nmax_, set->correlations, NULL,
+    const okid_era_problem problem = {nref, m, nref, L, L, requested, amb->nmax_, set->correlations, NULL,
                                       s->scales};
     const okid_era_output out = {set->sv, set->a, set->g, set->c, set->d, NULL};
     okid_status st = okid_era_realize(&problem, &s->era, &out, order, warnings);
@@ -531,14 +531,9 @@ static int segment_spread(const okid_ambient *amb, okid_ambient_result_set_ *set
     return used;
 }
 
-okid_status okid_ambient_identify(okid_ambient *amb, okid_ambient_result *result)
+/* okid_ambient_identify() at `requested` (0: the largest gap), validated by the callers. */
+static okid_status identify_at(okid_ambient *amb, int requested, okid_ambient_result *result)
 {
-    if (amb == NULL || result == NULL) {
-        return OKID_E_NULL_POINTER;
-    }
-    if (!ambient_ready(amb)) {
-        return OKID_E_NOT_INITIALIZED;
-    }
     const okid_correlation_sums_ *sums = &amb->sums_;
     const uint64_t pairs = okid_corr_pairs(sums, -1, sums->lags);
     if (pairs == 0) {
@@ -556,7 +551,7 @@ okid_status okid_ambient_identify(okid_ambient *amb, okid_ambient_result *result
     }
     unsigned warnings = 0;
     int n = 0, num_modes = 0;
-    st = realize_modes(amb, set, &s, &warnings, &n, &num_modes);
+    st = realize_modes(amb, requested, set, &s, &warnings, &n, &num_modes);
     if (st != OKID_OK) {
         return st;
     }
@@ -594,4 +589,29 @@ okid_status okid_ambient_identify(okid_ambient *amb, okid_ambient_result *result
     amb->has_result_ = 1;
     *result = set->result;
     return OKID_OK;
+}
+
+okid_status okid_ambient_identify(okid_ambient *amb, okid_ambient_result *result)
+{
+    if (amb == NULL || result == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    if (!ambient_ready(amb)) {
+        return OKID_E_NOT_INITIALIZED;
+    }
+    return identify_at(amb, amb->cfg_.order, result);
+}
+
+okid_status okid_ambient_identify_order(okid_ambient *amb, int order, okid_ambient_result *result)
+{
+    if (amb == NULL || result == NULL) {
+        return OKID_E_NULL_POINTER;
+    }
+    if (!ambient_ready(amb)) {
+        return OKID_E_NOT_INITIALIZED;
+    }
+    if (order < 1 || order > amb->nmax_) {
+        return OKID_E_BAD_ORDER;
+    }
+    return identify_at(amb, order, result);
 }
