@@ -88,9 +88,9 @@ def scheduler_overhead_per_task(tasks: int = 2000) -> float:
         return (time.perf_counter() - t0) / tasks
 
 
-def _chain_record(masses: np.ndarray, dampers: np.ndarray, springs: np.ndarray, samples: int):
+def _chain_record(masses: np.ndarray, dampers: np.ndarray, springs: np.ndarray, samples: int, seed: int = 1):
     """A chain between two walls, one force on mass 1, every mass's acceleration with 2 % noise, at
-    100 Hz: (u, y, the continuous state matrix)."""
+    100 Hz: (u, y, the continuous state matrix); seed draws the force and the noise."""
     from okid import model
 
     n = len(masses)
@@ -99,7 +99,7 @@ def _chain_record(masses: np.ndarray, dampers: np.ndarray, springs: np.ndarray, 
     b2[0, 0] = 1
     ac, bc, c, d = model.state_space(m_, r_, k_, b2, acceleration=np.eye(n))
     a, b = model.discretize_zoh(ac, bc, 0.01)
-    rng = np.random.default_rng(1)
+    rng = np.random.default_rng(seed)
     u = rng.standard_normal((samples, 1))
     y, _ = model.simulate(a, b, c, d, u)
     return u, y + 0.02 * np.sqrt(np.mean(y ** 2, axis=0)) * rng.standard_normal(y.shape), ac
