@@ -176,8 +176,9 @@ class AmbientIdentifier(StaysHere):
     selection's band at a third of the record's 5 % frequency (here at 0 Hz, as the identifier
     FMU). Here the samples are summed as pushed, so they should have zero mean (subtract a known
     offset, or high-pass them, before pushing). With the same record minus its mean, the same
-    hankel_rows and a given order, identify() gives identify_ambient's result. One identifier serves one thread at a time (a second raises okid.ConcurrentUseError);
-    push() and identify() release the GIL. Usable as a context manager (the workspace is freed).
+    hankel_rows and a given order, identify() gives identify_ambient's result. One identifier serves
+    one thread at a time (a second raises okid.ConcurrentUseError); push() and identify() release
+    the GIL. Usable as a context manager (the workspace is freed).
     """
 
     _HOLDS = ("the correlation sums", "pickle its AmbientResults, or push the same samples into an "
