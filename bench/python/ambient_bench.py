@@ -15,7 +15,6 @@ unit white forces on every mass, every acceleration with 5 % white sensor noise 
 import argparse
 import math
 import os
-import time
 
 # one BLAS thread for every method: time.process_time counts every thread's CPU, and OpenBLAS's
 # idle threads spin (okid's chain10 call took 363 ms of CPU with the default threads, 61 ms with one)
@@ -24,6 +23,8 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import numpy as np
 import scipy.signal
+
+from cpu_timing import timed
 
 
 def chain(n, k, zeta):
@@ -136,18 +137,18 @@ def main():
         for seed in range(1, args.seeds + 1):
             y = record(case, seed)
             for key, method in methods.items():
-                t0 = time.process_time()
-                f, z = method(y, case["dt"], case["L"], case["order"])
-                times[key].append(time.process_time() - t0)
+                seconds, (f, z) = timed(lambda: method(y, case["dt"], case["L"], case["order"]))
+                times[key].append(seconds)
                 ef, ez = matched_errors(f, z, f_exact, z_exact)
                 errors[key][0].append(ef)
                 errors[key][1].append(ez)
-        print(f"{'method':16s} {'freq rms (worst mode)':>22s} {'damp rms (worst mode)':>22s} {'CPU s / id (median)':>20s}")
+        print(f"{'method':16s} {'freq rms (worst mode)':>22s} {'damp rms (worst mode)':>22s} {'CPU s / id (median)':>20s} {'koma / method':>14s}")
         for key in methods:
             ef, ez = np.array(errors[key][0]), np.array(errors[key][1])
             rf = np.sqrt(np.nanmean(ef ** 2, axis=0)).max()
             rz = np.sqrt(np.nanmean(ez ** 2, axis=0)).max()
-            print(f"{key:16s} {rf:22.3e} {rz:22.3e} {np.median(times[key]):20.4f}")
+            ratio = np.median(times["koma covssi"]) / np.median(times[key]) if "koma covssi" in times else math.nan
+            print(f"{key:16s} {rf:22.3e} {rz:22.3e} {np.median(times[key]):20.5f} {ratio:14.2f}")
 
 
 if __name__ == "__main__":

@@ -16,7 +16,6 @@ import numpy as np
 
 import okid
 from okid import _ambient, _core
-from okid._mode import modes_from_dicts
 
 from ambient_bench import CASES, record
 
@@ -53,7 +52,7 @@ def main():
     print("_core.ambient_identify         ", timed(lambda: _core.ambient_identify(y, dt, L, n, [], 2, 0, 0, None)))
     print("sums: init + push_block        ", timed(sums))
     print("identify and its result dict   ", timed(core.identify))
-    print("the AmbientResult from the dict", timed(lambda: _ambient._result(res, modes_from_dicts(res["modes"]), [], m)))
+    print("the AmbientResult from the dict", timed(lambda: _ambient._result(res, [], m)))
 
 
 if __name__ == "__main__":

@@ -37,7 +37,6 @@ import json  # noqa: E402
 import platform  # noqa: E402
 import statistics  # noqa: E402
 import sys  # noqa: E402
-import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import subprocess  # noqa: E402
@@ -50,6 +49,7 @@ from okid import model  # noqa: E402
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_compare import era_A, mdof_srim, modal, numpy_okid_markov, sippy_subspace  # noqa: E402
 from fleet_bench import _chain_record  # noqa: E402
+from cpu_timing import timed  # noqa: E402
 
 #: the 24-channel record's settings: the cheapest found that recover all 24 modes (docs/benchmarks.md)
 LIGHT = dict(p=20, h=(20, 300))
@@ -150,25 +150,6 @@ def fold_rate(samples):
     out = subprocess.run([str(bench), str(samples)], capture_output=True, text=True, env=dict(os.environ))
     return [f"`OPENBLAS_NUM_THREADS=1 build/bench/okid_fold_rate_bench {samples}` (the same run):", ""] \
         + out.stdout.strip().splitlines()
-
-
-def timed(call, repeats):
-    """(median CPU seconds per call, the last call's value). process_time ticks in milliseconds on
-    Linux, so a call under 20 ms is timed in batches of at least 50 ms and each batch's mean counts:
-    without them the paper case read 0.001-0.002 s for every method and no ratio could be told."""
-    t0 = time.process_time()
-    value = call()
-    first = time.process_time() - t0
-    if first > 10:  # a slow peer runs once
-        return first, value
-    batch = max(1, int(np.ceil(0.05 / max(first, 1e-4)))) if first < 0.02 else 1
-    times = []
-    for _ in range(repeats):
-        t0 = time.process_time()
-        for _ in range(batch):
-            value = call()
-        times.append((time.process_time() - t0) / batch)
-    return statistics.median(times), value
 
 
 def seed_spread(cases, seeds):

@@ -23,6 +23,12 @@ typedef struct okid_correlation_sums_ {
     okid_real *sums;             /* S(0..2L) of each segment: m x nref (2L + 1) each, leading dimension m */
     okid_real *squares;          /* m: sum of y_a(t)^2 */
     uint64_t *pairs;             /* 2L + 1 per segment: products summed at each lag */
+    /* okid_corr_add()'s run of up to OKID__CORR_RUN samples, summed apart from the sums and added
+       to them at its end (or where the segment changes): in float the sums of a long record
+       then keep their digits (docs/ambient.md, "Limits"). */
+    okid_real *partial;          /* m x nref (2L + 1): the run's S(0..2L), then its m squares */
+    int partial_count;           /* samples in the run */
+    int partial_segment;         /* the segment the run adds to */
     /* okid_ambient_push_block()'s batches (OKID__AMB_BATCH samples; NULL with a batch of 1): */
     int batch;                   /* samples summed per matrix product */
     int batching;                /* 1 while hist, not the ring, holds the last references */

@@ -330,11 +330,12 @@
                                 + (OKID__Z(nref) < OKID__Z(m) ? OKID__RB(OKID__Z(m) * OKID__AMB_BATCH) : 0u) \
                           : 0u)
 /* The sums: ring of the last 2L references, S(0..2L) and the pairs per lag of each segment, each
-   output's sum of squares, the batch. */
+   output's sum of squares, the run of okid_ambient_push() (its S(0..2L) and squares), the batch. */
 #define OKID__AMB_PERSISTENT_BYTES(m, nref, L, segments)                                                \
     (OKID__RB(OKID__Z(nref) * 2u * OKID__Z(L))                                                          \
      + OKID__RB(OKID__AMB_SEGS(segments) * OKID__Z(m) * OKID__Z(nref) * OKID__AMB_BLOCKS(L)) + OKID__RB(m) \
-     + OKID__ALIGN16(8u * OKID__AMB_SEGS(segments) * OKID__AMB_BLOCKS(L)) + OKID__AMB_BATCH_BYTES(m, nref, L))
+     + OKID__ALIGN16(8u * OKID__AMB_SEGS(segments) * OKID__AMB_BLOCKS(L))                                   \
+     + OKID__RB(OKID__Z(m) * OKID__Z(nref) * OKID__AMB_BLOCKS(L) + OKID__Z(m)) + OKID__AMB_BATCH_BYTES(m, nref, L))
 /* One result set: R(0..2L), singular values, A, G, C, D = R(0), modes and their shapes, the modes'
    two standard deviations. */
 #define OKID__AMB_RESULT_BYTES(m, nref, L, n, mode_bytes)                                                 \

@@ -74,6 +74,7 @@ static uint64_t carve_persistent(int m_, int nref_, int lags_, int n_, int segme
     sums->sums = okid_carve_reals(&c, segs * m * nref * blocks);
     sums->squares = okid_carve_reals(&c, m);
     sums->pairs = (uint64_t *)okid_carve_bytes(&c, 8u * segs * blocks);
+    sums->partial = okid_carve_reals(&c, m * nref * blocks + m);
     sums->hist = sums->yblock = NULL;
     if (OKID__AMB_BATCH > 1u) {
         sums->hist = okid_carve_reals(&c, nref * (2u * L + OKID__AMB_BATCH));
@@ -351,6 +352,21 @@ okid_status okid_ambient_push(okid_ambient *amb, const okid_real *y)
     return OKID_OK;
 }
 
+#if OKID__AMB_BATCH > 1
+/* How many of the count rows at y (row t at y + t ldy, m values) are finite before the first that is not. */
+static size_t finite_rows(int m, size_t count, const okid_real *y, size_t ldy)
+{
+    for (size_t t = 0; t < count; ++t) {
+        for (int a = 0; a < m; ++a) {
+            if (!okid_is_finite(y[t * ldy + (size_t)a])) {
+                return t;
+            }
+        }
+    }
+    return count;
+}
+#endif
+
 okid_status okid_ambient_push_block(okid_ambient *amb, size_t count, const okid_real *y, size_t ldy,
                                     size_t *accepted)
 {
@@ -374,13 +390,15 @@ okid_status okid_ambient_push_block(okid_ambient *amb, size_t count, const okid_
     {
         /* the same samples, gaps and segments as count pushes; the products summed in batches */
         okid_corr_batch_begin(s);
-        for (size_t t = 0; t < count; ++t) {
-            const okid_real *yt = y + t * ldy;
-            if (okid_all_finite(s->m, 1, yt, s->m)) {
-                okid_corr_batch_add(s, yt);
-                ++good;
-            } else {
+        size_t t = 0;
+        while (t < count) {
+            const size_t run = finite_rows(s->m, count - t, y + t * ldy, ldy);
+            okid_corr_batch_add_rows(s, run, y + t * ldy, ldy);
+            good += run;
+            t += run;
+            if (t < count) { /* a sample with a NaN or Inf: a gap */
                 okid_corr_batch_gap(s);
+                ++t;
             }
         }
         amb->samples_ += good;

@@ -334,6 +334,12 @@ static okid_status decimate_sample(okid_identifier *id, const okid_real *u, cons
     return keep ? accept_sample(id, v, v + r) : OKID_OK;
 }
 
+/* Whether one sample's r inputs and m outputs are all finite (a sample that is not is a gap). */
+static int sample_is_finite(const okid_dims_ *d, const okid_real *u, const okid_real *y)
+{
+    return okid_all_finite(d->r, 1, u, d->r) && okid_all_finite(d->m, 1, y, d->m);
+}
+
 #if !OKID_LINALG_EIGEN
 /*
  * The block path of okid_push_block (host backend; the firmware's Eigen builds keep the per-sample
@@ -353,8 +359,7 @@ static int rows_at_once(const okid_identifier *id, size_t left, const okid_real 
     const size_t room = (size_t)(d->block_rows - id->block_fill_);
     const int most = (int)(left < room ? left : room);
     int run = 0;
-    while (run < most && okid_all_finite(d->r, 1, u + (size_t)run * ldu, d->r) &&
-           okid_all_finite(d->m, 1, y + (size_t)run * ldy, d->m)) {
+    while (run < most && sample_is_finite(d, u + (size_t)run * ldu, y + (size_t)run * ldy)) {
         ++run;
     }
     return run;
@@ -381,7 +386,7 @@ static okid_status accept_rows(okid_identifier *id, int run, const okid_real *u,
 
 static okid_status push_one(okid_identifier *id, const okid_real *u, const okid_real *y)
 {
-    if (!okid_all_finite(id->dims_.r, 1, u, id->dims_.r) || !okid_all_finite(id->dims_.m, 1, y, id->dims_.m)) {
+    if (!sample_is_finite(&id->dims_, u, y)) {
         ++id->rejected_;
         restart_history(id, 0); /* a gap: the next rows must not span it */
         return OKID_E_NONFINITE_SAMPLE;

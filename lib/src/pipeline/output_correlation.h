@@ -23,8 +23,8 @@ void okid_corr_add(okid_correlation_sums_ *s, const okid_real *y);
 
 /*
  * Batches (okid_ambient_push_block(), s->batch > 1): begin copies the ring into the history (once:
- * while batching, pending samples wait for the next call); add takes one finite sample (its square,
- * its count and its segment as okid_corr_add()) and sums the products of a full batch, or of the
+ * while batching, pending samples wait for the next call); add_rows takes count finite samples, row
+ * t at y + t ldy (each one's square, count and segment as okid_corr_add()) and sums the products of a full batch, or of the
  * pending samples before the segment changes, as one matrix product per lag (xGEMM with the LAPACK
  * backend when m r_ref > OKID__CORR_GEMM_MIN, else a register-tiled loop); gap sums the pending
  * samples and empties the history; end (okid_ambient_push(), before its sample) sums them and
@@ -33,7 +33,7 @@ void okid_corr_add(okid_correlation_sums_ *s, const okid_real *y);
  * sample by sample; the sums equal theirs to round-off (docs/ambient.md, "Batched sums").
  */
 void okid_corr_batch_begin(okid_correlation_sums_ *s);
-void okid_corr_batch_add(okid_correlation_sums_ *s, const okid_real *y);
+void okid_corr_batch_add_rows(okid_correlation_sums_ *s, size_t count, const okid_real *y, size_t ldy);
 void okid_corr_batch_gap(okid_correlation_sums_ *s);
 void okid_corr_batch_end(okid_correlation_sums_ *s);
 
