@@ -190,19 +190,21 @@ static int identify(fmi3Instance fmu, const char *xml, const double *u, const do
 }
 
 /*
- * num_inputs 0, num_outputs 3, L = 10, order 0 (the physical modes): y alone; 1 when it identified
- * once. L m = 30 keeps the largest-gap order within the Eigen platforms' 32 (OKID_EIGEN_MAX_ORDER).
+ * num_inputs 0, num_outputs 3, Hankel size L, the order given (0: the physical modes): y alone; 1
+ * when it identified once. L = 20 and order 40 are above what the Eigen platforms held with the
+ * firmware's OKID_EIGEN_MAX_ORDER of 32 (refused there); the FMUs are built with 64.
  */
-static int identify_output_only(fmi3Instance fmu, const char *xml, const double *y)
+static int identify_output_only(fmi3Instance fmu, const char *xml, const double *y, int hankel_rows, int order)
 {
     const fmi3ValueReference sizes[3] = {vr(xml, "num_inputs"), vr(xml, "num_outputs"), vr(xml, "max_modes")};
     const fmi3UInt64 size_values[3] = {0, M, 3};
     check(enter_configuration(fmu), "fmi3EnterConfigurationMode");
     check(set_uint64(fmu, sizes, 3, size_values, 3), "fmi3SetUInt64");
     check(exit_configuration(fmu), "fmi3ExitConfigurationMode");
-    const fmi3ValueReference settings[2] = {vr(xml, "hankel_rows"), vr(xml, "identify_every")}, dt_vr = vr(xml, "dt");
-    const fmi3Int32 values[2] = {10, SAMPLES};
-    check(set_int32(fmu, settings, 2, values, 2), "fmi3SetInt32");
+    const fmi3ValueReference settings[3] = {vr(xml, "hankel_rows"), vr(xml, "identify_every"), vr(xml, "order")},
+                             dt_vr = vr(xml, "dt");
+    const fmi3Int32 values[3] = {hankel_rows, SAMPLES, order};
+    check(set_int32(fmu, settings, 3, values, 3), "fmi3SetInt32");
     check(set_float64(fmu, &dt_vr, 1, &DT, 1), "fmi3SetFloat64");
     check(enter_init(fmu, fmi3False, 0, 0, fmi3False, 0), "fmi3EnterInitializationMode");
     check(exit_init(fmu), "fmi3ExitInitializationMode");
@@ -273,8 +275,13 @@ int main(int argc, char **argv)
         return 1;
     }
     check(reset(fmu), "fmi3Reset");
-    if (!identify_output_only(fmu, xml, y)) {
+    if (!identify_output_only(fmu, xml, y, 10, 0)) {
         fprintf(stderr, "fmu3_chain: the output-only run did not identify\n");
+        return 1;
+    }
+    check(reset(fmu), "fmi3Reset");
+    if (!identify_output_only(fmu, xml, y, 20, 40)) {
+        fprintf(stderr, "fmu3_chain: the output-only run at order 40 did not identify\n");
         return 1;
     }
     terminate(fmu);

@@ -51,7 +51,8 @@ class BadSizeError(ConfigurationError):
 
 
 class BadOrderError(ConfigurationError):
-    """The model order does not fit the observer order or the Hankel matrix (OKID_E_BAD_ORDER)."""
+    """The model order does not fit the observer order or the Hankel matrix, or (Eigen backend) exceeds its
+    OKID_EIGEN_MAX_ORDER (OKID_E_BAD_ORDER)."""
 
 
 class BadParameterError(ConfigurationError):
