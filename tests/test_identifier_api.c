@@ -91,6 +91,20 @@ static void test_invalid_configurations(void **state)
     EXPECT((c.observer_order = 1, c.order = 4), OKID_E_BAD_ORDER); /* m p = 2 < n = 4 */
     EXPECT(c.hankel_rows = 1, OKID_E_BAD_ORDER);                    /* alpha m = 2 < n = 4 */
     EXPECT(c.hankel_cols = 3, OKID_E_BAD_ORDER);                    /* beta r = 3 < n = 4 */
+#if OKID_LINALG_EIGEN
+    /* an order the sizes allow above the eigen-solver's OKID_EIGEN_MAX_ORDER: refused at init with
+       its limit, not left to fail at identify */
+    EXPECT((c.observer_order = OKID_EIGEN_MAX_ORDER, c.hankel_rows = c.hankel_cols = OKID_EIGEN_MAX_ORDER + 1,
+            c.order = OKID_EIGEN_MAX_ORDER + 1),
+           OKID_E_BAD_ORDER);
+    okid_config_issue issue;
+    c = f->cfg;
+    c.observer_order = OKID_EIGEN_MAX_ORDER, c.hankel_rows = c.hankel_cols = OKID_EIGEN_MAX_ORDER + 1;
+    c.order = OKID_EIGEN_MAX_ORDER + 1;
+    assert_int_equal(okid_config_check(&c, &issue), OKID_E_BAD_ORDER);
+    assert_string_equal(issue.field, "order");
+    assert_true(issue.min == 0 && issue.max == OKID_EIGEN_MAX_ORDER);
+#endif
     EXPECT(c.dt = 0, OKID_E_BAD_PARAMETER);
     EXPECT(c.dt = -0.01, OKID_E_BAD_PARAMETER);
     EXPECT(c.dt = NAN, OKID_E_BAD_PARAMETER);

@@ -457,7 +457,10 @@ static fmu_status exit_output_only(identifier_data *d, const fmu_allocator *memo
         fmu_log(logger, FMU_ERROR, "logStatusError", "identifier parameters refused by okid_ambient_workspace_size: "
                 "%s = %.17g, valid %.17g..%.17g for output-only identification%s (okid_status %d) for %s",
                 issue.field ? issue.field : "?", issue.value, issue.min, issue.max,
-                issue.field && strcmp(issue.field, "order") == 0 ? " (at most hankel_rows num_outputs, and 512)" : "",
+                issue.field && strcmp(issue.field, "order") == 0
+                    ? (OKID_LINALG_EIGEN ? " (at most hankel_rows num_outputs, and the Eigen backend's OKID_EIGEN_MAX_ORDER)"
+                                         : " (at most hankel_rows num_outputs, and 512)")
+                    : "",
                 (int)st, values);
         return FMU_ERROR;
     }

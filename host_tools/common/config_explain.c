@@ -66,6 +66,11 @@ const char *config_explain(const okid_config *cfg, okid_status st, config_explai
                  "%lld, more than %d: give %s", largest, OKID_MAX_ORDER,
                  style == CONFIG_EXPLAIN_CLI ? "--order" : style == CONFIG_EXPLAIN_PYTHON ? "order=<n>"
                                                                        : "the parameter order a value");
+    } else if (st == OKID_E_BAD_ORDER && cfg->order <= largest) { /* within the sizes: a build's limit */
+        snprintf(hint, sizeof hint, "; %s%d is above %s", spelled(style, "order", name, sizeof name), cfg->order,
+                 OKID_LINALG_EIGEN && cfg->order <= OKID_MAX_ORDER
+                     ? "the Eigen backend's OKID_EIGEN_MAX_ORDER (its eigen-solver's fixed size)"
+                     : "OKID_MAX_ORDER");
     } else if (st == OKID_E_BAD_ORDER) {
         snprintf(hint, sizeof hint, "; %s%d must be at most min(alpha m, beta columns, m p) = "
                  "min(%lld, %lld, %lld) = %lld", spelled(style, "order", name, sizeof name), cfg->order, hankel,

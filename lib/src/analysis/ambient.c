@@ -209,6 +209,11 @@ static okid_status ambient_dims(const okid_ambient_config *cfg, okid_config_issu
     if (cfg->order < 0 || cfg->order > order_max) {
         return refuse(issue, OKID_E_BAD_ORDER, "order", cfg->order, 0, order_max);
     }
+#if OKID_LINALG_EIGEN
+    if (cfg->order > OKID_EIGEN_MAX_ORDER) { /* the eigen-solver's fixed size, as okid_config_check() */
+        return refuse(issue, OKID_E_BAD_ORDER, "order", cfg->order, 0, OKID_EIGEN_MAX_ORDER);
+    }
+#endif
     *nmax = cfg->order > 0 ? cfg->order : order_max;
     if (cfg->segments < 0 || cfg->segments > OKID_AMBIENT_MAX_SEGMENTS) {
         return refuse(issue, OKID_E_BAD_SIZE, "segments", cfg->segments, 0, OKID_AMBIENT_MAX_SEGMENTS);

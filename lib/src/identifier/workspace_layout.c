@@ -166,6 +166,13 @@ okid_status okid_layout_dims(const okid_config *cfg, okid_dims_ *dims, okid_conf
     if (cfg->order < 0 || cfg->order > order_limit) {
         return refuse(issue, OKID_E_BAD_ORDER, "order", cfg->order, 0, order_limit);
     }
+#if OKID_LINALG_EIGEN
+    /* the eigen-solver's fixed size (CMake OKID_EIGEN_MAX_ORDER): a given order above it is refused
+       here, not left to fail at identify */
+    if (cfg->order > OKID_EIGEN_MAX_ORDER) {
+        return refuse(issue, OKID_E_BAD_ORDER, "order", cfg->order, 0, OKID_EIGEN_MAX_ORDER);
+    }
+#endif
     if (cfg->order > 0) {
         dims->max_order = cfg->order;
     } else {
