@@ -13,6 +13,7 @@
 #include "pipeline/era.h"
 
 #include "numerics/dense.h"
+#include "okid/sizes.h" /* OKID__LWORK_GESVD: the SVD work's size */
 #include "numerics/linalg.h"
 #include "numerics/real_math.h"
 
@@ -119,28 +120,65 @@ okid_status okid_era_realize(const okid_era_problem *pb, const okid_era_scratch 
         return OKID_E_RANK_DEFICIENT;
     }
 
-    /* T = H(1) V_n, block row by block row: each row's n sums side by side, each in the order of
-       H(1)'s columns (the bits of one sum at a time), each element of H(1) formed once and V'
-       read down its columns (a row of V' at a time strode ldvt and formed every element n times:
-       half of a 5-observer automatic identification's time) */
-    for (int i = 0; i < alpha; ++i) {
-        for (int a = 0; a < m; ++a) {
-            okid_real *row = &OKID_AT(v->t, hr, i * m + a, 0);
-            for (int t = 0; t < n; ++t) row[(size_t)t * (size_t)hr] = 0;
-            for (int j = 0; j < beta; ++j) {
-                for (int l = 0; l < nc; ++l) {
-                    const okid_real g = gamma_at(pb, col_scale, i + j + 2, a, l);
-                    const okid_real *vt_col = &OKID_AT(v->vt, ldvt, 0, j * nc + l);
-                    for (int t = 0; t < n; ++t) row[(size_t)t * (size_t)hr] += g * vt_col[t];
+    /* T = H(1) V_n. Each of its sums runs in the order of H(1)'s columns, the bits of one sum at a
+       time; each element of H(1) is formed once, and V' is read down its columns (a row of V' at a
+       time strode ldvt and formed every element n times: half of a 5-observer automatic
+       identification's time). With room for one column of H(1) in the SVD's work, free now, each
+       column updates T's columns as contiguous multiply-adds; else (a tiny Hankel matrix on the
+       Eigen backend) each row of T at a time. */
+    if ((size_t)hr <= (size_t)OKID__LWORK_GESVD(hr, hc)) {
+        okid_real *column = v->work;
+        for (int t = 0; t < n; ++t) {
+            for (int row = 0; row < hr; ++row) OKID_AT(v->t, hr, row, t) = 0;
+        }
+        for (int j = 0; j < beta; ++j) {
+            for (int l = 0; l < nc; ++l) {
+                for (int i = 0; i < alpha; ++i) {
+                    for (int a = 0; a < m; ++a) column[i * m + a] = gamma_at(pb, col_scale, i + j + 2, a, l);
+                }
+                for (int t = 0; t < n; ++t) {
+                    const okid_real vt_tc = OKID_AT(v->vt, ldvt, t, j * nc + l);
+                    okid_real *t_col = &OKID_AT(v->t, hr, 0, t);
+                    for (int row = 0; row < hr; ++row) t_col[row] += column[row] * vt_tc;
+                }
+            }
+        }
+    } else {
+        for (int i = 0; i < alpha; ++i) {
+            for (int a = 0; a < m; ++a) {
+                okid_real *row = &OKID_AT(v->t, hr, i * m + a, 0);
+                for (int t = 0; t < n; ++t) row[(size_t)t * (size_t)hr] = 0;
+                for (int j = 0; j < beta; ++j) {
+                    for (int l = 0; l < nc; ++l) {
+                        const okid_real g = gamma_at(pb, col_scale, i + j + 2, a, l);
+                        const okid_real *vt_col = &OKID_AT(v->vt, ldvt, 0, j * nc + l);
+                        for (int t = 0; t < n; ++t) row[(size_t)t * (size_t)hr] += g * vt_col[t];
+                    }
                 }
             }
         }
     }
+    /* A = S^-1/2 U_n' T S^-1/2: four of its sums side by side (one add's latency per row had bound
+       each alone), each still in row order */
     for (int t = 0; t < n; ++t) {
-        for (int s = 0; s < n; ++s) {
+        const okid_real *t_col = &OKID_AT(v->t, hr, 0, t);
+        int s = 0;
+        for (; s + 4 <= n; s += 4) {
+            const okid_real *u0 = &OKID_AT(u, ldh, 0, s), *u1 = u0 + ldh, *u2 = u1 + ldh, *u3 = u2 + ldh;
+            okid_real acc0 = 0, acc1 = 0, acc2 = 0, acc3 = 0;
+            for (int row = 0; row < hr; ++row) {
+                const okid_real x = t_col[row];
+                acc0 += u0[row] * x, acc1 += u1[row] * x, acc2 += u2[row] * x, acc3 += u3[row] * x;
+            }
+            OKID_AT(out->a, n, s, t) = acc0 / okid_sqrt(sv[s] * sv[t]);
+            OKID_AT(out->a, n, s + 1, t) = acc1 / okid_sqrt(sv[s + 1] * sv[t]);
+            OKID_AT(out->a, n, s + 2, t) = acc2 / okid_sqrt(sv[s + 2] * sv[t]);
+            OKID_AT(out->a, n, s + 3, t) = acc3 / okid_sqrt(sv[s + 3] * sv[t]);
+        }
+        for (; s < n; ++s) {
             okid_real acc = 0;
             for (int row = 0; row < hr; ++row) {
-                acc += OKID_AT(u, ldh, row, s) * OKID_AT(v->t, hr, row, t);
+                acc += OKID_AT(u, ldh, row, s) * t_col[row];
             }
             OKID_AT(out->a, n, s, t) = acc / okid_sqrt(sv[s] * sv[t]);
         }
