@@ -273,7 +273,7 @@ void ambient_modes_json(FILE *out, const ambient_modes *am, const okid_ambient_r
     fputs("}", out);
     int orders[3] = {0, 0, 0};
     for (int w = 0; w < am->num_runs; ++w) orders[w] = am->runs[w].table.num_orders;
-    mode_windows_json(out, am->modes, am->num_modes, orders, am->num_runs, res->modes, res->num_modes, &am->criteria, m,
+    mode_windows_json(out, am->modes, am->num_modes, orders, am->num_runs, 0, NULL, res->modes, res->num_modes, &am->criteria, m,
                       AMBIENT_UNSTABLE_ACROSS);
 }
 

@@ -73,7 +73,10 @@ okid_status auto_identify(const auto_request *rq, auto_identification *out)
         }
         if (st != OKID_OK) return fail(out, AUTO_FAILED_MODES, st);
         /* the model: the order whose poles hold the physical modes, else the library's own choice */
-        cfg->order = out->modes->num_modes > 0 ? out->modes->order : out->modes->runs[0].result.order;
+        const auto_modes *am = out->modes;
+        cfg->order = am->num_modes > 0 ? am->order : am->observers[0].runs[0].result.order;
+        /* and the observer order whose model holds them */
+        if (am->num_modes > 0) cfg->observer_order = choice->observer_order = choice->observer_orders[am->observer];
     }
     if ((st = okid_workspace_size(cfg, &out->workspace_bytes)) != OKID_OK) return fail(out, AUTO_FAILED_SETTINGS, st);
     out->workspace = aligned_alloc(OKID_WORKSPACE_ALIGN, (out->workspace_bytes + 15) / 16 * 16);
@@ -91,7 +94,7 @@ okid_status auto_identify(const auto_request *rq, auto_identification *out)
 
 okid_identifier *auto_failed_identifier(auto_identification *out)
 {
-    return out->failure == AUTO_FAILED_MODES ? &out->modes->runs[0].id
+    return out->failure == AUTO_FAILED_MODES ? &out->modes->observers[0].runs[0].id
            : out->failure == AUTO_FAILED_MODEL ? &out->id
                                                : NULL;
 }

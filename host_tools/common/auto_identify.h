@@ -37,7 +37,7 @@ typedef enum auto_failure {
     AUTO_FAILED_HORIZONS,  /* okid_config_horizons refused the spans in seconds */
     AUTO_FAILED_SETTINGS,  /* okid_workspace_size refused the settings (config_explain words it) */
     AUTO_FAILED_DATA,      /* too few samples for the settings: `shortfall` says so */
-    AUTO_FAILED_MODES,     /* the main window's identification: its identifier is modes->runs[0].id */
+    AUTO_FAILED_MODES,     /* the main window's identification: its identifier is modes->observers[0].runs[0].id */
     AUTO_FAILED_MODEL,     /* the model's identification: its identifier is `id` */
     AUTO_FAILED_MEMORY     /* no memory for a workspace (the status: OKID_E_WORKSPACE_TOO_SMALL) */
 } auto_failure;

@@ -1,10 +1,12 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /*
- * The physical modes of a record, without an expert: for each Hankel window of the choice
- * (auto_settings.h), the identification, its stabilization table and the automatic selection
- * (okid/mode_selection.h); a mode is reported when the selections of all three windows
- * hold it (one window: its own selection). The model reported is the main window's at the lowest
- * order whose poles hold every reported mode. docs/quality.md, section 8.
+ * The physical modes of a record, without an expert: for each observer order and each Hankel window
+ * of the choice (auto_settings.h), the identification, its stabilization table and the automatic
+ * selection (okid/mode_selection.h); an observer order holds a mode when the selections of all
+ * three windows hold it (one window: its own selection), and a mode is reported when most observer
+ * orders hold it (one observer order given: its own). The model reported is that of the shortest
+ * observer whose main window has an order whose poles hold every reported mode, at the lowest such
+ * order. docs/quality.md, section 8.
  */
 #ifndef OKID_CLI_AUTO_MODES_H
 #define OKID_CLI_AUTO_MODES_H
@@ -17,8 +19,6 @@
 
 /* The selection's damping limit here: above 1/sqrt(2) a mode has no resonance peak. */
 #define AUTO_DAMPING_MAX 0.70710678118654752
-/* The verdict of a pole that passes every hard criterion but no window holds. */
-#define AUTO_UNSTABLE_ACROSS "not stable across orders and windows"
 
 /* One window's identification, table and selection (each in its own heap workspace). */
 typedef struct auto_run {
@@ -33,26 +33,55 @@ typedef struct auto_run {
     okid_status status;  /* OKID_OK when the selection is valid */
 } auto_run;
 
-typedef struct auto_modes {
+/* The modes of one observer order: its windows' runs and the modes all of them hold. */
+typedef struct auto_observer {
     auto_run runs[3];
-    int num_runs;
+    auto_mode modes[OKID_MAX_ORDER];
+    int num_modes;
+} auto_observer;
+
+/* Two observer orders' modes are one mode when within this relative frequency distance (and of
+   the selection's MAC): the observer's span moves a physical mode by up to 3 % on the real records
+   (0.967-1.003 Hz on Hayward, 0.5-0.9 T), the consensus grid's own grouping (quality.md section 7). */
+#define AUTO_OBSERVER_DISTANCE 0.03
+/* The verdict of a pole that passes every hard criterion but no observer order's windows hold. */
+#define AUTO_UNSTABLE_ACROSS "not stable across orders, windows and observer orders"
+
+typedef struct auto_modes {
+    auto_observer observers[AUTO_OBSERVERS];
+    int num_observers;    /* observer orders run (choice->num_observers) */
+    int valid_observers;  /* of them, those whose main window identified */
+    int observer;         /* index of the observer order of the reported model */
+    int num_runs;         /* windows per observer order */
     okid_mode_selection_criteria criteria;
     auto_mode modes[OKID_MAX_ORDER];
     int num_modes;
+    /* the observer orders' modes pooled by frequency, each one's group and the groups' state
+       (auto_modes.c's scratch: here, on the heap with the rest, not on the caller's stack) */
+    struct {
+        auto_mode all[AUTO_OBSERVERS * OKID_MAX_ORDER];
+        int group_of[AUTO_OBSERVERS * OKID_MAX_ORDER], last[AUTO_OBSERVERS * OKID_MAX_ORDER];
+        int held[AUTO_OBSERVERS * OKID_MAX_ORDER], size[AUTO_OBSERVERS * OKID_MAX_ORDER];
+        int chosen[AUTO_OBSERVERS * OKID_MAX_ORDER];
+    } pool;
     int order;            /* order of the reported model */
     int order_holds_all;  /* 1 when that order's poles hold every reported mode */
 } auto_modes;
 
 /*
- * Run the windows of choice on the record (n samples; u: r per sample, y: m per sample) with the
- * settings of cfg (its Hankel size is replaced by each window's), select and combine the modes.
- * Returns OKID_OK, or the main window's failure (its identifier then in runs[0].id for the message).
+ * Run the observer orders and windows of choice on the record (n samples; u: r per sample, y: m per
+ * sample) with the settings of cfg (its observer order and Hankel size replaced by each run's),
+ * select and combine the modes. Returns OKID_OK, or the first observer's main window's failure (its
+ * identifier then in observers[0].runs[0].id for the message).
  */
 okid_status auto_modes_find(const auto_choice *choice, const okid_config *cfg, size_t n, const okid_real *u,
                             const okid_real *y, auto_modes *out);
 
 /* Why a pole of the reported model is not one of the reported modes, or NULL when it is. */
 const char *auto_pole_verdict(const auto_modes *am, const okid_mode *pole, int m);
+
+/* The main window of the reported model's observer order: its table and settings. */
+const auto_run *auto_main_run(const auto_modes *am);
 
 void auto_modes_free(auto_modes *am);
 

@@ -18,6 +18,27 @@ static const char *origin(const auto_choice *c, unsigned bit)
     return (c->given & bit) ? "given" : chosen(c, bit) ? "chosen" : "default";
 }
 
+/* Why the observer order is the one chosen (one sentence, no trailing period). */
+static void observer_reason(const auto_choice *c, double step, char *buf, size_t size)
+{
+    const char *capped = c->observer_order == c->observer_orders[0] && c->observer_order == c->observer_limit
+                             ? ", capped by the record's length (ten rows per unknown)" : "";
+    if (c->num_observers <= 1) {
+        snprintf(buf, size, "%.6g s, half the slowest period%s", c->observer_order * step, capped);
+        return;
+    }
+    int used = snprintf(buf, size, "%.6g s (%.2f slowest periods), the model's: the shortest of the observer orders",
+                        c->observer_order * step, c->observer_order * step / c->slowest_period_s);
+    for (int j = 0; j < c->num_observers && used > 0 && (size_t)used < size; ++j) {
+        used += snprintf(buf + used, size - (size_t)used, "%s %d", j ? "," : "", c->observer_orders[j]);
+    }
+    if (used > 0 && (size_t)used < size) {
+        snprintf(buf + used, size - (size_t)used, " (%.1f to %.1f slowest periods, whose modes are combined) whose "
+                 "model holds every physical mode%s", AUTO_OBSERVER_FIRST,
+                 AUTO_OBSERVER_FIRST + (AUTO_OBSERVERS - 1) * AUTO_OBSERVER_STEP, capped);
+    }
+}
+
 void auto_print_choice(const auto_choice *c, double dt)
 {
     const double step = c->decimation * dt;
@@ -34,8 +55,9 @@ void auto_print_choice(const auto_choice *c, double dt)
     }
     printf("\nobserver order %d (%s)", c->observer_order, origin(c, AUTO_GIVEN_OBSERVER));
     if (chosen(c, AUTO_GIVEN_OBSERVER)) {
-        printf(": %.3g s, half the slowest period %.3g s (1 / the 5 %% frequency)%s", c->observer_order * step,
-               c->slowest_period_s, c->observer_order == c->observer_limit ? ", capped by the record's length" : "");
+        char reason[320];
+        observer_reason(c, step, reason, sizeof reason);
+        printf(": %s; slowest period %.3g s (1 / the 5 %% frequency)", reason, c->slowest_period_s);
     }
     printf("\nHankel %d x %d (%s)", c->hankel, c->hankel_cols, origin(c, AUTO_GIVEN_HANKEL));
     if (chosen(c, AUTO_GIVEN_HANKEL)) {
@@ -68,26 +90,31 @@ void auto_print_sensor_shape(const okid_mode *md, int m)
 void auto_print_modes(const auto_modes *am, const okid_result *res, const char *const *output_names, int m,
                       int all_poles)
 {
-    const int orders = am->runs[0].table.num_orders;
-    printf("\nphysical modes: %d (stable in at least %d of the %d orders 2..%d of a Hankel window, in %s)\n",
-           am->num_modes, am->runs[0].selection.min_orders, orders, orders > 0 ? am->runs[0].table.orders[orders - 1].order : 0,
+    const auto_run *main_run = auto_main_run(am);
+    const int orders = main_run->table.num_orders;
+    printf("\nphysical modes: %d (stable in at least %d of the %d orders 2..%d of a Hankel window, in %s",
+           am->num_modes, main_run->selection.min_orders, orders, orders > 0 ? main_run->table.orders[orders - 1].order : 0,
            am->num_runs > 1 ? "each of its three windows" : "the one window");
-    if (am->runs[0].selection.exact_last_order) {
+    if (am->num_observers > 1) printf(", and at a majority of its %d observer orders or at the shortest", am->valid_observers);
+    printf(")\n");
+    if (main_run->selection.exact_last_order) {
         printf("(noise-free data: the Hankel matrix has numerical rank %d, so its order-%d model is exact and its modes "
-               "need no higher order to confirm them)\n", am->runs[0].table.rank_limit,
-               am->runs[0].table.orders[orders - 1].order);
+               "need no higher order to confirm them)\n", main_run->table.rank_limit,
+               main_run->table.orders[orders - 1].order);
     }
     if (am->num_modes == 0) {
         printf("warning: no physical mode found: no pole stays put across the orders%s (--all-poles lists the "
                "model's poles and why each was rejected)\n", am->num_runs > 1 ? " and the Hankel windows" : "");
     } else {
-        printf(" mode  frequency [Hz]  damping ratio  f std over orders  damping range    orders  windows  EMAC   MPC\n");
+        printf(" mode  frequency [Hz]  damping ratio  f std over orders  damping range    orders  windows  observers  EMAC   MPC\n");
         for (int k = 0; k < am->num_modes; ++k) {
-            const okid_selected_mode *s = am->modes[k].selected;
-            printf("%5d  %14.6f  %13.6f  %17.3g  %6.4f..%6.4f  %4d/%-3d  %3d/%-3d  %5.3f  %5.3f\n", k + 1,
+            const auto_mode *md = &am->modes[k];
+            const okid_selected_mode *s = md->selected;
+            printf("%5d  %14.6f  %13.6f  %17.3g  %6.4f..%6.4f  %4d/%-3d  %3d/%-3d  %4d/%-4d  %5.3f  %5.3f\n", k + 1,
                    (double)s->mode.frequency_hz, (double)s->mode.damping_ratio, (double)s->frequency_std,
-                   (double)s->damping_min, (double)s->damping_max, s->num_orders, orders, am->modes[k].windows,
-                   am->num_runs, (double)s->mode.emac, (double)s->mode.mpc);
+                   (double)s->damping_min, (double)s->damping_max, s->num_orders,
+                   am->observers[md->observer].runs[md->window].table.num_orders, md->windows, am->num_runs,
+                   md->observers, am->valid_observers, (double)s->mode.emac, (double)s->mode.mpc);
         }
         printf("\nsensor shapes C psi (largest component 1); columns:");
         for (int i = 0; i < m; ++i) printf(" %s", output_names[i]);
@@ -97,7 +124,8 @@ void auto_print_modes(const auto_modes *am, const okid_result *res, const char *
             auto_print_sensor_shape(&am->modes[k].selected->mode, m);
         }
     }
-    printf("\nmodel: order %d of the %d-block window%s\n", res->order, am->runs[0].cfg.hankel_rows,
+    printf("\nmodel: order %d of the %d-block window at observer order %d%s\n", res->order, main_run->cfg.hankel_rows,
+           main_run->cfg.observer_order,
            am->order_holds_all ? ", the lowest whose poles hold every physical mode"
                                : ", the one whose poles hold the most physical modes");
     if (!all_poles) {
@@ -122,7 +150,7 @@ static void json_setting(FILE *out, const char *name, int value, int chosen, con
 void auto_json_chosen(FILE *out, const auto_choice *c, double dt, int order, const char *order_reason)
 {
     const double step = c->decimation * dt;
-    char reason[256];
+    char reason[320];
     fputs(",\n  \"chosen\": {\"band_hz\": [", out);
     json_number(out, c->band.low_hz);
     fputs(", ", out);
@@ -135,8 +163,7 @@ void auto_json_chosen(FILE *out, const auto_choice *c, double dt, int order, con
     json_setting(out, "decimation", c->decimation, chosen(c, AUTO_GIVEN_DECIMATION),
                  chosen(c, AUTO_GIVEN_DECIMATION) ? reason : origin(c, AUTO_GIVEN_DECIMATION));
     fputs(",\n    ", out);
-    snprintf(reason, sizeof reason, "%.6g s, half the slowest period%s", c->observer_order * step,
-             c->observer_order == c->observer_limit ? ", capped by the record's length (ten rows per unknown)" : "");
+    observer_reason(c, step, reason, sizeof reason);
     json_setting(out, "observer_order", c->observer_order, chosen(c, AUTO_GIVEN_OBSERVER),
                  chosen(c, AUTO_GIVEN_OBSERVER) ? reason : origin(c, AUTO_GIVEN_OBSERVER));
     fputs(",\n    ", out);
@@ -148,6 +175,8 @@ void auto_json_chosen(FILE *out, const auto_choice *c, double dt, int order, con
     }
     fprintf(out, ",\n    \"hankel_windows\": [%d", c->windows[0]);
     for (int i = 1; i < c->num_windows; ++i) fprintf(out, ", %d", c->windows[i]);
+    fprintf(out, "], \"observer_orders\": [%d", c->observer_orders[0]);
+    for (int i = 1; i < c->num_observers; ++i) fprintf(out, ", %d", c->observer_orders[i]);
     fprintf(out, "], \"max_order\": %d, \"selection_band_hz\": [", c->max_order);
     json_number(out, c->frequency_min_hz);
     fputs(", ", out);
@@ -170,8 +199,11 @@ void auto_json(FILE *out, const auto_choice *c, double dt, const auto_modes *am,
         json_modes(out, res, m);
         return;
     }
-    int orders[3] = {0, 0, 0};
-    for (int w = 0; w < am->num_runs; ++w) orders[w] = am->runs[w].table.num_orders;
-    mode_windows_json(out, am->modes, am->num_modes, orders, am->num_runs, res->modes, res->num_modes, &am->criteria, m,
-                      AUTO_UNSTABLE_ACROSS);
+    int orders[AUTO_OBSERVERS * 3] = {0};
+    for (int j = 0; j < am->num_observers; ++j) {
+        for (int w = 0; w < am->num_runs; ++w) orders[j * am->num_runs + w] = am->observers[j].runs[w].table.num_orders;
+    }
+    mode_windows_json(out, am->modes, am->num_modes, orders, am->num_runs, am->valid_observers, c->observer_orders,
+                      res->modes,
+                      res->num_modes, &am->criteria, m, AUTO_UNSTABLE_ACROSS);
 }

@@ -139,9 +139,12 @@ void auto_choose(okid_config *cfg, unsigned given, size_t n, const auto_band *ba
     }
     const int k = cfg->decimation > 1 ? cfg->decimation : 1;
     const double step = k * dt, period = choice->slowest_period_s;
-    /* ten regressor rows per unknown of each output's least squares: r + (r + m) p unknowns */
+    /* ten regressor rows per unknown of each output's least squares (r + (r + m) p unknowns) for the
+       observer of the main run; five for the longer ones that confirm its modes (their noise variance
+       stays within N / (N - unknowns) = 1.25 times that of an unlimited record) */
     const double rows = (double)(n / (size_t)k);
     const int limit = clamp_count(floor((rows / 11.0 - r) / (r + m)), 1, OKID_MAX_HORIZON);
+    const int confirming_limit = clamp_count(floor((rows / 6.0 - r) / (r + m)), 1, OKID_MAX_HORIZON);
     choice->observer_limit = limit;
     if (!(given & AUTO_GIVEN_OBSERVER)) {
         /* half the slowest period: longer observers fit the record's noise (section 8) */
@@ -149,6 +152,15 @@ void auto_choose(okid_config *cfg, unsigned given, size_t n, const auto_band *ba
         cfg->observer_order = p < limit ? p : limit;
         /* a given order n needs m p >= n */
         if (cfg->order > 0 && m * cfg->observer_order < cfg->order) cfg->observer_order = (cfg->order + m - 1) / m;
+    }
+    choice->observer_orders[0] = cfg->observer_order;
+    choice->num_observers = 1;
+    /* without an order, the selection also runs at longer observers up to 0.9 T (one period and more
+       adds modes that stay put: section 8); those the record's length caps coincide and count once */
+    for (int i = 1; i < AUTO_OBSERVERS && !(given & AUTO_GIVEN_OBSERVER) && cfg->order == 0; ++i) {
+        int p = clamp_count((AUTO_OBSERVER_FIRST + i * AUTO_OBSERVER_STEP) * period / step, 1, OKID_MAX_HORIZON);
+        if (p > confirming_limit) p = confirming_limit;
+        if (p > choice->observer_orders[choice->num_observers - 1]) choice->observer_orders[choice->num_observers++] = p;
     }
     if (!(given & AUTO_GIVEN_HANKEL)) {
         /* three slowest periods, checked against two and four */
@@ -191,8 +203,11 @@ void auto_choose(okid_config *cfg, unsigned given, size_t n, const auto_band *ba
     if (nmax > (given & AUTO_GIVEN_HANKEL ? cfg->hankel_cols : smallest_window) * columns) {
         nmax = (given & AUTO_GIVEN_HANKEL ? cfg->hankel_cols : smallest_window) * columns;
     }
-    if (nmax > m * cfg->observer_order) nmax = m * cfg->observer_order;
-    choice->max_order = nmax - nmax % 2;
+    for (int j = 0; j < choice->num_observers; ++j) {
+        const int top = nmax < m * choice->observer_orders[j] ? nmax : m * choice->observer_orders[j];
+        choice->max_orders[j] = top - top % 2;
+    }
+    choice->max_order = choice->max_orders[0];
     choice->frequency_min_hz = band->low_hz / 3.0; /* below: less than a cycle in the 3T window */
     choice->frequency_max_hz = 0.8 * 0.5 / step;   /* poles near Nyquist are the filter's and round-off's */
 }

@@ -26,6 +26,13 @@ typedef struct auto_band {
     int segment;        /* Welch segment length [samples] */
 } auto_band;
 
+/* Observer orders of the mode selection when the observer order is chosen: AUTO_OBSERVERS shares of
+   the slowest period, from AUTO_OBSERVER_FIRST by AUTO_OBSERVER_STEP (0.5, 0.6, ..., 0.9 T): a
+   physical mode does not move with the observer's span, a fitted one does (docs/quality.md section 8). */
+#define AUTO_OBSERVERS 5
+#define AUTO_OBSERVER_FIRST 0.5
+#define AUTO_OBSERVER_STEP 0.1
+
 /* The choices and their inputs, for the result's "chosen" object and the table's lines. */
 typedef struct auto_choice {
     unsigned given;              /* AUTO_GIVEN_* bits */
@@ -34,9 +41,12 @@ typedef struct auto_choice {
     double slowest_period_s;     /* 1 / band.low_hz */
     int decimation, observer_order, hankel, hankel_cols;  /* the settings used (given or chosen) */
     int observer_limit;          /* the largest p the record's length allows (ten rows per unknown) */
+    int observer_orders[AUTO_OBSERVERS];  /* observer orders of the mode selection, shortest first */
+    int num_observers;           /* distinct ones: up to AUTO_OBSERVERS when chosen, else 1 */
     int windows[3];              /* Hankel windows of the mode selection, main one first (2T, 4T checks) */
     int num_windows;             /* 3 when the Hankel size is chosen, else 1 */
-    int max_order;               /* largest order of the stabilization tables */
+    int max_order;               /* largest order of the stabilization tables (the first observer order's) */
+    int max_orders[AUTO_OBSERVERS];  /* largest order of each observer order's tables (m p at most) */
     double frequency_min_hz, frequency_max_hz;  /* band of the mode selection */
 } auto_choice;
 

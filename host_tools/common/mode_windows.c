@@ -13,7 +13,7 @@ void *mode_windows_workspace(size_t bytes)
 }
 
 void mode_windows_json(FILE *out, const auto_mode *modes, int num_modes, const int *window_orders, int num_windows,
-                       const okid_mode *poles, int num_poles, const okid_mode_selection_criteria *c, int m,
+                       int num_observers, const int *observer_orders, const okid_mode *poles, int num_poles, const okid_mode_selection_criteria *c, int m,
                        const char *unstable_across)
 {
     fputs(",\n  \"modes\": [", out);
@@ -22,7 +22,8 @@ void mode_windows_json(FILE *out, const auto_mode *modes, int num_modes, const i
         fputs(k ? ",\n    {" : "\n    {", out);
         json_mode_members(out, &s->mode, m);
         fprintf(out, ", \"order\": %d, \"num_orders\": %d, \"of_orders\": %d, \"lowest_order\": %d, \"highest_order\": %d",
-                s->order, s->num_orders, window_orders[modes[k].window], s->lowest_order, s->highest_order);
+                s->order, s->num_orders, window_orders[modes[k].observer * num_windows + modes[k].window], s->lowest_order,
+                s->highest_order);
         const char *names[9] = {"frequency_mean", "frequency_std", "frequency_min", "frequency_max", "damping_mean",
                                 "damping_std", "damping_min", "damping_max", "cmi_min"};
         const okid_real values[9] = {s->frequency_mean, s->frequency_std, s->frequency_min, s->frequency_max,
@@ -31,7 +32,12 @@ void mode_windows_json(FILE *out, const auto_mode *modes, int num_modes, const i
             fprintf(out, ", \"%s\": ", names[i]);
             json_number(out, (double)values[i]);
         }
-        fprintf(out, ", \"windows\": %d, \"of_windows\": %d}", modes[k].windows, num_windows);
+        fprintf(out, ", \"windows\": %d, \"of_windows\": %d", modes[k].windows, num_windows);
+        if (num_observers > 0) {
+            fprintf(out, ", \"observers\": %d, \"of_observers\": %d, \"observer_order\": %d", modes[k].observers,
+                    num_observers, observer_orders[modes[k].observer]);
+        }
+        fputc('}', out);
     }
     fputs(num_modes ? "\n  ]" : "]", out);
     fputs(",\n  \"poles\": [", out);

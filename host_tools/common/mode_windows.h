@@ -26,8 +26,10 @@
 /* A reported mode: its representative (from the first window that holds it) and its support. */
 typedef struct auto_mode {
     const okid_selected_mode *selected;
-    int window;   /* index of the window of the representative */
-    int windows;  /* windows whose selection holds the mode */
+    int window;     /* index of the window of the representative */
+    int windows;    /* windows whose selection holds the mode */
+    int observer;   /* index of the observer order of the representative (input-output path; else 0) */
+    int observers;  /* observer orders whose windows hold the mode (input-output path; else 0) */
 } auto_mode;
 
 /* A heap workspace of at least bytes, aligned as the library needs (free() it). */
@@ -62,12 +64,14 @@ const char *mode_windows_verdict(const okid_mode_selection_criteria *c, const au
 
 /*
  * The JSON members ',\n  "modes": [...]' (the reported modes: each its representative, its
- * cluster's statistics and its support; window_orders[w] the orders of window w's table) and
+ * cluster's statistics and its support; window_orders: the tables' orders) and
  * ',\n  "poles": [...]' (every pole of the reported model with its verdict), as okid identify
- * writes them without an order.
+ * writes them without an order. window_orders[j num_windows + w]: observer order j's (0 on the
+ * output-only path); num_observers > 0 adds each mode's "observers" (of "of_observers", the observer
+ * orders that hold it) and "observer_order" (its representative's, observer_orders[modes[k].observer]).
  */
 void mode_windows_json(FILE *out, const auto_mode *modes, int num_modes, const int *window_orders, int num_windows,
-                       const okid_mode *poles, int num_poles, const okid_mode_selection_criteria *c, int m,
+                       int num_observers, const int *observer_orders, const okid_mode *poles, int num_poles, const okid_mode_selection_criteria *c, int m,
                        const char *unstable_across);
 
 #endif

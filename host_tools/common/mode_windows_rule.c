@@ -24,7 +24,7 @@ void mode_windows_add(const okid_mode_selection_criteria *c, const okid_mode_sel
         while (g < *num_modes && !mode_windows_same(c, &modes[g].selected->mode, &s->mode, m)) ++g;
         if (g == *num_modes) {
             if (g == OKID_MAX_ORDER) continue;
-            modes[g] = (auto_mode){s, w, 0};
+            modes[g] = (auto_mode){s, w, 0, 0, 0};
             ++*num_modes;
         }
         if (!(support[g] & (1 << w))) support[g] |= 1 << w, ++modes[g].windows;

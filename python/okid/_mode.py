@@ -92,7 +92,9 @@ class SelectedMode(Mode):
     frequency_std (population), frequency_min, frequency_max [Hz] and damping_mean, damping_std,
     damping_min, damping_max [-] over the cluster; cmi_min: its smallest CMI; windows of
     of_windows: the Hankel windows whose selection holds the mode (without the EMAC criterion in a
-    window the mode outlasts, docs/quality.md section 8).
+    window the mode outlasts, docs/quality.md section 8); input-output only, observers of
+    of_observers: the observer orders whose windows hold it, observer_order: the representative's
+    (0 on the output-only path).
     """
     order: int = 0
     num_orders: int = 0
@@ -110,13 +112,16 @@ class SelectedMode(Mode):
     cmi_min: float = 0.0
     windows: int = 0
     of_windows: int = 0
+    observers: int = 0
+    of_observers: int = 0
+    observer_order: int = 0
 
 
 @dataclass(frozen=True)
 class Pole(Mode):
     """A pole (mode) of the reported model with the selection's verdict: "physical" when it is one of
     Result.modes, else "rejected" with the reason (a real pole, unstable, damping above 1/sqrt(2), outside
-    the band, MPC or EMAC below 0.5, or not stable across orders and windows)."""
+    the band, MPC or EMAC below 0.5, or not stable across orders, windows and observer orders)."""
     verdict: str = "physical"
     reason: Optional[str] = None
 

@@ -69,10 +69,15 @@ auto_request request_of(const nb::dict &config, unsigned given, CBlock u, CBlock
 }
 
 // A selected mode: the okid_mode fields, then its cluster's statistics and its support.
-nb::dict selected_dict(const auto_modes &am, int k, int m)
+nb::dict selected_dict(const auto_modes &am, const auto_choice &choice, int k, int m)
 {
     const auto_mode &md = am.modes[k];
-    return selected_mode_dict(*md.selected, am.runs[md.window].table.num_orders, md.windows, am.num_runs, m);
+    nb::dict d = selected_mode_dict(*md.selected, am.observers[md.observer].runs[md.window].table.num_orders,
+                                    md.windows, am.num_runs, m);
+    d["observers"] = md.observers;
+    d["of_observers"] = am.valid_observers;
+    d["observer_order"] = choice.observer_orders[md.observer];
+    return d;
 }
 
 }  // namespace
@@ -117,7 +122,7 @@ void bind_auto(nb::module_ &m)
                 [&](FILE *out) { auto_json(out, &ai.choice, (double)cfg.dt, ai.modes, &ai.result, outputs); });
             nb::list selected, verdicts;
             if (ai.modes != nullptr) {
-                for (int k = 0; k < ai.modes->num_modes; ++k) selected.append(selected_dict(*ai.modes, k, outputs));
+                for (int k = 0; k < ai.modes->num_modes; ++k) selected.append(selected_dict(*ai.modes, ai.choice, k, outputs));
                 for (int i = 0; i < ai.result.num_modes; ++i) {
                     const char *why = auto_pole_verdict(ai.modes, &ai.result.modes[i], outputs);
                     verdicts.append(why ? nb::cast(std::string(why)) : nb::none());

@@ -229,6 +229,7 @@ def assert_same_json(a, b, path="$", kappa=1.0):
 GRID = [
     dict(observer_order=20, order=4, zero_initial_state=1),
     dict(observer_order=10, order=0),
+    dict(),  # every setting chosen: the observer orders combined (docs/quality.md section 8, rule 5b)
     dict(observer_order=20, order=4, realization="combined", sensing="velocity"),
     dict(observer_order=20, order=4, estimator="instrumental"),
     dict(observer_order=10, order=4, decimation=2, hankel_rows=15, hankel_cols=15),
