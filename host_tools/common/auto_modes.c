@@ -98,10 +98,13 @@ static int one_resonance(const okid_mode_selection_criteria *c, const okid_mode 
 /*
  * The observer orders' modes: each observer order's modes (by increasing frequency) join, in order
  * of frequency, the group whose last member is the same mode within AUTO_OBSERVER_DISTANCE (a chain:
- * a mode drifts with the observer's span) and holds no mode of that observer order yet. A group that
- * most observer orders hold is a physical mode, represented by its member of median frequency. A mode
- * of the first observer order (the rule of before) that most do not hold stays, represented by
- * itself, unless it is one resonance with a mode most hold: the same peak fitted with another damping.
+ * a mode drifts with the observer's span) and holds no mode of that observer order yet. The modes
+ * of the first observer order (the rule of before) stay: a group of one that most observer orders
+ * hold is represented by its member of median frequency, another by the first's own member, unless
+ * it is one resonance with a mode most hold (the same peak fitted with another damping). A group
+ * without the first observer order's mode is a physical mode only when all the other observer orders
+ * but one hold it: the first is the measured best single span (docs/quality.md section 8, rule 3),
+ * and three of five let modes no other route confirms through (GWS 261: 1.271 Hz).
  */
 static void combine_observers(auto_modes *out, int m)
 {
@@ -141,11 +144,15 @@ static void combine_observers(auto_modes *out, int m)
         const int g = group_of[i];
         last[g] = i, held[g] |= 1 << all[i].observer, ++size[g];
     }
-    /* the representatives: the median member of a group most hold, the first observer's member of another */
+    /* the representatives: the median member of a group most hold, the first observer's member of
+       another; a group without the first observer order's mode only when all the others but one hold it */
     for (int g = 0; g < groups; ++g) {
-        const int most = 2 * size[g] > out->valid_observers;
-        int median = (size[g] - 1) / 2;
+        const int with_first = held[g] & 1;
+        const int most = 2 * size[g] > out->valid_observers &&
+                         (with_first || size[g] >= out->valid_observers - 1);
         chosen[g] = none;
+        if (!most && !with_first) continue;
+        int median = (size[g] - 1) / 2;
         for (int i = 0; i < count && chosen[g] == none; ++i) {
             if (group_of[i] == g && (most ? median-- == 0 : all[i].observer == 0)) chosen[g] = i;
         }
