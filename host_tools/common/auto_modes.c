@@ -111,7 +111,7 @@ static void combine_observers(auto_modes *out, int m)
     static const int none = -1;
     auto_mode *all = out->pool.all;
     int *group_of = out->pool.group_of, *last = out->pool.last, *held = out->pool.held, *size = out->pool.size;
-    int *chosen = out->pool.chosen;
+    int *chosen = out->pool.chosen, *most = out->pool.most;
     int count = 0;
     for (int j = 0; j < out->num_observers; ++j) {
         const auto_observer *ob = &out->observers[j];
@@ -145,30 +145,27 @@ static void combine_observers(auto_modes *out, int m)
         last[g] = i, held[g] |= 1 << all[i].observer, ++size[g];
     }
     /* the representatives: the median member of a group most hold, the first observer's member of
-       another; a group without the first observer order's mode only when all the others but one hold it */
+       another (kept unless one resonance with a group most hold); a group without the first observer
+       order's mode only when all the others but one hold it */
     for (int g = 0; g < groups; ++g) {
         const int with_first = held[g] & 1;
-        const int most = 2 * size[g] > out->valid_observers &&
-                         (with_first || size[g] >= out->valid_observers - 1);
+        most[g] = 2 * size[g] > out->valid_observers && (with_first || size[g] >= out->valid_observers - 1);
         chosen[g] = none;
-        if (!most && !with_first) continue;
         int median = (size[g] - 1) / 2;
-        for (int i = 0; i < count && chosen[g] == none; ++i) {
-            if (group_of[i] == g && (most ? median-- == 0 : all[i].observer == 0)) chosen[g] = i;
+        for (int i = 0; i < count && chosen[g] == none && (most[g] || with_first); ++i) {
+            if (group_of[i] == g && (most[g] ? median-- == 0 : all[i].observer == 0)) chosen[g] = i;
         }
-        if (!most && chosen[g] != none) chosen[g] = -2 - chosen[g]; /* marked: kept unless one resonance */
     }
     out->num_modes = 0;
     for (int g = 0; g < groups && out->num_modes < OKID_MAX_ORDER; ++g) {
         if (chosen[g] == none) continue;
-        const int i = chosen[g] >= 0 ? chosen[g] : -2 - chosen[g];
         int shared = 0;
-        for (int h = 0; h < groups && chosen[g] < 0 && !shared; ++h) {
-            shared = chosen[h] >= 0 && one_resonance(&out->criteria, &all[i].selected->mode,
-                                                     &all[chosen[h]].selected->mode, m);
+        for (int h = 0; h < groups && !most[g] && !shared; ++h) {
+            shared = most[h] && one_resonance(&out->criteria, &all[chosen[g]].selected->mode,
+                                              &all[chosen[h]].selected->mode, m);
         }
         if (shared) continue;
-        auto_mode md = all[i];
+        auto_mode md = all[chosen[g]];
         md.observers = size[g];
         out->modes[out->num_modes++] = md;
     }
@@ -191,8 +188,8 @@ static void run_observer(observer_jobs *jobs, int j)
     const auto_choice *choice = jobs->choice;
     auto_modes *out = jobs->out;
     okid_config cfg = *jobs->cfg;
-    if (choice->num_observers > 0) cfg.observer_order = choice->observer_orders[j];
-    const int max_order = choice->num_observers > 0 ? choice->max_orders[j] : choice->max_order;
+    cfg.observer_order = choice->observer_orders[j];
+    const int max_order = choice->max_orders[j];
     auto_observer *ob = &out->observers[j];
     for (int w = 0; w < out->num_runs; ++w) {
         const int window = (choice->given & AUTO_GIVEN_HANKEL) ? 0 : choice->windows[w];
@@ -242,7 +239,7 @@ okid_status auto_modes_find(const auto_choice *choice, const okid_config *cfg, s
        selection's 0.2 is the rule of thumb for structures, and the paper's plant is damped 33 % */
     out->criteria.damping_max = (okid_real)AUTO_DAMPING_MAX;
     out->num_runs = choice->num_windows;
-    out->num_observers = choice->num_observers > 0 ? choice->num_observers : 1;
+    out->num_observers = choice->num_observers; /* at least 1: auto_choose() */
     observer_jobs jobs = {out, choice, cfg, n, u, y, 0, PTHREAD_MUTEX_INITIALIZER};
     run_observers(&jobs);
     const int m = cfg->num_outputs;

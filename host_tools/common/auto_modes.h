@@ -62,7 +62,8 @@ typedef struct auto_modes {
         auto_mode all[AUTO_OBSERVERS * OKID_MAX_ORDER];
         int group_of[AUTO_OBSERVERS * OKID_MAX_ORDER], last[AUTO_OBSERVERS * OKID_MAX_ORDER];
         int held[AUTO_OBSERVERS * OKID_MAX_ORDER], size[AUTO_OBSERVERS * OKID_MAX_ORDER];
-        int chosen[AUTO_OBSERVERS * OKID_MAX_ORDER];
+        int chosen[AUTO_OBSERVERS * OKID_MAX_ORDER];  /* each group's representative, or -1 */
+        int most[AUTO_OBSERVERS * OKID_MAX_ORDER];    /* 1: enough observer orders hold the group */
     } pool;
     int order;            /* order of the reported model */
     int order_holds_all;  /* 1 when that order's poles hold every reported mode */
