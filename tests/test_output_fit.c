@@ -3,7 +3,8 @@
  * The fit of each output (host_tools/common/output_fit.h) against closed forms: a static gain
  * y = D u explains its output exactly (100 %), an output of pure noise not at all (about 0 %, the
  * warning), and a first-order system fed in several blocks gives the same fit as in one; a
- * 6-state, 2-input, 3-output model's fit against the one computed from the library's simulator.
+ * 6-state, 2-input, 3-output model's fit against the one computed from the library's simulator; a
+ * model with a pole on or outside the unit circle gets none.
  */
 #include <float.h>
 #include <math.h>
@@ -11,6 +12,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 #include <cmocka.h>
 
 #include "okid/okid.h"
@@ -115,6 +117,39 @@ static void test_undefined_fits(void **state)
     sm.res.decimation = 2; /* a decimated model's inputs are the identifier's filtered record */
     assert_null(output_fit_begin(&sm.res));
     assert_int_equal(output_fit_record(&sm.res, N, u, y, fit, &warning), -1);
+    char why[320];
+    assert_int_equal(output_fit_missing(2, 0.5, why, sizeof why), 1);
+    assert_non_null(strstr(why, "decimation 2"));
+    assert_int_equal(output_fit_missing(1, 0.5, why, sizeof why), 0);
+    assert_string_equal(why, "");
+}
+
+/* A model with a pole outside the unit circle (x(k+1) = 1.05 x + u) gets no fit: its response from
+   rest grows as 1.05^k, 1e8 after N samples, and "fit" would then report the growth as a huge
+   negative percentage (or NaN after an overflow). A pole on the circle (a = 1: an integrator) is
+   refused as OKID_W_UNSTABLE_POLE flags it; a stable one (0.5) is fitted. */
+static void test_unstable_model_gets_no_fit(void **state)
+{
+    (void)state;
+    small_model sm;
+    okid_mode pole = {0};
+    okid_real u[N], y[2 * N];
+    for (int k = 0; k < N; ++k) u[k] = wobble(k, 7), y[2 * k] = u[k], y[2 * k + 1] = u[k];
+    double fit[2];
+    unsigned warning;
+    char why[320];
+    const okid_real radii[3] = {(okid_real)1.05, 1, (okid_real)0.5};
+    for (int i = 0; i < 3; ++i) {
+        small_model_init(&sm, radii[i], 1, 1, 0, 1);
+        pole.eigenvalue = (okid_complex){radii[i], 0};
+        sm.res.num_modes = 1, sm.res.modes = &pole;
+        assert_true(output_fit_largest_radius(&sm.res) == (double)radii[i]);
+        const int refused = radii[i] >= 1;
+        assert_int_equal(output_fit_record(&sm.res, N, u, y, fit, &warning), refused ? -1 : 0);
+        assert_int_equal(output_fit_missing(1, output_fit_largest_radius(&sm.res), why, sizeof why), refused);
+        if (refused) assert_non_null(strstr(why, "outside the unit circle"));
+        if (!refused) assert_true(isfinite(fit[0]) && fit[1] == 100.0);
+    }
 }
 
 /* output_fit's own simulation loop against okid_simulate() (four xGEMM calls a sample): a stable
@@ -185,6 +220,7 @@ int main(void)
         cmocka_unit_test(test_static_gain_explains_everything_and_noise_nothing),
         cmocka_unit_test(test_blocks_give_the_one_push_fit),
         cmocka_unit_test(test_undefined_fits),
+        cmocka_unit_test(test_unstable_model_gets_no_fit),
         cmocka_unit_test(test_fit_matches_the_library_simulator),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

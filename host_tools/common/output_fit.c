@@ -24,19 +24,36 @@ static void compact(okid_matrix v, okid_real *to)
     }
 }
 
-int output_fit_missing(int decimation, char *out, size_t size)
+double output_fit_largest_radius(const okid_result *res)
+{
+    double largest = 0;
+    for (int i = 0; i < res->num_modes; ++i) {
+        const okid_complex z = res->modes[i].eigenvalue;
+        largest = fmax(largest, hypot((double)z.re, (double)z.im));
+    }
+    return largest;
+}
+
+int output_fit_missing(int decimation, double largest_radius, char *out, size_t size)
 {
     if (size > 0) out[0] = '\0';
-    if (decimation <= 1) return 0;
-    snprintf(out, size, "no fit: the model (decimation %d) describes the identifier's anti-alias-filtered record, one "
-             "sample kept in %d, which the identifier keeps to itself; compared with the record given it would "
-             "measure the filter, not the model", decimation, decimation);
-    return 1;
+    if (decimation > 1) {
+        snprintf(out, size, "no fit: the model (decimation %d) describes the identifier's anti-alias-filtered record, "
+                 "one sample kept in %d, which the identifier keeps to itself; compared with the record given it "
+                 "would measure the filter, not the model", decimation, decimation);
+        return 1;
+    }
+    if (largest_radius >= 1) { /* the same test as OKID_W_UNSTABLE_POLE's */
+        snprintf(out, size, "no fit: the model has a pole on or outside the unit circle (|z| up to %.6g), so its "
+                 "response from rest grows without bound and would measure the growth, not the model", largest_radius);
+        return 1;
+    }
+    return 0;
 }
 
 output_fit *output_fit_begin(const okid_result *res)
 {
-    if (res->decimation > 1) return NULL;
+    if (res->decimation > 1 || output_fit_largest_radius(res) >= 1) return NULL;
     const int n = res->order, r = res->B.cols, m = res->C.rows;
     output_fit *f = calloc(1, sizeof *f);
     const size_t reals = (size_t)n * (size_t)(n + r + m) + (size_t)m * (size_t)r + 2 * (size_t)n + FIT_BLOCK * (size_t)m;

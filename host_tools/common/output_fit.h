@@ -20,16 +20,21 @@ typedef struct output_fit output_fit;
 
 /*
  * A fit of res over the record to come, or NULL when none is computed: a decimated model (its
- * inputs are the filtered record, which the identifier keeps to itself) or no memory.
+ * inputs are the filtered record, which the identifier keeps to itself), a model with a pole on or
+ * outside the unit circle (its response from rest grows without bound, so the fit would measure
+ * the growth: -1e38 % or an overflow), or no memory.
  */
 output_fit *output_fit_begin(const okid_result *res);
 
+/* The largest |eigenvalue| of res's poles (res->modes: every pole of the model), 0 with none. */
+double output_fit_largest_radius(const okid_result *res);
+
 /*
- * Why output_fit_begin() computes no fit for a model of this decimation, into out[size]: 1 with
- * the sentence (decimation > 1), 0 with "" when it computes one. okid identify's table and
- * okid.Result.fit_note print it.
+ * Why output_fit_begin() computes no fit for a model of this decimation and largest pole radius
+ * (output_fit_largest_radius), into out[size]: 1 with the sentence (decimation > 1, radius >= 1),
+ * 0 with "" when it computes one. okid identify's table and okid.Result.fit_note print it.
  */
-int output_fit_missing(int decimation, char *out, size_t size);
+int output_fit_missing(int decimation, double largest_radius, char *out, size_t size);
 
 /* count samples: u r per sample, y m per sample. A non-finite sample leaves the fit undefined. */
 void output_fit_push(output_fit *f, size_t count, const okid_real *u, const okid_real *y);

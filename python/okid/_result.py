@@ -147,8 +147,8 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
       every pole of the model as okid.Pole (verdict, reason), while modes holds the physical
       modes as okid.SelectedMode (their spread across orders [Hz, -]), else None
     - fit_percent: (m,) how much of each output the model's response from rest explains [%], as
-      MATLAB's compare (okid.identify() only: the record is needed; None with decimation > 1, and
-      fit_note says why); every one below 50 sets WarningFlag.NO_OUTPUT_EXPLAINED and
+      MATLAB's compare (okid.identify() only: the record is needed; None with decimation > 1 or a
+      pole on or outside the unit circle, and fit_note says why); every one below 50 sets WarningFlag.NO_OUTPUT_EXPLAINED and
       okid.identify() warns (okid.NoOutputExplainedWarning)
     - refine_model_choice: with refine_model="auto", the model the residual test chose and why
       ({requested, chosen, reason, detail}: words, no unit; docs/refinement.md), else None
@@ -197,7 +197,8 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
     #: (m,) how much of each output the model explains [%], as MATLAB's compare: 100 (1 - |y - yhat|
     #: / |y - mean y|), yhat the model's response to u from rest (okid identify's "fit_percent";
     #: WarningFlag.NO_OUTPUT_EXPLAINED when every one is below 50); after a refinement the refined
-    #: model's; None without a record (Identifier.identify()) or with decimation > 1 (fit_note says why)
+    #: model's; None without a record (Identifier.identify()), with decimation > 1 or with a pole on
+    #: or outside the unit circle (fit_note says why)
     fit_percent: Optional[np.ndarray] = None
     _auto_json: Optional[str] = field(repr=False, default=None)
     #: with refine=True and refine_model="auto": which model the residual test chose and why,
@@ -223,10 +224,15 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
         of that record: okid.Identifier keeps no record (fixed memory: the regressor's sums only),
         and a decimated model (decimation K > 1) describes the identifier's anti-alias-filtered
         record, one sample kept in K, which the identifier keeps to itself (its filter's state is
-        not exposed): compared with the record given it would measure the filter, not the model."""
+        not exposed): compared with the record given it would measure the filter, not the model. A
+        model with a pole on or outside the unit circle gets none either: its response from rest
+        grows without bound."""
         if self.fit_percent is not None:
             return ""
-        missing = _core.fit_missing(self.decimation)  # the host library's sentence (output_fit.c), as okid identify's
+        every_pole = self.poles if self.poles is not None else self.modes
+        radius = max((abs(p.eigenvalue) for p in every_pole), default=0.0)
+        # the host library's sentence (output_fit.c), as okid identify's
+        missing = _core.fit_missing(self.decimation, radius)
         if missing is not None:
             return missing
         return ("no fit: no record came with this model (okid.Identifier keeps none: fixed memory, the regressor's "

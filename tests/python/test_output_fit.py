@@ -107,6 +107,25 @@ def test_decimated_result_says_why_it_has_no_fit(paper, tmp_path):
     assert f"fit of each output: {why}\n" in proc.stdout
 
 
+def test_unstable_model_says_why_it_has_no_fit():
+    """A model with a pole outside the unit circle grows from rest without bound: its "fit" was the
+    growth (-8e38 % on a weak Hayward event, or NaN after an overflow) and set
+    NO_OUTPUT_EXPLAINED. Now there is no fit and fit_note says why. The record is noise-free
+    x(k+1) = 1.001 x + u, y = x: its one pole, 1.001, is identified to round-off."""
+    u = np.random.default_rng(5).standard_normal((3000, 1))
+    x, y = 0.0, np.empty((3000, 1))
+    for k in range(3000):
+        y[k, 0] = x
+        x = 1.001 * x + u[k, 0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the unstable pole's own warning
+        res = okid.identify(u, y, DT, order=1, observer_order=5, hankel_rows=10, hankel_cols=10, decimation=1)
+    radius = abs(res.modes[0].eigenvalue)
+    assert abs(radius - 1.001) < 1e-9 and okid.WarningFlag.UNSTABLE_POLE in res.warnings
+    assert res.fit_percent is None and okid.WarningFlag.NO_OUTPUT_EXPLAINED not in res.warnings
+    assert res.fit_note.startswith("no fit: the model has a pole on or outside the unit circle (|z| up to 1.001)")
+
+
 def test_warning_classes_share_one_base():
     """okid.OkidWarning is the base of every okid warning: one filter for all of them."""
     for cls in (okid.NoOutputExplainedWarning, okid.NonFiniteSampleWarning, okid.RefinementWarning,
