@@ -101,7 +101,8 @@ static int one_resonance(const okid_mode_selection_criteria *c, const okid_mode 
  * a mode drifts with the observer's span) and holds no mode of that observer order yet. The modes
  * of the first observer order (the rule of before) stay: a group of one that most observer orders
  * hold is represented by its member of median frequency, another by the first's own member, unless
- * it is one resonance with a mode most hold (the same peak fitted with another damping). A group
+ * it is one resonance with a mode most hold (the same peak fitted with another damping), or its own
+ * EMAC or MPC is below AUTO_UNCONFIRMED_MIN (nothing then confirms it). A group
  * without the first observer order's mode is a physical mode only when all the other observer orders
  * but one hold it: the first is the measured best single span (docs/quality.md section 8, rule 3),
  * and three of five let modes no other route confirms through (GWS 261: 1.271 Hz).
@@ -165,6 +166,10 @@ static void combine_observers(auto_modes *out, int m)
                                               &all[chosen[h]].selected->mode, m);
         }
         if (shared) continue;
+        const okid_mode *alone = &all[chosen[g]].selected->mode;
+        if (!most[g] && !(alone->emac >= (okid_real)AUTO_UNCONFIRMED_MIN && alone->mpc >= (okid_real)AUTO_UNCONFIRMED_MIN)) {
+            continue; /* most observer orders do not confirm it, nor do its own indicators */
+        }
         auto_mode md = all[chosen[g]];
         md.observers = size[g];
         out->modes[out->num_modes++] = md;

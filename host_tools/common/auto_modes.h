@@ -44,6 +44,11 @@ typedef struct auto_observer {
    the selection's MAC): the observer's span moves a physical mode by up to 3 % on the real records
    (0.967-1.003 Hz on Hayward, 0.5-0.9 T), the consensus grid's own grouping (quality.md section 7). */
 #define AUTO_OBSERVER_DISTANCE 0.03
+/* A mode most observer orders do not hold is reported only when its own indicators confirm it:
+   EMAC and MPC at least this, the MAC the grouping asks of one mode's shapes (the selection's own
+   floor is 0.5). Weak Hayward events gave 18.5 Hz (MPC 0.71), 49.6 Hz (EMAC 0.85) and 1.94 Hz (EMAC
+   0.58), each held by one observer order of five; the chain's 0.656 Hz (EMAC 0.999, MPC 1.000) stays. */
+#define AUTO_UNCONFIRMED_MIN 0.9
 /* The verdict of a pole that passes every hard criterion but no observer order's windows hold. */
 #define AUTO_UNSTABLE_ACROSS "not stable across orders, windows and observer orders"
 

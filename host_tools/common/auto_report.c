@@ -95,7 +95,10 @@ void auto_print_modes(const auto_modes *am, const okid_result *res, const char *
     printf("\nphysical modes: %d (stable in at least %d of the %d orders 2..%d of a Hankel window, in %s",
            am->num_modes, main_run->selection.min_orders, orders, orders > 0 ? main_run->table.orders[orders - 1].order : 0,
            am->num_runs > 1 ? "each of its three windows" : "the one window");
-    if (am->num_observers > 1) printf(", and at a majority of its %d observer orders or at the shortest", am->valid_observers);
+    if (am->num_observers > 1) {
+        printf(", and at a majority of its %d observer orders or at the shortest with EMAC and MPC >= %.1f",
+               am->valid_observers, AUTO_UNCONFIRMED_MIN);
+    }
     printf(")\n");
     if (main_run->selection.exact_last_order) {
         printf("(noise-free data: the Hankel matrix has numerical rank %d, so its order-%d model is exact and its modes "
