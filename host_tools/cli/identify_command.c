@@ -240,7 +240,8 @@ static int report(const identify_options *o, const okid_config *cfg, okid_identi
         print_header(cfg, res, cc, o->file);
         char missing[320];
         if (refined == NULL && fit != NULL) print_fit(fit, cc);
-        if (refined == NULL && fit == NULL && output_fit_missing(res->decimation, output_fit_largest_radius(res), missing, sizeof missing)) {
+        if (refined == NULL && fit == NULL &&
+            output_fit_missing(res->decimation, output_fit_largest_radius(res), missing, sizeof missing)) {
             printf("fit of each output: %s\n", missing);
         }
         if (choice != NULL) auto_print_choice(choice, (double)cfg->dt);

@@ -167,7 +167,8 @@ static void combine_observers(auto_modes *out, int m)
         }
         if (shared) continue;
         const okid_mode *alone = &all[chosen[g]].selected->mode;
-        if (!most[g] && !(alone->emac >= (okid_real)AUTO_UNCONFIRMED_MIN && alone->mpc >= (okid_real)AUTO_UNCONFIRMED_MIN)) {
+        const okid_real least = (okid_real)AUTO_UNCONFIRMED_MIN;
+        if (!most[g] && !(alone->emac >= least && alone->mpc >= least)) {
             continue; /* most observer orders do not confirm it, nor do its own indicators */
         }
         auto_mode md = all[chosen[g]];
