@@ -139,7 +139,8 @@ unsigned output_fit_end(output_fit *f, double *fit_percent)
     int defined = 0, explained = 0;
     for (int i = 0; i < f->m; ++i) {
         const int ok = f->defined && isfinite(f->spread[i]) && f->spread[i] > 0 && !isnan(f->error[i]);
-        /* an unstable model's response overflows: its fit is -inf, which explains nothing */
+        /* an overflowing response gives -inf, which explains nothing (a model with |z| >= 1 gets no
+           fit at all: output_fit_begin) */
         fit_percent[i] = ok ? 100.0 * (1.0 - sqrt(f->error[i]) / sqrt(f->spread[i])) : (double)NAN;
         defined += ok;
         explained += ok && fit_percent[i] >= OKID_REFINE_FIT_LOW;

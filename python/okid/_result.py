@@ -229,10 +229,8 @@ class Result(ModeArrays, StateSpaceModel, Travelling):
         grows without bound."""
         if self.fit_percent is not None:
             return ""
-        every_pole = self.poles if self.poles is not None else self.modes
-        radius = max((abs(p.eigenvalue) for p in every_pole), default=0.0)
         # the host library's sentence (output_fit.c), as okid identify's
-        missing = _core.fit_missing(self.decimation, radius)
+        missing = self._core.fit_missing() if self._core is not None else None
         if missing is not None:
             return missing
         return ("no fit: no record came with this model (okid.Identifier keeps none: fixed memory, the regressor's "

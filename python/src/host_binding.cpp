@@ -13,7 +13,6 @@
 
 extern "C" {
 #include "config_explain.h"
-#include "output_fit.h"
 #include "record_load.h"
 #include "time_column.h"
 }
@@ -51,15 +50,6 @@ void bind_host(nb::module_ &m)
             return std::string(message);
         },
         "The refusal when samples cannot give the regressor rows cfg needs (the CLI's check), else None.");
-    m.def(
-        "fit_missing",
-        [](int decimation, double largest_radius) -> std::optional<std::string> {
-            char message[320];
-            if (!output_fit_missing(decimation, largest_radius, message, sizeof message)) return std::nullopt;
-            return std::string(message);
-        },
-        "Why a model of this decimation and largest pole radius |z| gets no fit of each output (output_fit.h), "
-        "else None.");
     m.def("time_column_unit", [](const std::string &name) { return time_column_unit(name.c_str()); },
           "Seconds per unit of a time column named so (time_column.h), 0 when the name marks none.");
     m.def(

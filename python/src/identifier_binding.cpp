@@ -8,7 +8,9 @@
 #include <cstdlib>
 #include <memory>
 #include <new>
+#include <optional>
 
+#include <nanobind/stl/optional.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/complex.h>
 #include <nanobind/stl/tuple.h>
@@ -340,7 +342,19 @@ void bind_identifier(nb::module_ &m)
                 return self.measure_fit(u.data(), y.data(), u.shape(0));
             },
             "output_fit_record() over the record (u, y) (the fit of each output, percent, as MATLAB's compare), kept "
-            "for fields() and to_json(), its warning into the result's: False when none (a decimated model).");
+            "for fields() and to_json(), its warning into the result's: False when none (a decimated model, or "
+            "one with a pole on or outside the unit circle).")
+        .def(
+            "fit_missing",
+            [](const ResultCore &self) -> std::optional<std::string> {
+                char message[320];
+                if (!output_fit_missing(self.res.decimation, output_fit_largest_radius(&self.res), message,
+                                        sizeof message)) {
+                    return std::nullopt;
+                }
+                return std::string(message);
+            },
+            "Why measure_fit() computes no fit for this model (output_fit_missing), else None.");
 
     nb::class_<StabilizationCore>(m, "StabilizationCore")
         .def("to_json", &StabilizationCore::to_json)
