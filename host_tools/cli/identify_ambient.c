@@ -136,7 +136,8 @@ static void print_table(const okid_ambient_config *cfg, const okid_ambient_resul
     for (int i = 0; i < res->num_singular_values && i < 12; ++i) printf(" %.4g", (double)res->singular_values[i]);
     printf("%s\n", res->num_singular_values > 12 ? " ..." : "");
     for (unsigned bit = 1; bit != 0 && bit <= res->warnings; bit <<= 1) {
-        if (res->warnings & bit) printf("warning: %s\n", okid_warning_str(bit));
+        /* no physical mode: said with its reason where the modes are listed (ambient_print_modes) */
+        if ((res->warnings & bit) && bit != OKID_W_NO_PHYSICAL_MODE) printf("warning: %s\n", okid_warning_str(bit));
     }
     const int stds = res->frequency_std != NULL;
     if (stds) printf("standard deviations from %d segments (docs/ambient.md)\n", res->segments_used);
@@ -241,6 +242,7 @@ int identify_ambient(const identify_options *o, record_reader *reader, const rec
     if (st != OKID_OK) {
         rc = cli_error(EXIT_DATA, "output-only identification failed: %s", okid_status_str(st));
     } else {
+        if (am != NULL && am->num_modes == 0) res.warnings |= OKID_W_NO_PHYSICAL_MODE; /* as okid.identify_ambient */
         const char *refs[OKID_MAX_DIMENSION];
         for (int l = 0; l < nref; ++l) refs[l] = output_names[cfg.num_references > 0 ? cfg.reference_channels[l] : l];
         if (o->json && am != NULL) {

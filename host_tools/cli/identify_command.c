@@ -68,7 +68,8 @@ static void print_header(const okid_config *cfg, const okid_result *res, const c
     }
     printf("%s\n", res->num_singular_values > 12 ? " ..." : "");
     for (unsigned bit = 1; bit != 0 && bit <= res->warnings; bit <<= 1) {
-        if (res->warnings & bit) {
+        /* no physical mode: said with its reason where the modes are listed (auto_print_modes) */
+        if ((res->warnings & bit) && bit != OKID_W_NO_PHYSICAL_MODE) {
             char poles[512]; /* the poles it is about, by frequency */
             warning_poles_text(res->modes, res->num_modes, bit, poles, sizeof poles);
             printf("warning: %s%s\n", okid_warning_str(bit), poles);

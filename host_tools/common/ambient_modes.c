@@ -232,8 +232,7 @@ void ambient_print_modes(const ambient_modes *am, const okid_ambient_result *res
         auto_print_sensor_shape(&am->modes[k].selected->mode, m);
     }
     printf("\nmodel: order %d at L = %d, %s\n", res->order, c->windows[0],
-           am->order_holds_all ? "the lowest whose poles hold every physical mode"
-                               : "the one whose poles hold the most physical modes");
+           mode_windows_order_reason(am->num_modes, am->order_holds_all));
 }
 
 static void json_setting(FILE *out, const char *name, int value, int chosen, const char *reason)
@@ -267,9 +266,7 @@ void ambient_modes_json(FILE *out, const ambient_modes *am, const okid_ambient_r
     json_number(out, (double)am->criteria.frequency_max_hz);
     fputs("],\n    ", out);
     json_setting(out, "order", res->order, am->num_modes > 0,
-                 am->num_modes == 0       ? "no physical mode: the largest singular-value gap"
-                 : am->order_holds_all ? "the lowest order whose poles hold every physical mode"
-                                       : "the order whose poles hold the most physical modes");
+                 mode_windows_order_reason(am->num_modes, am->order_holds_all));
     fputs("}", out);
     int orders[3] = {0, 0, 0};
     for (int w = 0; w < am->num_runs; ++w) orders[w] = am->runs[w].table.num_orders;

@@ -89,6 +89,8 @@ okid_status auto_identify(const auto_request *rq, auto_identification *out)
     }
     if (st != OKID_OK) return fail(out, AUTO_FAILED_MODEL, st);
     if (fallback) out->result.warnings |= OKID_W_CORRELATION_FALLBACK;
+    /* the order chosen and no physical mode: the flag the identifier FMU sets, for every caller */
+    if (out->modes != NULL && out->modes->num_modes == 0) out->result.warnings |= OKID_W_NO_PHYSICAL_MODE;
     return OKID_OK;
 }
 

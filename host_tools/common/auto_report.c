@@ -5,6 +5,7 @@
 #include <math.h>
 
 #include "json_writer.h"
+#include "output_fit.h" /* output_fit_largest_radius */
 
 /* 1 when the setting was chosen from the data (not given, and the record had a band). */
 static int chosen(const auto_choice *c, unsigned bit)
@@ -87,15 +88,66 @@ void auto_print_sensor_shape(const okid_mode *md, int m)
     printf("\n");
 }
 
+/* How much the system Markov parameters Y_1..Y_L grow: the largest entry of the later half of the
+   lags over that of the earlier half (a stable model's decay below 1; 0 when there are too few lags). */
+static double markov_growth(const okid_result *res, int *lags)
+{
+    const int m = res->markov.rows, r = res->B.cols, count = r > 0 ? res->markov.cols / r : 0;
+    *lags = count - 1;
+    double early = 0, late = 0;
+    for (int k = 1; k < count; ++k) {
+        for (int j = k * r; j < (k + 1) * r; ++j) {
+            for (int i = 0; i < m; ++i) {
+                const double v = fabs((double)okid_matrix_at(res->markov, i, j));
+                if (2 * k <= count) early = fmax(early, v);
+                else late = fmax(late, v);
+            }
+        }
+    }
+    return early > 0 && count > 2 ? late / early : 0;
+}
+
+/* The warning of no physical mode, with the cause when the model's Markov parameters grow. */
+static void print_no_mode_warning(const auto_modes *am, const okid_result *res, int observer_order)
+{
+    printf("warning: no physical mode found: no pole stays put across the orders%s", am->num_runs > 1 ? " and the Hankel windows" : "");
+    int lags = 0, outside = -1;
+    const double growth = markov_growth(res, &lags);
+    double radius = 1;
+    for (int i = 0; i < res->num_modes; ++i) {
+        const double z = hypot((double)res->modes[i].eigenvalue.re, (double)res->modes[i].eigenvalue.im);
+        if (z >= radius) radius = z, outside = i;
+    }
+    if (growth > 1 && outside >= 0) {
+        /* beyond the observer's p lags the system Markov parameters are its extrapolation (eq. 51), whose
+           poles are the model's: one outside the unit circle makes them grow, which a structure's do not */
+        const double f = (double)res->modes[outside].frequency_hz;
+        printf("; the system Markov parameters grow (their largest entry over the later half of the Hankel matrix's "
+               "%d lags is %.3g times that over the earlier half), with the model's pole at %.4g Hz, |z| = %.6g: the "
+               "observer's extrapolation beyond its %d lags is unstable, and the Hankel matrix holds that growth beside "
+               "the structure's response", lags, growth, f, radius, observer_order);
+        if (f > 0.25 / (double)res->dt) {
+            printf("; the pole lies in the top half of the band, which a larger --decimation filters out: that may stop it");
+        }
+    }
+    printf(" (--all-poles lists the model's poles and why each was rejected)\n");
+}
+
 void auto_print_modes(const auto_modes *am, const okid_result *res, const char *const *output_names, int m,
                       int all_poles)
 {
     const auto_run *main_run = auto_main_run(am);
     const int orders = main_run->table.num_orders;
-    printf("\nphysical modes: %d (stable in at least %d of the %d orders 2..%d of a Hankel window, in %s",
-           am->num_modes, main_run->selection.min_orders, orders, orders > 0 ? main_run->table.orders[orders - 1].order : 0,
-           am->num_runs > 1 ? "each of its three windows" : "the one window");
-    if (am->num_observers > 1) {
+    if (orders == 0) {
+        /* not one even order to compare: the rule's numbers would read "of the 0 orders 2..0" */
+        printf("\nphysical modes: 0 (the main window's Hankel matrix has numerical rank %d: no model of order 2 or more",
+               main_run->table.rank_limit);
+    } else {
+        printf("\nphysical modes: %d (stable in at least %d of the %d orders 2..%d of a Hankel window, in %s",
+               am->num_modes, main_run->selection.min_orders, orders, main_run->table.orders[orders - 1].order,
+               am->num_runs > 1 ? "each of its three windows" : "the one window");
+    }
+    if (orders > 0 && am->num_observers > 1) {
         printf(", and at a majority of its %d observer orders or at the shortest with EMAC and MPC >= %.1f",
                am->valid_observers, AUTO_UNCONFIRMED_MIN);
     }
@@ -106,8 +158,7 @@ void auto_print_modes(const auto_modes *am, const okid_result *res, const char *
                main_run->table.orders[orders - 1].order);
     }
     if (am->num_modes == 0) {
-        printf("warning: no physical mode found: no pole stays put across the orders%s (--all-poles lists the "
-               "model's poles and why each was rejected)\n", am->num_runs > 1 ? " and the Hankel windows" : "");
+        print_no_mode_warning(am, res, main_run->cfg.observer_order);
     } else {
         printf(" mode  frequency [Hz]  damping ratio  f std over orders  damping range    orders  windows  observers  EMAC   MPC\n");
         for (int k = 0; k < am->num_modes; ++k) {
@@ -127,10 +178,8 @@ void auto_print_modes(const auto_modes *am, const okid_result *res, const char *
             auto_print_sensor_shape(&am->modes[k].selected->mode, m);
         }
     }
-    printf("\nmodel: order %d of the %d-block window at observer order %d%s\n", res->order, main_run->cfg.hankel_rows,
-           main_run->cfg.observer_order,
-           am->order_holds_all ? ", the lowest whose poles hold every physical mode"
-                               : ", the one whose poles hold the most physical modes");
+    printf("\nmodel: order %d of the %d-block window at observer order %d, %s\n", res->order, main_run->cfg.hankel_rows,
+           main_run->cfg.observer_order, mode_windows_order_reason(am->num_modes, am->order_holds_all));
     if (!all_poles) {
         return;
     }
@@ -195,9 +244,7 @@ void auto_json_chosen(FILE *out, const auto_choice *c, double dt, int order, con
 void auto_json(FILE *out, const auto_choice *c, double dt, const auto_modes *am, const okid_result *res, int m)
 {
     auto_json_chosen(out, c, dt, res->order,
-                     am == NULL               ? NULL
-                     : am->order_holds_all ? "the lowest order whose poles hold every physical mode"
-                                           : "the order whose poles hold the most physical modes");
+                     am == NULL ? NULL : mode_windows_order_reason(am->num_modes, am->order_holds_all));
     if (am == NULL) { /* an order given: that model's modes */
         json_modes(out, res, m);
         return;

@@ -55,6 +55,10 @@ void mode_windows_keep(auto_mode *modes, int *num_modes, int needed);
 void mode_windows_order(const okid_stabilization *table, const okid_mode_selection_criteria *c, const auto_mode *modes,
                         int num_modes, int m, int *order, int *holds_all);
 
+/* Why the model's order is the one reported (holds_all from mode_windows_order; no modes: the
+   library's own order, the largest singular-value gap). */
+const char *mode_windows_order_reason(int num_modes, int holds_all);
+
 /*
  * Why pole is not one of the modes (NULL when it is): the first hard criterion it fails, else
  * `unstable_across` (not stable across orders and windows). The words name the path's defaults.

@@ -70,6 +70,13 @@ void mode_windows_order(const okid_stabilization *table, const okid_mode_selecti
     *holds_all = best_count == num_modes;
 }
 
+const char *mode_windows_order_reason(int num_modes, int holds_all)
+{
+    return num_modes == 0 ? "no physical mode: the largest singular-value gap"
+           : holds_all    ? "the lowest order whose poles hold every physical mode"
+                          : "the order whose poles hold the most physical modes";
+}
+
 const char *mode_windows_verdict(const okid_mode_selection_criteria *c, const auto_mode *modes, int num_modes,
                                  const okid_mode *pole, int m, const char *unstable_across)
 {

@@ -29,7 +29,7 @@ class WarningFlag(enum.IntFlag):
     CORRELATION_FALLBACK = 1 << 11  #: set by okid.identify() and the CLI only (estimator="correlation")
     NO_OUTPUT_EXPLAINED = 1 << 12  #: set by okid.identify() and the CLI only: every output's fit_percent below 50
     RESIDUAL_INPUT_CORRELATED = 1 << 13  #: a refined output's residual is correlated with an input
-    NO_PHYSICAL_MODE = 1 << 14  #: the identifier FMU (all_poles false, order 0) and output-only identification with order 0: no physical mode found
+    NO_PHYSICAL_MODE = 1 << 14  #: identify / identify_ambient without an order, okid identify, the identifier FMU (all_poles false, order 0): no physical mode found
     MODE_SPLIT = 1 << 15  #: two refined pairs are one mode split in two (Refinement.split_modes): the order is too high there
 
     def describe(self) -> Tuple[str, ...]:

@@ -370,6 +370,20 @@ def test_ctrl_c_then_resume_gives_the_same_table(data, big_table, tmp_path):
     assert_same_table(fleet.read_modes(out), big_table)
 
 
+def test_a_record_without_a_physical_mode_gets_a_row_that_says_so():
+    """The default options (no order: okid identify's automatic selection) on a real record where
+    nothing is physical (Hayward's weak event, tests/data/other_events): one row, status no_modes,
+    whose message and warnings say no physical mode was found (not that the model has no mode)."""
+    from okid.fleet.records import ChannelSpec, discover
+    from okid.fleet.rows import identify_record
+
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "other_events",
+                        "hayward_58658_005_20210803.csv")
+    rows = identify_record(discover([path])[0], ChannelSpec(inputs="4"), {})
+    assert [row["status"] for row in rows] == ["no_modes"]
+    assert rows[0]["message"].startswith("no physical mode found") and "no_physical_mode" in rows[0]["warnings"]
+
+
 def test_bad_invocations_say_what_is_wrong(tmp_path):
     proc = okid_fleet("identify", str(tmp_path / "nothing"), "--out", str(tmp_path / "o"), check=False)
     assert proc.returncode == 1 and "no such file" in proc.stderr and "Traceback" not in proc.stderr

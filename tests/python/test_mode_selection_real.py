@@ -305,3 +305,39 @@ def test_a_mode_no_majority_confirms_needs_its_own_indicators():
     fundamental = res["modes"][0]
     assert 3.89 <= fundamental["frequency_hz"] <= 4.43
     assert 2 * fundamental["observers"] > fundamental["of_observers"]
+
+
+def test_no_physical_mode_says_so_and_why():
+    """A record where nothing is physical (issue 23: "says so with a warning, not with a list of
+    poles"): Hayward's weak event of 2021-08-03 (tests/data/other_events, its first 60 s). Its
+    observer's model has a real pole beyond z = -1, so the system Markov parameters it extrapolates
+    grow by some 1e9 over the Hankel matrix's lags and no order of 2 or more is left. The JSON, and
+    Python's Result, carry the flag the identifier FMU sets (NO_PHYSICAL_MODE) and no mode; the
+    order's reason says it is the library's gap; the table's warning gives the growth, as numpy
+    measures it on the JSON's Markov parameters, and the pole."""
+    if not os.path.exists(OKID):
+        pytest.skip(f"CLI {OKID} not built")
+    import okid
+
+    path = ROOT / "tests" / "data" / "other_events" / "hayward_58658_005_20210803.csv"
+    args = [OKID, "identify", "--inputs", "4", "--outputs", "4", str(path)]
+    res = json.loads(subprocess.run(args + ["--json"], capture_output=True, text=True, timeout=120, check=True).stdout)
+    assert res["modes"] == [] and res["warning_bits"] & int(okid.WarningFlag.NO_PHYSICAL_MODE)
+    assert res["chosen"]["order"]["reason"] == "no physical mode: the largest singular-value gap"
+    # the growth by its definition (auto_report.c): Y_1..Y_L, the largest |entry| of the later half
+    # of the lags over that of the earlier half
+    markov = np.asarray(res["markov"])  # m x r (L + 1): [Y_0 Y_1 ... Y_L], m = r = 4
+    peaks = np.abs(markov).reshape(4, -1, 4).max(axis=(0, 2))[1:]
+    lags = len(peaks)
+    growth = peaks[lags // 2:].max() / peaks[:lags // 2].max()
+    radius = max(abs(complex(*m["eigenvalue"])) for m in res["poles"])
+    assert growth > 1e3 and radius > 1, (growth, radius)
+    table = subprocess.run(args, capture_output=True, text=True, timeout=120, check=True).stdout
+    warning = next(line for line in table.splitlines() if line.startswith("warning: no physical mode found"))
+    assert f"Hankel matrix's {lags} lags is {growth:.3g} times" in warning, warning
+    assert f"|z| = {radius:.6g}" in warning and "a larger --decimation" in warning
+    assert "physical modes: 0 (the main window's Hankel matrix has numerical rank 1" in table
+    rec = okid.read_record(str(path), inputs=4)
+    py = okid.identify(rec.u, rec.y, rec.dt)
+    assert py.modes == () and py.warnings & okid.WarningFlag.NO_PHYSICAL_MODE
+    assert py.chosen["order"]["reason"] == res["chosen"]["order"]["reason"]

@@ -131,10 +131,10 @@ enum okid_warning {
      */
     OKID_W_RESIDUAL_INPUT_CORRELATED = 1u << 13,
     /**
-     * Set by the identifier FMU (all_poles false, order 0), never by okid_identify(): the automatic
-     * selection (okid/mode_selection.h) found no physical mode, so no mode is published (num_modes 0).
-     * The CLI and okid.identify() say the same with their "no physical mode found" line and an
-     * empty modes list.
+     * Set by the identifier FMU (all_poles false, order 0), by okid identify (the JSON) and
+     * okid.identify() / okid.identify_ambient() without an order, never by okid_identify(): the
+     * automatic selection (okid/mode_selection.h) found no physical mode, so no mode is published
+     * (num_modes 0; the CLI's table says why on its "no physical mode found" line).
      */
     OKID_W_NO_PHYSICAL_MODE = 1u << 14,
     /**

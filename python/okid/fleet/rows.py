@@ -126,7 +126,9 @@ def identify_record(ref: RecordRef, channels: ChannelSpec, options: Mapping[str,
                   covariate_values=[value for _, value in data.covariates])
     if not result.modes:
         row = dict(common)
-        row.update(status="no_modes", message="the identified model has no oscillating or real mode")
+        found_none = result.warnings & okid.WarningFlag.NO_PHYSICAL_MODE  # the order chosen, nothing selected
+        row.update(status="no_modes", message="no physical mode found (no pole stays put across the orders)" if found_none
+                   else "the identified model has no oscillating or real mode")
         return [row]
     rows = []
     for k, mode in enumerate(result.modes, start=1):
