@@ -456,9 +456,16 @@ static void test_noise_free_table_confirms_its_last_order(void **state)
     assert_relative(sel.modes[2].mode.frequency_hz, 3.0, TOL(1e-12, 1e-6), "3 Hz", 0);
     assert_int_equal(sel.modes[2].num_orders, 2);
     /* the hard criteria still apply: the unstable 5 Hz and the real 6 Hz poles of order 18 stay out,
-       and the 1.0052 Hz pole of order 18 stays a duplicate of A */
-    assert_relative(sel.modes[0].mode.frequency_hz, 1.002, TOL(1e-12, 1e-6), "A", 0);
+       and the 1.0052 Hz pole of order 18 stays a duplicate of A. Each representative is its order-18
+       pole, the exact model's (rule 4): A's is 1.005 Hz damped 0.025, where its median over the
+       orders is 1.002 Hz (the noisy table's, above) */
+    assert_relative(sel.modes[0].mode.frequency_hz, 1.005, TOL(1e-12, 1e-6), "A", 0);
+    assert_relative(sel.modes[0].mode.damping_ratio, 0.025, TOL(1e-12, 1e-6), "A damping", 0);
     assert_relative(sel.modes[1].mode.frequency_hz, 1.005, TOL(1e-12, 1e-6), "B", 0);
+    assert_relative(sel.modes[1].mode.damping_ratio, 0.03, TOL(1e-12, 1e-6), "B damping", 0);
+    for (int k = 0; k < 3; ++k) assert_int_equal(sel.modes[k].order, 18);
+    /* the spread stays the cluster's: A over its six orders */
+    assert_relative(sel.modes[0].frequency_mean, 1.0025, TOL(1e-12, 1e-6), "A mean", 0);
     /* a rank above the last order's next step: the table stopped at its largest order, not at the rank */
     t.rank_limit = 20;
     assert_int_equal(okid_select_modes(&t, 2, NULL, ws, bytes, &sel, NULL), OKID_OK);

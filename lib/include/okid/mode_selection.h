@@ -23,7 +23,8 @@
  *    and no further order of the step fits under rank_limit), its last order is the exact model
  *    and no higher order can confirm its poles; a cluster holding a pole of that order counts as
  *    in min_orders orders.
- * 4. The representative of a mode is its cluster's pole of median frequency (the lower median);
+ * 4. The representative of a mode is its cluster's pole of median frequency (the lower median),
+ *    or on noise-free data (rule 3's exact last order) its pole of that order, the exact model's;
  *    the mean, standard deviation (population) and range of frequency and damping over the cluster
  *    are reported with it. Modes are listed by increasing representative frequency.
  *

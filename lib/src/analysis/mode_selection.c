@@ -229,8 +229,10 @@ static int has_order(const okid_stabilization *t, const sel_views *v, int k, int
     return 0;
 }
 
-/* Statistics and representative of cluster k over the table's T poles. */
-static void summarize(const okid_stabilization *t, int total, const sel_views *v, int k, okid_selected_mode *out)
+/* Statistics and representative of cluster k over the table's T poles; exact_last_order: the pole
+   of the table's last order, when the cluster has one, is the representative (the exact model's). */
+static void summarize(const okid_stabilization *t, int total, const sel_views *v, int k, int exact_last_order,
+                      okid_selected_mode *out)
 {
     const okid_mode *modes = t->modes;
     int n = 0, lo = 0, hi = 0;
@@ -280,6 +282,10 @@ static void summarize(const okid_stabilization *t, int total, const sel_views *v
             rep = i;
             break;
         }
+    }
+    const okid_stabilization_order *last = &t->orders[t->num_orders - 1];
+    for (int i = 0; exact_last_order && i < last->num_modes; ++i) {
+        if (v->cluster_of[last->first + i] == k) rep = last->first + i;
     }
     out->mode = modes[rep];
     out->order = t->orders[v->order_of[rep]].order;
@@ -442,7 +448,7 @@ okid_status okid_select_modes(const okid_stabilization *table, int num_outputs,
             continue;
         }
         okid_selected_mode sm;
-        summarize(table, total, &v, k, &sm);
+        summarize(table, total, &v, k, exact_last_order, &sm);
         int pos = written;
         while (pos > 0 && v.modes[pos - 1].mode.frequency_hz > sm.mode.frequency_hz) {
             v.modes[pos] = v.modes[pos - 1];
