@@ -40,6 +40,44 @@ static void observer_reason(const auto_choice *c, double step, char *buf, size_t
     }
 }
 
+/*
+ * Why the decimation is the one chosen (one sentence, no trailing period; json: the JSON's words,
+ * more digits). The band's rule: the filter's -3 dB point 1/(4 K dt) at or above the 95 % frequency
+ * (K = 1 when even K = 2 would put it below); lowered when the record's length caps the observer there.
+ */
+static void decimation_reason(const auto_choice *c, double dt, int json, char *buf, size_t size)
+{
+    const int kb = c->band_decimation > 0 ? c->band_decimation : c->decimation, digits = json ? 6 : 3;
+    const double edge = 1.0 / (4.0 * kb * dt), f95 = c->band.high_hz;
+    char band[256];
+    if (edge >= f95) {
+        if (json) {
+            snprintf(band, sizeof band, "the anti-alias filter's -3 dB point 1/(4 K dt) = %.6g Hz at or above the 95 %% "
+                     "energy frequency %.6g Hz", edge, f95);
+        } else {
+            snprintf(band, sizeof band, "the anti-alias filter's -3 dB point 1/(4 K dt) = %.3g Hz stays above the 95 %% "
+                     "frequency", edge);
+        }
+    } else { /* kb = 1 */
+        snprintf(band, sizeof band, "none: at K = 2 the anti-alias filter's -3 dB point 1/(8 dt) = %.*g Hz would lie "
+                 "below the 95 %% energy frequency %.*g Hz", digits, edge / 2, digits, f95);
+    }
+    if (c->decimation == kb) {
+        snprintf(buf, size, "%s", band);
+        return;
+    }
+    const int capped = c->observer_order == c->observer_orders[0] && c->observer_order == c->observer_limit;
+    /* truncated at size if need be (the callers' 512 hold it) */
+    if (snprintf(buf, size, "the band asks for K = %d (%s), but there the record's length caps the observer order at %d "
+             "(%.*g s; half the slowest period is %.*g s); a smaller K keeps more rows for the same span, and K = %d is "
+             "the %s", kb, band, c->band_observer_limit, digits, c->band_observer_limit * kb * dt, digits,
+             0.5 * c->slowest_period_s, c->decimation,
+             capped ? "one whose capped observer spans the most seconds (every K caps it)"
+                    : "largest whose observer of half the slowest period the record allows") >= (int)size) {
+        buf[size - 1] = '\0';
+    }
+}
+
 void auto_print_choice(const auto_choice *c, double dt)
 {
     const double step = c->decimation * dt;
@@ -51,8 +89,9 @@ void auto_print_choice(const auto_choice *c, double dt)
     }
     printf("decimation %d (%s)", c->decimation, origin(c, AUTO_GIVEN_DECIMATION));
     if (chosen(c, AUTO_GIVEN_DECIMATION)) {
-        printf(": the anti-alias filter's -3 dB point 1/(4 K dt) = %.3g Hz stays above the 95 %% frequency",
-               1.0 / (4 * step));
+        char reason[512];
+        decimation_reason(c, dt, 0, reason, sizeof reason);
+        printf(": %s", reason);
     }
     printf("\nobserver order %d (%s)", c->observer_order, origin(c, AUTO_GIVEN_OBSERVER));
     if (chosen(c, AUTO_GIVEN_OBSERVER)) {
@@ -202,7 +241,7 @@ static void json_setting(FILE *out, const char *name, int value, int chosen, con
 void auto_json_chosen(FILE *out, const auto_choice *c, double dt, int order, const char *order_reason)
 {
     const double step = c->decimation * dt;
-    char reason[320];
+    char reason[512];
     fputs(",\n  \"chosen\": {\"band_hz\": [", out);
     json_number(out, c->band.low_hz);
     fputs(", ", out);
@@ -210,8 +249,7 @@ void auto_json_chosen(FILE *out, const auto_choice *c, double dt, int order, con
     fputs("], \"slowest_period_seconds\": ", out);
     json_number(out, c->slowest_period_s);
     fputs(",\n    ", out);
-    snprintf(reason, sizeof reason, "the anti-alias filter's -3 dB point 1/(4 K dt) = %.6g Hz at or above the 95 %% "
-             "energy frequency %.6g Hz", 1.0 / (4 * step), c->band.high_hz);
+    decimation_reason(c, dt, 1, reason, sizeof reason);
     json_setting(out, "decimation", c->decimation, chosen(c, AUTO_GIVEN_DECIMATION),
                  chosen(c, AUTO_GIVEN_DECIMATION) ? reason : origin(c, AUTO_GIVEN_DECIMATION));
     fputs(",\n    ", out);
