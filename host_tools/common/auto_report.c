@@ -128,7 +128,8 @@ void auto_print_sensor_shape(const okid_mode *md, int m)
 }
 
 /* How much the system Markov parameters Y_1..Y_L grow: the largest entry of the later half of the
-   lags over that of the earlier half (a stable model's decay below 1; 0 when there are too few lags). */
+   lags over that of the earlier half (a structure's decaying response gives less than 1; 0 when there
+   are too few lags). */
 static double markov_growth(const okid_result *res, int *lags)
 {
     const int m = res->markov.rows, r = res->B.cols, count = r > 0 ? res->markov.cols / r : 0;

@@ -416,7 +416,7 @@ def _refined_from_selection(config, given, ub, yb, r, m, dt, options, max_passes
             f"refine=True without order: the mode selection keeps no physical mode on the record the refinement "
             f"fits (dt = {float(dt) * decimation:g} s, decimation {decimation}): {reason}, so there is no start to "
             f"refine; without refine the decimation is chosen from the data and may find them; to refine anyway give "
-            f"order (2 per mode) and observer_seconds/hankel_seconds")
+            f"order (2 per mode) and observer_order/hankel_rows/hankel_cols (in samples)")
     code = settings.pop("estimator")  # least_squares after the correlation form's fallback
     options = dict(options, **settings, estimator=next(k for k, v in _config.ENUMS["estimator"].items() if v == code))
     identifier = Identifier._adopt(r, m, dt, options, model[0])
