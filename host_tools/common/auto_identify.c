@@ -53,10 +53,8 @@ okid_status auto_identify(const auto_request *rq, auto_identification *out)
     auto_choose(cfg, rq->given, n, &band, choice);                           /* the decimation first: */
     okid_status st = auto_horizon_seconds(cfg, rq->observer_seconds, rq->hankel_seconds);                               /* spans in seconds count K dt, */
     if (st != OKID_OK) return fail(out, AUTO_FAILED_HORIZONS, st);
-    const int band_decimation = choice->band_decimation, band_observer_limit = choice->band_observer_limit;
     auto_choose(cfg, rq->given | AUTO_GIVEN_DECIMATION, n, &band, choice);   /* then the rest */
     choice->given = rq->given;
-    choice->band_decimation = band_decimation, choice->band_observer_limit = band_observer_limit;
     size_t bytes = 0;
     if ((st = okid_workspace_size(cfg, &bytes)) != OKID_OK) return fail(out, AUTO_FAILED_SETTINGS, st);
     /* the data's sufficiency before any workspace */

@@ -41,40 +41,21 @@ static void observer_reason(const auto_choice *c, double step, char *buf, size_t
 }
 
 /*
- * Why the decimation is the one chosen (one sentence, no trailing period; json: the JSON's words,
- * more digits). The band's rule: the filter's -3 dB point 1/(4 K dt) at or above the 95 % frequency
- * (K = 1 when even K = 2 would put it below); lowered when the record's length caps the observer there.
+ * Why the decimation is the one chosen (no trailing period; json: the JSON's words, more digits):
+ * the filter's -3 dB point 1/(4 K dt) at or above the 95 % frequency, or K = 1 when even K = 2
+ * would put it below (then 1/(4 dt) itself may lie below it: no filter runs at K = 1).
  */
 static void decimation_reason(const auto_choice *c, double dt, int json, char *buf, size_t size)
 {
-    const int kb = c->band_decimation > 0 ? c->band_decimation : c->decimation, digits = json ? 6 : 3;
-    const double edge = 1.0 / (4.0 * kb * dt), f95 = c->band.high_hz;
-    char band[256];
-    if (edge >= f95) {
-        if (json) {
-            snprintf(band, sizeof band, "the anti-alias filter's -3 dB point 1/(4 K dt) = %.6g Hz at or above the 95 %% "
-                     "energy frequency %.6g Hz", edge, f95);
-        } else {
-            snprintf(band, sizeof band, "the anti-alias filter's -3 dB point 1/(4 K dt) = %.3g Hz stays above the 95 %% "
-                     "frequency", edge);
-        }
-    } else { /* kb = 1 */
-        snprintf(band, sizeof band, "none: at K = 2 the anti-alias filter's -3 dB point 1/(8 dt) = %.*g Hz would lie "
-                 "below the 95 %% energy frequency %.*g Hz", digits, edge / 2, digits, f95);
-    }
-    if (c->decimation == kb) {
-        snprintf(buf, size, "%s", band);
-        return;
-    }
-    const int capped = c->observer_order == c->observer_orders[0] && c->observer_order == c->observer_limit;
-    /* truncated at size if need be (the callers' 512 hold it) */
-    if (snprintf(buf, size, "the band asks for K = %d (%s), but there the record's length caps the observer order at %d "
-             "(%.*g s; half the slowest period is %.*g s); a smaller K keeps more rows for the same span, and K = %d is "
-             "the %s", kb, band, c->band_observer_limit, digits, c->band_observer_limit * kb * dt, digits,
-             0.5 * c->slowest_period_s, c->decimation,
-             capped ? "one whose capped observer spans the most seconds (every K caps it)"
-                    : "largest whose observer of half the slowest period the record allows") >= (int)size) {
-        buf[size - 1] = '\0';
+    const double edge = 1.0 / (4.0 * c->decimation * dt), f95 = c->band.high_hz;
+    if (edge < f95) {
+        snprintf(buf, size, "none: at K = 2 the anti-alias filter's -3 dB point 1/(8 dt) = %.*g Hz would lie below the "
+                 "95 %% energy frequency %.*g Hz", json ? 6 : 3, edge / 2, json ? 6 : 3, f95);
+    } else if (json) {
+        snprintf(buf, size, "the anti-alias filter's -3 dB point 1/(4 K dt) = %.6g Hz at or above the 95 %% energy "
+                 "frequency %.6g Hz", edge, f95);
+    } else {
+        snprintf(buf, size, "the anti-alias filter's -3 dB point 1/(4 K dt) = %.3g Hz stays above the 95 %% frequency", edge);
     }
 }
 
@@ -89,7 +70,7 @@ void auto_print_choice(const auto_choice *c, double dt)
     }
     printf("decimation %d (%s)", c->decimation, origin(c, AUTO_GIVEN_DECIMATION));
     if (chosen(c, AUTO_GIVEN_DECIMATION)) {
-        char reason[512];
+        char reason[256];
         decimation_reason(c, dt, 0, reason, sizeof reason);
         printf(": %s", reason);
     }
@@ -242,7 +223,7 @@ static void json_setting(FILE *out, const char *name, int value, int chosen, con
 void auto_json_chosen(FILE *out, const auto_choice *c, double dt, int order, const char *order_reason)
 {
     const double step = c->decimation * dt;
-    char reason[512];
+    char reason[320];
     fputs(",\n  \"chosen\": {\"band_hz\": [", out);
     json_number(out, c->band.low_hz);
     fputs(", ", out);

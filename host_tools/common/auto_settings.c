@@ -121,37 +121,6 @@ static int clamp_count(double value, int lo, int hi)
     return v < lo ? lo : v > hi ? hi : (int)v;
 }
 
-/* Observer orders: half the slowest period at a step of K dt, and the most the record's n / K rows
-   allow the main run (ten rows per unknown of each output's least squares, r + (r + m) p unknowns). */
-static int half_period_observer(double period, double step)
-{
-    return clamp_count(0.5 * period / step, 1, OKID_MAX_HORIZON);
-}
-
-static int observer_cap(size_t n, int k, int r, int m)
-{
-    return clamp_count(floor(((double)(n / (size_t)k) / 11.0 - r) / (r + m)), 1, OKID_MAX_HORIZON);
-}
-
-/*
- * The decimation: the band's (from_band), unless the record's length caps the observer order there;
- * then the largest smaller one whose observer of half the slowest period fits, else the one whose
- * capped observer spans the most seconds (the larger on a tie). Decimating by K leaves n / K rows
- * for the same span in seconds, so on a short record it shortens the observer the record allows
- * (a 20 s record of the paper's plant: 0.42 s at K = 21, 0.6 s at K = 1; docs/quality.md section 8).
- */
-static int length_decimation(int from_band, double period, double dt, size_t n, int r, int m)
-{
-    int best = from_band;
-    double best_span = -1;
-    for (int k = from_band; k >= 1; --k) {
-        const int cap = observer_cap(n, k, r, m);
-        if (half_period_observer(period, k * dt) <= cap) return k;
-        if ((double)k * cap > best_span) best_span = (double)k * cap, best = k;
-    }
-    return best;
-}
-
 void auto_choose(okid_config *cfg, unsigned given, size_t n, const auto_band *band, auto_choice *choice)
 {
     const double dt = (double)cfg->dt;
@@ -164,15 +133,9 @@ void auto_choose(okid_config *cfg, unsigned given, size_t n, const auto_band *ba
         choice->no_band = 1;
     }
     choice->slowest_period_s = band->low_hz > 0 ? 1.0 / band->low_hz : 0;
-    /* the decimation filter's -3 dB point, 1 / (4 K dt), stays at or above the 95 % frequency, unless
-       the record is too short for the observer at that K */
+    /* the decimation filter's -3 dB point, 1 / (4 K dt), stays at or above the 95 % frequency */
     if (!(given & AUTO_GIVEN_DECIMATION)) {
-        const int from_band = clamp_count(floor(1.0 / (4.0 * dt * band->high_hz)), 1, OKID_MAX_DECIMATION);
-        choice->band_decimation = from_band;
-        choice->band_observer_limit = observer_cap(n, from_band, r, m);
-        cfg->decimation = (given & AUTO_GIVEN_OBSERVER)
-                              ? from_band
-                              : length_decimation(from_band, choice->slowest_period_s, dt, n, r, m);
+        cfg->decimation = clamp_count(floor(1.0 / (4.0 * dt * band->high_hz)), 1, OKID_MAX_DECIMATION);
     }
     const int k = cfg->decimation > 1 ? cfg->decimation : 1;
     const double step = k * dt, period = choice->slowest_period_s;
@@ -180,12 +143,12 @@ void auto_choose(okid_config *cfg, unsigned given, size_t n, const auto_band *ba
        observer of the main run; five for the longer ones that confirm its modes (their noise variance
        stays within N / (N - unknowns) = 1.25 times that of an unlimited record) */
     const double rows = (double)(n / (size_t)k);
-    const int limit = observer_cap(n, k, r, m);
+    const int limit = clamp_count(floor((rows / 11.0 - r) / (r + m)), 1, OKID_MAX_HORIZON);
     const int confirming_limit = clamp_count(floor((rows / 6.0 - r) / (r + m)), 1, OKID_MAX_HORIZON);
     choice->observer_limit = limit;
     if (!(given & AUTO_GIVEN_OBSERVER)) {
         /* half the slowest period: longer observers fit the record's noise (section 8) */
-        const int p = half_period_observer(period, step);
+        const int p = clamp_count(0.5 * period / step, 1, OKID_MAX_HORIZON);
         cfg->observer_order = p < limit ? p : limit;
         /* a given order n needs m p >= n */
         if (cfg->order > 0 && m * cfg->observer_order < cfg->order) cfg->observer_order = (cfg->order + m - 1) / m;

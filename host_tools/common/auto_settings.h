@@ -40,9 +40,6 @@ typedef struct auto_choice {
     auto_band band;
     double slowest_period_s;     /* 1 / band.low_hz */
     int decimation, observer_order, hankel, hankel_cols;  /* the settings used (given or chosen) */
-    int band_decimation;         /* chosen: the decimation the band asks for (the 95 % rule), before the
-                                    record's length lowers it; 0 when the decimation is given */
-    int band_observer_limit;     /* with it: the largest p the record's length allows at that decimation */
     int observer_limit;          /* the largest p the record's length allows (ten rows per unknown) */
     int observer_orders[AUTO_OBSERVERS];  /* observer orders of the mode selection, shortest first */
     int num_observers;           /* distinct ones: up to AUTO_OBSERVERS when chosen, else 1 */

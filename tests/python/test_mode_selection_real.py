@@ -240,18 +240,16 @@ def chain_modes(masses, dampers, springs):
 def test_a_mode_only_the_shortest_observer_holds_stays(tmp_path):
     """The observer orders' rule keeps a mode of the shortest observer order (0.5 T) that most do
     not hold when no mode they hold shares its resonance (docs/quality.md section 8, rule 5b): the
-    3-mass chain with velocity sensors at 5 % noise, seed 1, at its band's decimation 9 (given: the
-    record's 3000 samples would lower it to 1, where every observer order holds the mode), whose
-    first mode (0.656 Hz, zeta 0.0025, estimated near 0) only 0.5 T's windows all hold. A majority
-    alone lost it."""
+    3-mass chain with velocity sensors at 5 % noise, seed 1, whose first mode (0.656 Hz, zeta 0.0025,
+    estimated near 0) only 0.5 T's windows all hold. A majority alone lost it."""
     if not os.path.exists(OKID):
         pytest.skip(f"CLI {OKID} not built")
     path = tmp_path / "chain.csv"
     subprocess.run([OKID, "simulate", "--masses", "1,1,1", "--dampers", "0.1,0.1,0.1,0", "--springs", "100,80,60,0",
                     "--force-dof", "2", "--sensing", "velocity", "--samples", "3000", "--noise", "0.05", "--seed", "1",
                     "--output", str(path)], check=True, capture_output=True)
-    res = json.loads(subprocess.run([OKID, "identify", "--json", "--decimation", "9", str(path)], capture_output=True,
-                                    text=True, timeout=120, check=True).stdout)
+    res = json.loads(subprocess.run([OKID, "identify", "--json", str(path)], capture_output=True, text=True,
+                                    timeout=120, check=True).stdout)
     f, _ = chain_modes([1.0, 1.0, 1.0], [0.1, 0.1, 0.1, 0.0], [100.0, 80.0, 60.0, 0.0])
     got = sorted(res["modes"], key=lambda m: m["frequency_hz"])
     assert len(got) == 3 and all(abs(m["frequency_hz"] - fk) <= FREQUENCY_TOL * fk for m, fk in zip(got, f)), \
@@ -260,51 +258,6 @@ def test_a_mode_only_the_shortest_observer_holds_stays(tmp_path):
     assert 2 * first["observers"] <= first["of_observers"]  # most observer orders do not hold it
     assert first["observer_order"] == res["chosen"]["observer_orders"][0]
     assert all(2 * m["observers"] > m["of_observers"] for m in got[1:])
-
-
-CHAIN = ["--masses", "1,1,1", "--dampers", "0.1,0.1,0.1,0", "--springs", "100,80,60,0", "--force-dof", "2",
-         "--sensing", "velocity", "--samples", "3000"]
-
-
-def test_a_short_record_lowers_the_decimation(tmp_path):
-    """Rule 2's short record (docs/quality.md section 8): 30 s of the 3-mass chain with velocity
-    sensors at 1 % noise (scripts/json_hash.sh's record). The band asks for K = 9, where the
-    record's length caps the observer at 7 (0.63 s); every K caps it, and K = 1 gives the longest
-    observer the record allows (67, 0.67 s). Each mode within 1e-4 in frequency and 2 % in damping
-    of the closed form; at K = 9 the first mode's damping came out 0.00041 for 0.00250."""
-    if not os.path.exists(OKID):
-        pytest.skip(f"CLI {OKID} not built")
-    path = tmp_path / "chain.csv"
-    subprocess.run([OKID, "simulate", *CHAIN, "--dt", "0.01", "--noise", "0.01", "--seed", "3", "--output", str(path)],
-                   check=True, capture_output=True)
-    res = json.loads(subprocess.run([OKID, "identify", "--json", str(path)], capture_output=True, text=True,
-                                    timeout=120, check=True).stdout)
-    decimation = res["chosen"]["decimation"]
-    assert decimation["value"] == 1 and decimation["reason"].startswith("the band asks for K = 9"), decimation
-    assert "every K caps it" in decimation["reason"] and res["chosen"]["observer_order"]["value"] == 67
-    f, zeta = chain_modes([1.0, 1.0, 1.0], [0.1, 0.1, 0.1, 0.0], [100.0, 80.0, 60.0, 0.0])
-    got = sorted(res["modes"], key=lambda m: m["frequency_hz"])
-    assert len(got) == 3, [m["frequency_hz"] for m in got]
-    # measured: at most 2.6e-5 relative in frequency and 0.5 % in damping (seed 3: the noise is
-    # fixed); the bounds are four times that, which other BLAS kernels' round-off does not approach
-    for m, fk, zk in zip(got, f, zeta):
-        assert m["frequency_hz"] == pytest.approx(fk, rel=1e-4) and m["damping_ratio"] == pytest.approx(zk, rel=0.02)
-
-
-def test_short_noise_free_record_gives_the_exact_modes(tmp_path):
-    """20 s of the paper's plant without noise, displacement sensors (scripts/json_hash.sh's record):
-    at the band's K = 21 the observer was capped at p = 2 and nothing was found; at K = 1 (rule 2's
-    short record) the table ends at the exact order 4, whose poles are the representatives (rule 4
-    of okid/mode_selection.h; the median, the order-2 pole, gave zeta 0.1729 for 0.1581)."""
-    if not os.path.exists(OKID):
-        pytest.skip(f"CLI {OKID} not built")
-    path = tmp_path / "disp.csv"
-    subprocess.run([OKID, "simulate", "--sensing", "displacement", "--samples", "2000", "--output", str(path)],
-                   check=True, capture_output=True)
-    res = json.loads(subprocess.run([OKID, "identify", "--json", str(path)], capture_output=True, text=True,
-                                    timeout=120, check=True).stdout)
-    assert res["chosen"]["decimation"]["value"] == 1
-    assert_exact_paper_modes(res["modes"])
 
 
 def test_one_resonance_is_reported_once():
@@ -341,6 +294,22 @@ def test_noise_free_record_gives_the_exact_modes(tmp_path):
     # same round-off bound as against the closed form
     assert [m.frequency_hz for m in py.modes] == pytest.approx([m["frequency_hz"] for m in got], rel=1e-9)
     assert [m.damping_ratio for m in py.modes] == pytest.approx([m["damping_ratio"] for m in got], rel=1e-9)
+
+
+def test_a_noise_free_mode_is_represented_by_the_exact_order(tmp_path):
+    """Noise-free data (rule 4 of okid/mode_selection.h): 20 s of the paper's plant with displacement
+    sensors at --decimation 1. The first mode's cluster holds a pole of order 2 and one of the exact
+    order 4; the representative is the order-4 one, exact (the median, the order-2 pole, gave zeta
+    0.1729 for 0.1581)."""
+    if not os.path.exists(OKID):
+        pytest.skip(f"CLI {OKID} not built")
+    path = tmp_path / "disp.csv"
+    subprocess.run([OKID, "simulate", "--sensing", "displacement", "--samples", "2000", "--output", str(path)],
+                   check=True, capture_output=True)
+    res = json.loads(subprocess.run([OKID, "identify", "--json", "--decimation", "1", str(path)],
+                                    capture_output=True, text=True, timeout=120, check=True).stdout)
+    got = assert_exact_paper_modes(res["modes"])
+    assert got[0]["num_orders"] == 2 and got[0]["order"] == 4
 
 
 def test_a_mode_no_majority_confirms_needs_its_own_indicators():
