@@ -5,7 +5,6 @@
 #include <math.h>
 
 #include "json_writer.h"
-#include "output_fit.h" /* output_fit_largest_radius */
 
 /* 1 when the setting was chosen from the data (not given, and the record had a band). */
 static int chosen(const auto_choice *c, unsigned bit)

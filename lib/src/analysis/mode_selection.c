@@ -260,32 +260,36 @@ static void summarize(const okid_stabilization *t, int total, const sel_views *v
     const okid_real inv = OKID_R(1.0) / (okid_real)n;
     const okid_real mf = sf * inv, mz = sz * inv;
     const okid_real vf = sff * inv - mf * mf, vz = szz * inv - mz * mz;
-    /* the lower median: the pole with (n - 1) / 2 poles of lower frequency (ties by table index);
-       members gathered in the candidate list, free once the clustering is done */
-    int *members = v->cand;
-    int count = 0;
-    for (int i = 0; i < total; ++i) {
-        if (v->cluster_of[i] == k) {
-            members[count++] = i;
-        }
-    }
-    int rep = v->seed[k];
-    for (int a = 0; a < count; ++a) {
-        const int i = members[a];
-        int below = 0;
-        for (int b = 0; b < count; ++b) {
-            const int j = members[b];
-            below += (modes[j].frequency_hz < modes[i].frequency_hz ||
-                      (modes[j].frequency_hz == modes[i].frequency_hz && j < i));
-        }
-        if (below == (n - 1) / 2) {
-            rep = i;
-            break;
-        }
-    }
+    /* noise-free data: the cluster's pole of the table's last order, the exact model's, when it has one */
+    int rep = -1;
     const okid_stabilization_order *last = &t->orders[t->num_orders - 1];
     for (int i = 0; exact_last_order && i < last->num_modes; ++i) {
         if (v->cluster_of[last->first + i] == k) rep = last->first + i;
+    }
+    if (rep < 0) {
+        /* the lower median: the pole with (n - 1) / 2 poles of lower frequency (ties by table index);
+           members gathered in the candidate list, free once the clustering is done */
+        int *members = v->cand;
+        int count = 0;
+        for (int i = 0; i < total; ++i) {
+            if (v->cluster_of[i] == k) {
+                members[count++] = i;
+            }
+        }
+        rep = v->seed[k];
+        for (int a = 0; a < count; ++a) {
+            const int i = members[a];
+            int below = 0;
+            for (int b = 0; b < count; ++b) {
+                const int j = members[b];
+                below += (modes[j].frequency_hz < modes[i].frequency_hz ||
+                          (modes[j].frequency_hz == modes[i].frequency_hz && j < i));
+            }
+            if (below == (n - 1) / 2) {
+                rep = i;
+                break;
+            }
+        }
     }
     out->mode = modes[rep];
     out->order = t->orders[v->order_of[rep]].order;
